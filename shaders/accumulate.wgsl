@@ -1,0 +1,17 @@
+// Adding one sample to a pixel's running sum without drift, and keeping non-finite samples out.
+//! include "generated/structs.wgsl"
+//! include "finite.wgsl"
+//
+// A float32 sum of 100,000 samples loses about five digits to rounding; Kahan's compensation
+// carries the lost low-order bits so the error stays near one rounding whatever the count.
+// A NaN or infinite sample adds nothing (it counts as zero radiance) and is counted in sum.w.
+
+fn accumulate_sample(pixel: AccumulatedPixel, value: vec3<f32>) -> AccumulatedPixel {
+    if !is_finite_vec3(value) {
+        return AccumulatedPixel(pixel.sum + vec4<f32>(0.0, 0.0, 0.0, 1.0), pixel.compensation);
+    }
+    let y = value - pixel.compensation.xyz;
+    let t = pixel.sum.xyz + y;
+    let lost = (t - pixel.sum.xyz) - y;
+    return AccumulatedPixel(vec4<f32>(t, pixel.sum.w), vec4<f32>(lost, 0.0));
+}

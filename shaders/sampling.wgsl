@@ -1,0 +1,39 @@
+// Shading frames and direction sampling; every sample_x sits beside its pdf_x.
+//! include "constants.wgsl"
+
+struct ShadingFrame {
+    tangent: vec3<f32>,
+    bitangent: vec3<f32>,
+    normal: vec3<f32>,
+}
+
+// Orthonormal basis around a unit normal without branches on near-axis normals (Duff et al. 2017).
+fn shading_frame(n: vec3<f32>) -> ShadingFrame {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    return ShadingFrame(
+        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
+        n,
+    );
+}
+
+fn to_local(frame: ShadingFrame, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(v, frame.tangent), dot(v, frame.bitangent), dot(v, frame.normal));
+}
+
+fn to_world(frame: ShadingFrame, v: vec3<f32>) -> vec3<f32> {
+    return v.x * frame.tangent + v.y * frame.bitangent + v.z * frame.normal;
+}
+
+// Cosine-weighted direction on the +z hemisphere: a uniform disk point lifted to the hemisphere.
+fn sample_cosine_hemisphere(u: vec2<f32>) -> vec3<f32> {
+    let r = sqrt(u.x);
+    let phi = TWO_PI * u.y;
+    return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
+}
+
+fn pdf_cosine_hemisphere(cos_theta: f32) -> f32 {
+    return max(cos_theta, 0.0) * INV_PI;
+}

@@ -1,0 +1,18 @@
+// Closest-hit over trac0r's flat list of per-shape boxes: every box is tested, then its triangles.
+//! include "intersect_leaf.wgsl"
+//! include "intersect_box.wgsl"
+
+// Same contract as traverse_bvh.wgsl's closest_hit, so the path tracer includes either one.
+fn closest_hit(ray: Ray, t_max: f32, skip_triangle: u32) -> Hit {
+    var hit = Hit(t_max, NO_TRIANGLE);
+    let sheared = shear_ray(ray);
+    let inverse_direction = safe_inverse_direction(ray.direction);
+    for (var n = 0u; n < frame.node_count; n++) {
+        let node = nodes[n];
+        if intersect_box(ray.origin, inverse_direction, node.bounds_min, node.bounds_max, hit.t) == FLOAT_MAX {
+            continue;
+        }
+        intersect_leaf(sheared, node, skip_triangle, &hit);
+    }
+    return hit;
+}

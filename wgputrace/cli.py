@@ -1,0 +1,89 @@
+"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY) and `wgputrace info`."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+
+from .image_io import FORMATS, save_image
+from .scenes import BUILTIN_SCENES, DEFAULT_SCENE, scene_by_name
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        width, height = (int(part) for part in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must look like 512x512, got {text!r}") from None
+    if width < 1 or height < 1:
+        raise argparse.ArgumentTypeError(f"size must be positive, got {text!r}")
+    return width, height
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="wgputrace", description="Monte Carlo path tracer on WGSL compute shaders.")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    render = commands.add_parser("render", help="render a scene headless to .png, .exr or .npy")
+    render.add_argument("scene", nargs="?", default=DEFAULT_SCENE, help=f"built-in scene: {', '.join(BUILTIN_SCENES)}")
+    render.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
+    render.add_argument("--size", type=_size, default=(512, 512), help="WIDTHxHEIGHT (default 512x512)")
+    render.add_argument("--max-depth", type=int, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit")
+    render.add_argument("--seed", type=int, default=1, help="random seed: same seed and adapter, same image")
+    render.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
+    render.add_argument("--exposure", type=float, default=1.0, help="multiplies radiance before PNG tone mapping")
+    render.add_argument("-o", "--output", default="render.png", help=f"output file ({', '.join(FORMATS)})")
+
+    commands.add_parser("info", help="print the adapter, backend and the limits that matter")
+    return parser
+
+
+def _render(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from .gpu.device import gpu
+    from .render import Renderer
+
+    scene = scene_by_name(args.scene)
+    width, height = args.size
+    context = gpu()
+    start = time.perf_counter()
+    renderer = Renderer(scene, width, height, seed=args.seed, max_depth=args.max_depth, accel=args.accel)
+    setup_seconds = time.perf_counter() - start
+    with tqdm(total=args.spp, unit="spp", desc="rendering", file=sys.stderr, dynamic_ncols=True) as bar:
+
+        def progress(samples: int) -> None:
+            bar.update(samples)
+            bar.set_postfix_str(f"{renderer.stats.samples_per_second * width * height / 1e6:.2f} M samples/s")
+
+        stats = renderer.render(args.spp, progress)
+    path = save_image(args.output, renderer.image(), exposure=args.exposure)
+    acceleration = renderer.records.acceleration
+    print(f"adapter          {context.adapter_name}")
+    print(f"scene            {args.scene}: {renderer.triangle_count:,} triangles, {len(renderer.records.materials)} materials")
+    print(f"acceleration     {args.accel}: {acceleration.node_count:,} nodes, depth {acceleration.depth}, "
+          f"SAH cost {acceleration.sah_cost():.2f}, built in {acceleration.build_seconds * 1e3:.1f} ms")
+    print(f"setup            {setup_seconds:.2f} s (BVH, buffers, pipeline)")
+    print(f"render           {stats.samples_per_pixel} spp at {width}x{height} in {stats.render_seconds:.2f} s, "
+          f"{stats.samples_per_second * width * height / 1e6:.3f} M samples/s")
+    if renderer.nonfinite_samples:
+        print(f"non-finite       {renderer.nonfinite_samples} samples were NaN or infinite and counted as zero")
+    print(f"wrote            {path}")
+    return 0
+
+
+def _info() -> int:
+    from .gpu.device import describe
+
+    print(json.dumps(describe(), indent=2))
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        return _render(args) if args.command == "render" else _info()
+    except (ValueError, RuntimeError) as error:
+        print(f"wgputrace: error: {error}", file=sys.stderr)
+        return 2

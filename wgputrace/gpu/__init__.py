@@ -1,0 +1,1 @@
+"""Everything that touches wgpu: device, struct layouts, buffers, shader loading and pipelines."""

@@ -1,0 +1,107 @@
+"""Host/GPU struct layouts, each defined once: a field list becomes both a numpy structured dtype
+and the WGSL struct text, with WGSL's alignment rules applied in one place so padding cannot drift."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+# WGSL type -> (numpy scalar, component count, alignment, size) under WGSL's host-shareable rules.
+_TYPES = {
+    "f32": ("<f4", 1, 4, 4),
+    "u32": ("<u4", 1, 4, 4),
+    "i32": ("<i4", 1, 4, 4),
+    "vec2<f32>": ("<f4", 2, 8, 8),
+    "vec2<u32>": ("<u4", 2, 8, 8),
+    "vec3<f32>": ("<f4", 3, 16, 12),
+    "vec3<u32>": ("<u4", 3, 16, 12),
+    "vec4<f32>": ("<f4", 4, 16, 16),
+    "vec4<u32>": ("<u4", 4, 16, 16),
+}
+
+
+def _round_up(value: int, alignment: int) -> int:
+    return (value + alignment - 1) // alignment * alignment
+
+
+@dataclass(frozen=True)
+class GpuStruct:
+    name: str
+    fields: tuple[tuple[str, str], ...]
+    doc: str = ""
+
+    @cached_property
+    def offsets(self) -> tuple[int, ...]:
+        offset, offsets = 0, []
+        for _, wgsl_type in self.fields:
+            _, _, align, size = _TYPES[wgsl_type]
+            offset = _round_up(offset, align)
+            offsets.append(offset)
+            offset += size
+        return tuple(offsets)
+
+    @cached_property
+    def alignment(self) -> int:
+        return max(_TYPES[t][2] for _, t in self.fields)
+
+    @cached_property
+    def size(self) -> int:
+        """Struct size and array stride: the end of the last field rounded up to the alignment."""
+        last_offset, (_, last_type) = self.offsets[-1], self.fields[-1]
+        return _round_up(last_offset + _TYPES[last_type][3], self.alignment)
+
+    @cached_property
+    def dtype(self) -> np.dtype:
+        formats = []
+        for _, wgsl_type in self.fields:
+            scalar, count, _, _ = _TYPES[wgsl_type]
+            formats.append(scalar if count == 1 else (scalar, (count,)))
+        return np.dtype(
+            {"names": [n for n, _ in self.fields], "formats": formats, "offsets": list(self.offsets), "itemsize": self.size}
+        )
+
+    def wgsl(self) -> str:
+        lines = [f"// {self.doc}"] if self.doc else []
+        lines.append(f"struct {self.name} {{")
+        lines += [f"    {name}: {wgsl_type}," for name, wgsl_type in self.fields]
+        lines.append("}")
+        return "\n".join(lines)
+
+    def zeros(self, count: int) -> np.ndarray:
+        return np.zeros(count, dtype=self.dtype)
+
+
+TRIANGLE = GpuStruct(
+    "Triangle",
+    (("v0", "vec3<f32>"), ("material", "u32"), ("v1", "vec3<f32>"), ("v2", "vec3<f32>")),
+    "One flat triangle: its corners and the index of its material (never a copy of it).",
+)
+BVH_NODE = GpuStruct(
+    "BvhNode",
+    (("bounds_min", "vec3<f32>"), ("left_or_first", "u32"), ("bounds_max", "vec3<f32>"), ("triangle_count", "u32")),
+    "32-byte BVH node: interior (count 0) -> left child, right = left + 1; leaf -> first triangle.",
+)
+MATERIAL = GpuStruct(
+    "Material",
+    (("color", "vec3<f32>"), ("kind", "u32"), ("alpha", "f32"), ("ior", "f32")),
+    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind.",
+)
+FRAME = GpuStruct(
+    "Frame",
+    (
+        ("camera_position", "vec3<f32>"), ("width", "u32"),
+        ("camera_right", "vec3<f32>"), ("height", "u32"),
+        ("camera_up", "vec3<f32>"), ("max_depth", "u32"),
+        ("camera_forward", "vec3<f32>"), ("node_count", "u32"),
+    ),
+    "Per-frame values; camera_right and camera_up span half the image plane at distance 1.",
+)
+ACCUMULATED_PIXEL = GpuStruct(
+    "AccumulatedPixel",
+    (("sum", "vec4<f32>"), ("compensation", "vec4<f32>")),
+    "Kahan-compensated sum of a pixel's samples; sum.w counts its non-finite samples.",
+)
+
+ALL_STRUCTS = (TRIANGLE, BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL)

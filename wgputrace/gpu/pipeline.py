@@ -1,0 +1,80 @@
+"""Compute pipelines built from shader files, with compile errors that name the original file."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import wgpu
+
+from ..scene.materials import MaterialKind
+from .device import GpuContext
+from .layout import ALL_STRUCTS
+from .shader_source import ShaderSource, load_shader
+
+GENERATED_STRUCTS = "generated/structs.wgsl"
+
+# Marks "no triangle" in hit records and "skip nothing" in traversal.
+NO_TRIANGLE = 0xFFFFFFFF
+# Entries of the per-ray traversal stack; the BVH builder keeps trees at most this deep, which
+# bounds the stack because traversal pushes only the farther child of each node it enters.
+BVH_STACK_SIZE = 64
+
+
+class ShaderCompileError(RuntimeError):
+    """The WGSL did not compile; the message names the original .wgsl file and line."""
+
+
+def generated_structs() -> str:
+    """Struct definitions and shared constants, made from the Python definitions."""
+    parts = ["// Generated from wgputrace.gpu.layout and wgputrace.scene: host/GPU structs and ids."]
+    parts += [struct.wgsl() for struct in ALL_STRUCTS]
+    parts += [f"const MATERIAL_{kind.name}: u32 = {int(kind)}u;" for kind in MaterialKind]
+    parts.append(f"const NO_TRIANGLE: u32 = {NO_TRIANGLE:#x}u;")
+    parts.append(f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;")
+    return "\n".join(parts) + "\n"
+
+
+@dataclass
+class ComputeKernel:
+    pipeline: wgpu.GPUComputePipeline
+    source: ShaderSource
+    workgroup_size: tuple[int, int]
+
+    def bind_group(self, context: GpuContext, group: int, buffers: dict[int, wgpu.GPUBuffer]) -> wgpu.GPUBindGroup:
+        return context.device.create_bind_group(
+            layout=self.pipeline.get_bind_group_layout(group),
+            entries=[{"binding": b, "resource": {"buffer": buf, "offset": 0, "size": buf.size}} for b, buf in buffers.items()],
+        )
+
+
+def compute_kernel(
+    context: GpuContext,
+    entry: str,
+    *,
+    generated: dict[str, str] | None = None,
+    constants: dict[str, float | int | bool] | None = None,
+    workgroup_size: tuple[int, int] = (8, 8),
+    label: str | None = None,
+) -> ComputeKernel:
+    """Compile `entry` (a file under shaders/ with `fn main`) into a compute pipeline."""
+    files = {GENERATED_STRUCTS: generated_structs(), **(generated or {})}
+    source = load_shader(entry, files)
+    try:
+        module = context.device.create_shader_module(label=label or entry, code=source.text)
+        pipeline = context.device.create_compute_pipeline(
+            label=label or entry,
+            layout="auto",
+            compute={"module": module, "entry_point": "main", "constants": constants or {}},
+        )
+    except wgpu.GPUError as error:
+        raise ShaderCompileError(source.explain(str(error))) from None
+    return ComputeKernel(pipeline, source, workgroup_size)
+
+
+def dispatch_size(width: int, height: int, workgroup_size: tuple[int, int]) -> tuple[int, int, int]:
+    return (-(-width // workgroup_size[0]), -(-height // workgroup_size[1]), 1)
+
+
+def as_bytes(array: np.ndarray) -> memoryview:
+    return memoryview(np.ascontiguousarray(array)).cast("B")

@@ -1,0 +1,54 @@
+"""A scene turned into GPU records: triangles in acceleration-structure order, nodes, materials."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..bvh import BVH, build_bvh, build_flat
+from ..gpu.layout import BVH_NODE, MATERIAL, TRIANGLE
+from ..gpu.pipeline import BVH_STACK_SIZE
+from ..scene import Material, Scene
+
+ACCELERATIONS = ("bvh", "flat")
+
+
+@dataclass
+class SceneRecords:
+    triangles: np.ndarray  # TRIANGLE.dtype, in the order the acceleration structure references
+    nodes: np.ndarray      # BVH_NODE.dtype
+    materials: np.ndarray  # MATERIAL.dtype
+    acceleration: BVH
+
+
+def material_records(materials: list[Material]) -> np.ndarray:
+    records = MATERIAL.zeros(len(materials))
+    for record, material in zip(records, materials):
+        color, alpha, ior = material.gpu_parameters()
+        record["color"], record["kind"], record["alpha"], record["ior"] = color, int(material.kind), alpha, ior
+    return records
+
+
+def node_records(acceleration: BVH) -> np.ndarray:
+    nodes = BVH_NODE.zeros(acceleration.node_count)
+    nodes["bounds_min"] = acceleration.bounds_min
+    nodes["bounds_max"] = acceleration.bounds_max
+    nodes["left_or_first"] = acceleration.left_or_first
+    nodes["triangle_count"] = acceleration.triangle_count
+    return nodes
+
+
+def scene_records(scene: Scene, acceleration: str = "bvh") -> SceneRecords:
+    if acceleration not in ACCELERATIONS:
+        raise ValueError(f"acceleration must be one of {ACCELERATIONS}, got {acceleration!r}")
+    arrays = scene.arrays()
+    if acceleration == "bvh":
+        structure = build_bvh(arrays.vertices, max_depth=BVH_STACK_SIZE)
+    else:
+        structure = build_flat(arrays.vertices, arrays.shape_index)
+    order = structure.triangle_order
+    triangles = TRIANGLE.zeros(len(order))
+    triangles["v0"], triangles["v1"], triangles["v2"] = (arrays.vertices[order, corner] for corner in range(3))
+    triangles["material"] = arrays.material_index[order]
+    return SceneRecords(triangles, node_records(structure), material_records(arrays.materials), structure)

@@ -1,0 +1,35 @@
+"""Glass: a smooth dielectric interface with exact Fresnel and total internal reflection.
+
+| parameter | type          | default | meaning                                                      |
+|-----------|---------------|---------|--------------------------------------------------------------|
+| color     | RGB in [0, 1] | 1       | tints transmission only (applied at every crossing)          |
+| ior       | float > 0     | 1.5     | index of refraction inside; outside is 1                     |
+
+"Inside" is the side opposite the triangle's normal cross(v1 - v0, v2 - v0): closed meshes must
+wind their triangles counter-clockwise seen from outside.
+Mitsuba 3: `dielectric` with `int_ior` = ior, `ext_ior` = 1, `specular_transmittance` = color.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .material import Material, MaterialKind, check_color, check_number
+
+# An ior far outside every real material is almost always a unit or typing mistake.
+IOR_MAX = 100.0
+
+
+@dataclass(eq=False)
+class Glass(Material):
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    ior: float = 1.5
+
+    kind = MaterialKind.GLASS
+
+    def __post_init__(self) -> None:
+        self.color = check_color(self.name, "color", self.color, upper=1.0)
+        self.ior = check_number(self.name, "ior", self.ior, low=0.0, high=IOR_MAX, low_inclusive=False)
+
+    def gpu_parameters(self):
+        return self.color, 0.0, self.ior
