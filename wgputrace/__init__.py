@@ -1,9 +1,9 @@
 """wgputrace: a Monte Carlo path tracer for Python on WGSL compute shaders (wgpu-py).
 
-    import wgputrace as wt
-    scene = wt.default_scene()
-    img = wt.render(scene, spp=64, width=512, height=512, seed=1, max_depth=9)
-    wt.save_image("out.exr", img)
+import wgputrace as wt
+scene = wt.default_scene()
+img = wt.render(scene, spp=64, width=512, height=512, seed=1, max_depth=9)
+wt.save_image("out.exr", img)
 """
 
 from .image_io import load_image, save_image
@@ -25,6 +25,20 @@ from .scenes import default_scene
 __version__ = "0.1.0"
 
 __all__ = [
-    "UNLIMITED_DEPTH", "Camera", "Diffuse", "Emitter", "Glass", "Glossy", "Renderer", "Scene", "Shape",
-    "default_scene", "load_image", "make_box", "make_icosphere", "make_plane", "render", "save_image",
+    "UNLIMITED_DEPTH",
+    "Camera",
+    "Diffuse",
+    "Emitter",
+    "Glass",
+    "Glossy",
+    "Renderer",
+    "Scene",
+    "Shape",
+    "default_scene",
+    "load_image",
+    "make_box",
+    "make_icosphere",
+    "make_plane",
+    "render",
+    "save_image",
 ]

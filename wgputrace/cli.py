@@ -61,12 +61,18 @@ def _render(args: argparse.Namespace) -> int:
     path = save_image(args.output, renderer.image(), exposure=args.exposure)
     acceleration = renderer.records.acceleration
     print(f"adapter          {context.adapter_name}")
-    print(f"scene            {args.scene}: {renderer.triangle_count:,} triangles, {len(renderer.records.materials)} materials")
-    print(f"acceleration     {args.accel}: {acceleration.node_count:,} nodes, depth {acceleration.depth}, "
-          f"SAH cost {acceleration.sah_cost():.2f}, built in {acceleration.build_seconds * 1e3:.1f} ms")
+    print(
+        f"scene            {args.scene}: {renderer.triangle_count:,} triangles, {len(renderer.records.materials)} materials"
+    )
+    print(
+        f"acceleration     {args.accel}: {acceleration.node_count:,} nodes, depth {acceleration.depth}, "
+        f"SAH cost {acceleration.sah_cost():.2f}, built in {acceleration.build_seconds * 1e3:.1f} ms"
+    )
     print(f"setup            {setup_seconds:.2f} s (BVH, buffers, pipeline)")
-    print(f"render           {stats.samples_per_pixel} spp at {width}x{height} in {stats.render_seconds:.2f} s, "
-          f"{stats.samples_per_second * width * height / 1e6:.3f} M samples/s")
+    print(
+        f"render           {stats.samples_per_pixel} spp at {width}x{height} in {stats.render_seconds:.2f} s, "
+        f"{stats.samples_per_second * width * height / 1e6:.3f} M samples/s"
+    )
     if renderer.nonfinite_samples:
         print(f"non-finite       {renderer.nonfinite_samples} samples were NaN or infinite and counted as zero")
     print(f"wrote            {path}")

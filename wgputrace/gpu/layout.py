@@ -59,7 +59,12 @@ class GpuStruct:
             scalar, count, _, _ = _TYPES[wgsl_type]
             formats.append(scalar if count == 1 else (scalar, (count,)))
         return np.dtype(
-            {"names": [n for n, _ in self.fields], "formats": formats, "offsets": list(self.offsets), "itemsize": self.size}
+            {
+                "names": [n for n, _ in self.fields],
+                "formats": formats,
+                "offsets": list(self.offsets),
+                "itemsize": self.size,
+            }
         )
 
     def wgsl(self) -> str:
@@ -91,10 +96,14 @@ MATERIAL = GpuStruct(
 FRAME = GpuStruct(
     "Frame",
     (
-        ("camera_position", "vec3<f32>"), ("width", "u32"),
-        ("camera_right", "vec3<f32>"), ("height", "u32"),
-        ("camera_up", "vec3<f32>"), ("max_depth", "u32"),
-        ("camera_forward", "vec3<f32>"), ("node_count", "u32"),
+        ("camera_position", "vec3<f32>"),
+        ("width", "u32"),
+        ("camera_right", "vec3<f32>"),
+        ("height", "u32"),
+        ("camera_up", "vec3<f32>"),
+        ("max_depth", "u32"),
+        ("camera_forward", "vec3<f32>"),
+        ("node_count", "u32"),
     ),
     "Per-frame values; camera_right and camera_up span half the image plane at distance 1.",
 )

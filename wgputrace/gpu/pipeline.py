@@ -44,7 +44,9 @@ class ComputeKernel:
     def bind_group(self, context: GpuContext, group: int, buffers: dict[int, wgpu.GPUBuffer]) -> wgpu.GPUBindGroup:
         return context.device.create_bind_group(
             layout=self.pipeline.get_bind_group_layout(group),
-            entries=[{"binding": b, "resource": {"buffer": buf, "offset": 0, "size": buf.size}} for b, buf in buffers.items()],
+            entries=[
+                {"binding": b, "resource": {"buffer": buf, "offset": 0, "size": buf.size}} for b, buf in buffers.items()
+            ],
         )
 
 

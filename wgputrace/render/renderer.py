@@ -35,7 +35,10 @@ def path_tracer_kernel(context: GpuContext, acceleration: str) -> ComputeKernel:
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         _kernels[key] = compute_kernel(
-            context, "path_tracer.wgsl", generated={"acceleration.wgsl": traversal}, label=f"path tracer ({acceleration})"
+            context,
+            "path_tracer.wgsl",
+            generated={"acceleration.wgsl": traversal},
+            label=f"path tracer ({acceleration})",
         )
     return _kernels[key]
 

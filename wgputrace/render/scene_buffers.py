@@ -17,14 +17,14 @@ ACCELERATIONS = ("bvh", "flat")
 @dataclass
 class SceneRecords:
     triangles: np.ndarray  # TRIANGLE.dtype, in the order the acceleration structure references
-    nodes: np.ndarray      # BVH_NODE.dtype
+    nodes: np.ndarray  # BVH_NODE.dtype
     materials: np.ndarray  # MATERIAL.dtype
     acceleration: BVH
 
 
 def material_records(materials: list[Material]) -> np.ndarray:
     records = MATERIAL.zeros(len(materials))
-    for record, material in zip(records, materials):
+    for record, material in zip(records, materials, strict=False):
         color, alpha, ior = material.gpu_parameters()
         record["color"], record["kind"], record["alpha"], record["ior"] = color, int(material.kind), alpha, ior
     return records

@@ -7,6 +7,20 @@ from .scene import Scene, SceneError, TriangleArrays
 from .shapes import Shape, make_box, make_icosphere, make_plane
 
 __all__ = [
-    "Camera", "Diffuse", "Emitter", "Glass", "Glossy", "Material", "MaterialError", "MaterialKind",
-    "Scene", "SceneError", "Shape", "TriangleArrays", "cornell_box", "make_box", "make_icosphere", "make_plane",
+    "Camera",
+    "Diffuse",
+    "Emitter",
+    "Glass",
+    "Glossy",
+    "Material",
+    "MaterialError",
+    "MaterialKind",
+    "Scene",
+    "SceneError",
+    "Shape",
+    "TriangleArrays",
+    "cornell_box",
+    "make_box",
+    "make_icosphere",
+    "make_plane",
 ]

@@ -19,9 +19,9 @@ class SceneError(ValueError):
 class TriangleArrays:
     """The scene flattened for the GPU: each triangle points at its material, never copies it."""
 
-    vertices: np.ndarray        # (n, 3, 3) float32
+    vertices: np.ndarray  # (n, 3, 3) float32
     material_index: np.ndarray  # (n,) uint32 into `materials`
-    shape_index: np.ndarray     # (n,) uint32 into the scene's shapes
+    shape_index: np.ndarray  # (n,) uint32 into the scene's shapes
     materials: list[Material]
 
 

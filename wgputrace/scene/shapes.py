@@ -17,16 +17,32 @@ from .materials import Material
 # Corner order and faces of trac0r's unit box (corners p1..p8 of its source, 0-based here), with
 # the winding of three triangles that pointed inwards in trac0r fixed so every normal faces out.
 _BOX_CORNERS = np.array(
-    [[-0.5, 0.5, -0.5], [-0.5, -0.5, -0.5], [0.5, -0.5, -0.5], [0.5, 0.5, -0.5],
-     [-0.5, 0.5, 0.5], [-0.5, -0.5, 0.5], [0.5, -0.5, 0.5], [0.5, 0.5, 0.5]]
+    [
+        [-0.5, 0.5, -0.5],
+        [-0.5, -0.5, -0.5],
+        [0.5, -0.5, -0.5],
+        [0.5, 0.5, -0.5],
+        [-0.5, 0.5, 0.5],
+        [-0.5, -0.5, 0.5],
+        [0.5, -0.5, 0.5],
+        [0.5, 0.5, 0.5],
+    ]
 )
 _BOX_FACES = np.array(
-    [[1, 0, 2], [0, 3, 2],  # z = -0.5
-     [3, 7, 2], [2, 7, 6],  # x = +0.5
-     [0, 1, 5], [4, 0, 5],  # x = -0.5
-     [4, 5, 7], [5, 6, 7],  # z = +0.5
-     [4, 3, 0], [7, 3, 4],  # y = +0.5
-     [1, 2, 5], [2, 6, 5]]  # y = -0.5
+    [
+        [1, 0, 2],
+        [0, 3, 2],  # z = -0.5
+        [3, 7, 2],
+        [2, 7, 6],  # x = +0.5
+        [0, 1, 5],
+        [4, 0, 5],  # x = -0.5
+        [4, 5, 7],
+        [5, 6, 7],  # z = +0.5
+        [4, 3, 0],
+        [7, 3, 4],  # y = +0.5
+        [1, 2, 5],
+        [2, 6, 5],
+    ]  # y = -0.5
 )
 # trac0r's unit plane lies in y = 0, its normal +y (listing 16 rotates it into place).
 _PLANE_CORNERS = np.array([[-0.5, 0.0, 0.5], [-0.5, 0.0, -0.5], [0.5, 0.0, -0.5], [0.5, 0.0, 0.5]])
@@ -34,15 +50,44 @@ _PLANE_FACES = np.array([[1, 0, 2], [0, 3, 2]])
 
 _GOLDEN = (1.0 + np.sqrt(5.0)) / 2.0
 _ICOSAHEDRON_CORNERS = np.array(
-    [[-1, _GOLDEN, 0], [1, _GOLDEN, 0], [-1, -_GOLDEN, 0], [1, -_GOLDEN, 0],
-     [0, -1, _GOLDEN], [0, 1, _GOLDEN], [0, -1, -_GOLDEN], [0, 1, -_GOLDEN],
-     [_GOLDEN, 0, -1], [_GOLDEN, 0, 1], [-_GOLDEN, 0, -1], [-_GOLDEN, 0, 1]]
+    [
+        [-1, _GOLDEN, 0],
+        [1, _GOLDEN, 0],
+        [-1, -_GOLDEN, 0],
+        [1, -_GOLDEN, 0],
+        [0, -1, _GOLDEN],
+        [0, 1, _GOLDEN],
+        [0, -1, -_GOLDEN],
+        [0, 1, -_GOLDEN],
+        [_GOLDEN, 0, -1],
+        [_GOLDEN, 0, 1],
+        [-_GOLDEN, 0, -1],
+        [-_GOLDEN, 0, 1],
+    ]
 )
 _ICOSAHEDRON_FACES = np.array(
-    [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-     [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-     [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-     [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]
+    [
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ]
 )
 
 
@@ -112,7 +157,9 @@ def _place(name: str, corners: np.ndarray, faces: np.ndarray, matrix: np.ndarray
 def make_plane(position, orientation, size, material: Material, name: str = "plane") -> Shape:
     """Two triangles: a size[0] x size[1] rectangle in the local xz plane, rotated and moved."""
     width, depth = (float(s) for s in size)
-    return _place(name, _PLANE_CORNERS, _PLANE_FACES, model_matrix(position, orientation, (width, 1.0, depth)), material)
+    return _place(
+        name, _PLANE_CORNERS, _PLANE_FACES, model_matrix(position, orientation, (width, 1.0, depth)), material
+    )
 
 
 def make_box(position, orientation, size, material: Material, name: str = "box") -> Shape:
@@ -120,7 +167,9 @@ def make_box(position, orientation, size, material: Material, name: str = "box")
     return _place(name, _BOX_CORNERS, _BOX_FACES, model_matrix(position, orientation, size), material)
 
 
-def make_icosphere(position, orientation, radius: float, iterations: int, material: Material, name: str = "icosphere") -> Shape:
+def make_icosphere(
+    position, orientation, radius: float, iterations: int, material: Material, name: str = "icosphere"
+) -> Shape:
     """An icosahedron subdivided `iterations` times (20 * 4**iterations triangles), radius `radius`.
 
     Each subdivision splits a triangle (a, b, c) into (a, ab, ca), (b, bc, ab), (c, ca, bc),

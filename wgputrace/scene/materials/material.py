@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar
 from enum import IntEnum
+from typing import ClassVar
 
 import numpy as np
 
@@ -39,13 +39,17 @@ def check_color(material_name: str, parameter: str, value, *, upper: float | Non
     return (float(rgb[0]), float(rgb[1]), float(rgb[2]))
 
 
-def check_number(material_name: str, parameter: str, value, *, low: float, high: float, low_inclusive: bool = True) -> float:
+def check_number(
+    material_name: str, parameter: str, value, *, low: float, high: float, low_inclusive: bool = True
+) -> float:
     """A finite number in [low, high] (or (low, high] when low_inclusive is false)."""
     number = float(value)
     below = number < low if low_inclusive else number <= low
     if not math.isfinite(number) or below or number > high:
         bracket = "[" if low_inclusive else "("
-        raise MaterialError(f"material {material_name!r}: {parameter} must be in {bracket}{low}, {high}], got {value!r}")
+        raise MaterialError(
+            f"material {material_name!r}: {parameter} must be in {bracket}{low}, {high}], got {value!r}"
+        )
     return number
 
 

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Set up wgputrace on a fresh Debian/Ubuntu machine: system packages, then a virtual environment
+# in .venv with the package and its test extras. Safe to run again.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+
+# mesa-vulkan-drivers gives wgpu a Vulkan adapter on any machine (lavapipe, a CPU driver) when
+# there is no GPU driver; python3-venv is what Debian's python3 needs to make .venv.
+packages=(mesa-vulkan-drivers python3-venv python3-pip)
+missing=()
+for package in "${packages[@]}"; do
+  dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  as_root apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq "${missing[@]}"
+fi
+
+python3 -m venv .venv
+.venv/bin/python -m pip install -q --upgrade pip
+.venv/bin/python -m pip install -q ".[test,bench]"

@@ -1,0 +1,34 @@
+"""Shared fixtures: one GPU device per test session, seeded random generators."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("XDG_RUNTIME_DIR", tempfile.mkdtemp(prefix="wgputrace-test-xdg-"))
+
+SHARED_SCENES = Path(__file__).resolve().parents[2] / "shared" / "scenes"
+FAILURE_DIR = Path(__file__).resolve().parent / "failures"
+
+
+@pytest.fixture(scope="session")
+def gpu_context():
+    from wgputrace.gpu.device import gpu
+
+    return gpu()
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261122)
+
+
+@pytest.fixture
+def failure_dir() -> Path:
+    """Where a failing test writes images for a person to look at (git-ignored)."""
+    FAILURE_DIR.mkdir(exist_ok=True)
+    return FAILURE_DIR

@@ -1,0 +1,64 @@
+"""Renders whose exact answer is known: furnaces made of a closed emitter."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.render.scenes import ENCLOSURE_RADIANCE, diffuse_sphere_in_emitter, glass_sphere_in_emitter, inside_emitter
+from wgputrace import UNLIMITED_DEPTH, Renderer, render, save_image
+
+SIZE = 24
+SEED = 7
+# Float32 arithmetic along a path and in the Kahan sum: a few roundings of relative size 2^-24.
+EXACT_RTOL = 1e-5
+# Two-sided significance level of the z-tests below; fixed seeds make them deterministic.
+SIGNIFICANCE = 1e-3
+Z_LIMIT = 3.29  # Phi^-1(1 - SIGNIFICANCE / 2)
+
+
+@pytest.mark.parametrize("max_depth", [1, 9, UNLIMITED_DEPTH])
+@pytest.mark.parametrize("accel", ["bvh", "flat"])
+def test_inside_closed_emitter_every_pixel_is_its_radiance(gpu_context, max_depth, accel):
+    image = render(inside_emitter(), spp=2, width=SIZE, height=SIZE, seed=SEED, max_depth=max_depth, accel=accel)
+    np.testing.assert_allclose(image, np.broadcast_to(ENCLOSURE_RADIANCE, image.shape), rtol=EXACT_RTOL)
+
+
+def test_diffuse_sphere_in_emitter_reflects_albedo_times_radiance(gpu_context, failure_dir):
+    """Every direction leaving a convex sphere hits the enclosure, and cosine sampling's weight is
+    exactly the albedo: each sample on the sphere is albedo * L, with zero variance."""
+    albedo = np.array([0.25, 0.5, 0.75])
+    renderer = Renderer(diffuse_sphere_in_emitter(albedo), SIZE, SIZE, seed=SEED, max_depth=9)
+    renderer.render(4)
+    image = renderer.image()
+    expected_sphere = albedo * ENCLOSURE_RADIANCE
+    center = image[SIZE // 2 - 2 : SIZE // 2 + 2, SIZE // 2 - 2 : SIZE // 2 + 2]
+    if not np.allclose(center, expected_sphere, rtol=EXACT_RTOL):
+        save_image(failure_dir / "diffuse_sphere_in_emitter.exr", image)
+    np.testing.assert_allclose(center, np.broadcast_to(expected_sphere, center.shape), rtol=EXACT_RTOL)
+    # edge pixels mix sphere and enclosure: each channel lies between the two values
+    low = np.minimum(expected_sphere, ENCLOSURE_RADIANCE) * (1 - EXACT_RTOL)
+    high = np.maximum(expected_sphere, ENCLOSURE_RADIANCE) * (1 + EXACT_RTOL)
+    assert np.all((image >= low) & (image <= high))
+    # and with max_depth 1 the sphere is black: it emits nothing
+    direct = render(diffuse_sphere_in_emitter(albedo), spp=1, width=SIZE, height=SIZE, seed=SEED, max_depth=1)
+    assert np.all(direct[SIZE // 2, SIZE // 2] == 0)
+
+
+def test_lossless_glass_sphere_in_emitter_converges_to_radiance(gpu_context, failure_dir):
+    """Clear glass loses no energy and the eta^2 radiance scaling cancels on the way out, so every
+    pixel's expectation is L. Russian roulette makes samples noisy but must not bias them: the
+    image mean is z-tested against L with the standard error from the per-pixel spread."""
+    spp = 16
+    renderer = Renderer(glass_sphere_in_emitter(), SIZE, SIZE, seed=SEED, max_depth=UNLIMITED_DEPTH)
+    renderer.render(spp)
+    image = renderer.image().reshape(-1, 3).astype(np.float64)
+    mean = image.mean(axis=0)
+    standard_error = image.std(axis=0, ddof=1) / np.sqrt(len(image))
+    # a noise-free image would make the test vacuous: make sure roulette actually happened
+    assert np.all(standard_error > 0)
+    z = (mean - ENCLOSURE_RADIANCE) / standard_error
+    if np.any(np.abs(z) > Z_LIMIT):
+        save_image(failure_dir / "glass_sphere_in_emitter.exr", renderer.image())
+    assert np.all(np.abs(z) < Z_LIMIT), f"mean {mean} vs {ENCLOSURE_RADIANCE}, z = {z}"
+    assert renderer.nonfinite_samples == 0
