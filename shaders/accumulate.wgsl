@@ -1,5 +1,6 @@
 // Adding one sample to a pixel's running sum without drift, and keeping non-finite samples out.
 //! include "generated/structs.wgsl"
+//! include "constants.wgsl"
 //! include "finite.wgsl"
 //
 // A float32 sum of 100,000 samples loses about five digits to rounding; Kahan's compensation
@@ -11,7 +12,10 @@ fn accumulate_sample(pixel: AccumulatedPixel, value: vec3<f32>) -> AccumulatedPi
         return AccumulatedPixel(pixel.sum + vec4<f32>(0.0, 0.0, 0.0, 1.0), pixel.compensation);
     }
     let y = value - pixel.compensation.xyz;
-    let t = pixel.sum.xyz + y;
+    // Compilers may treat float arithmetic as reassociable: Mesa (lavapipe) folds (t - sum) - y
+    // with t = sum + y to 0, silently turning this into a plain float32 sum. max with -FLOAT_MAX
+    // leaves every finite t as it is but hides from the optimiser that t is sum + y.
+    let t = max(pixel.sum.xyz + y, vec3<f32>(-FLOAT_MAX));
     let lost = (t - pixel.sum.xyz) - y;
     return AccumulatedPixel(vec4<f32>(t, pixel.sum.w), vec4<f32>(lost, 0.0));
 }

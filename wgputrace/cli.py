@@ -11,7 +11,8 @@ from .image_io import FORMATS, save_image
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE, scene_by_name
 
 
-def _size(text: str) -> tuple[int, int]:
+def parse_size(text: str) -> tuple[int, int]:
+    """argparse type for WIDTHxHEIGHT (also used by the benchmarks)."""
     try:
         width, height = (int(part) for part in text.lower().split("x"))
     except ValueError:
@@ -28,7 +29,7 @@ def _parser() -> argparse.ArgumentParser:
     render = commands.add_parser("render", help="render a scene headless to .png, .exr or .npy")
     render.add_argument("scene", nargs="?", default=DEFAULT_SCENE, help=f"built-in scene: {', '.join(BUILTIN_SCENES)}")
     render.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
-    render.add_argument("--size", type=_size, default=(512, 512), help="WIDTHxHEIGHT (default 512x512)")
+    render.add_argument("--size", type=parse_size, default=(512, 512), help="WIDTHxHEIGHT (default 512x512)")
     render.add_argument("--max-depth", type=int, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit")
     render.add_argument("--seed", type=int, default=1, help="random seed: same seed and adapter, same image")
     render.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")

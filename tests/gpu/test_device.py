@@ -25,3 +25,19 @@ def test_describe_reports_adapter_and_limits(gpu_context):
     info = describe()
     assert info["adapter"] and info["backend"]
     assert info["limits"]["max-storage-buffer-binding-size"] > 0
+
+
+def test_flat_list_beyond_llvmpipe_loop_limit_is_refused(gpu_context):
+    """llvmpipe silently ends loops after 65,535 iterations: a flat list with more triangles
+    would miss geometry, so the renderer refuses it with a message naming the limit."""
+    import numpy as np
+
+    from wgputrace import Diffuse, Renderer, Scene, Shape
+
+    limit = gpu_context.loop_iteration_limit
+    if limit is None:
+        pytest.skip("this adapter has no loop iteration limit (only llvmpipe does)")
+    corners = np.random.default_rng(1).uniform(-1, 1, (limit + 1, 3, 3)).astype(np.float32)
+    scene = Scene([Shape("soup", corners, Diffuse("grey"))])
+    with pytest.raises(DeviceLimitError, match=f"ends shader loops after {limit:,} iterations"):
+        Renderer(scene, 8, 8, accel="flat")

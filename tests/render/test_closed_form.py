@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from tests.render.scenes import ENCLOSURE_RADIANCE, diffuse_sphere_in_emitter, glass_sphere_in_emitter, inside_emitter
-from wgputrace import UNLIMITED_DEPTH, Renderer, render, save_image
+from wgputrace import UNLIMITED_DEPTH, Diffuse, Renderer, Shape, render, save_image
+from wgputrace.scene import DegenerateTrianglesWarning
 
 SIZE = 24
 SEED = 7
@@ -61,4 +62,19 @@ def test_lossless_glass_sphere_in_emitter_converges_to_radiance(gpu_context, fai
     if np.any(np.abs(z) > Z_LIMIT):
         save_image(failure_dir / "glass_sphere_in_emitter.exr", renderer.image())
     assert np.all(np.abs(z) < Z_LIMIT), f"mean {mean} vs {ENCLOSURE_RADIANCE}, z = {z}"
+    assert renderer.nonfinite_samples == 0
+
+
+def test_zero_area_triangles_never_reach_the_gpu(gpu_context):
+    """Collinear and repeated corners, in view inside the closed emitter: they are dropped with a
+    warning naming the shape, so every pixel is still exactly L and no sample turns NaN."""
+    corners = np.array([[0, 0, 0], [0.5, 0.5, 0], [1, 1, 0]], np.float32)  # on one line
+    sliver = np.stack([corners, corners[[0, 0, 2]], corners[[1, 1, 1]]])
+    shape = Shape("slivers", np.concatenate([sliver, sliver - 0.5]), Diffuse("grey"))
+    with pytest.warns(
+        DegenerateTrianglesWarning, match="dropped 6 zero-area triangles; the first is triangle 0 of shape 'slivers'"
+    ):
+        renderer = Renderer(inside_emitter(shape), SIZE, SIZE, seed=SEED, max_depth=9)
+    renderer.render(2)
+    np.testing.assert_allclose(renderer.image(), np.broadcast_to(ENCLOSURE_RADIANCE, (SIZE, SIZE, 3)), rtol=EXACT_RTOL)
     assert renderer.nonfinite_samples == 0

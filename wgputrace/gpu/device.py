@@ -26,6 +26,10 @@ LIMITS_WE_USE = (
 
 _FENCE_BYTES = 4
 
+# llvmpipe (Mesa's CPU driver) stops any loop after this many iterations per invocation, without
+# an error; measured here with Mesa 22.3.
+LLVMPIPE_LOOP_ITERATION_LIMIT = 65_535
+
 
 class DeviceLimitError(RuntimeError):
     """The scene or image needs more than the adapter offers."""
@@ -47,6 +51,11 @@ class GpuContext:
     def adapter_name(self) -> str:
         info = self.adapter.info
         return f"{info['device']} ({info['backend_type']}, {info['adapter_type']})"
+
+    @property
+    def loop_iteration_limit(self) -> int | None:
+        """Iterations after which the driver silently ends a shader loop (nested loops share it)."""
+        return LLVMPIPE_LOOP_ITERATION_LIMIT if "llvmpipe" in self.adapter.info["device"] else None
 
     def require(self, limit: str, needed: int, what: str) -> None:
         available = self.device.limits[limit]

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer
-from ..gpu.device import GpuContext, gpu
+from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
 from ..gpu.pipeline import ComputeKernel, compute_kernel, dispatch_size
 from ..scene import Scene
@@ -74,6 +74,13 @@ class Renderer:
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         self.records = scene_records(scene, accel)
         self.accel = accel
+        loop_limit = self.context.loop_iteration_limit
+        if accel == "flat" and loop_limit is not None and self.triangle_count > loop_limit:
+            # the flat list tests every triangle of every box a ray enters, in one loop
+            raise DeviceLimitError(
+                f"--accel flat tests up to {self.triangle_count:,} triangles per ray, but {self.context.adapter_name} "
+                f"ends shader loops after {loop_limit:,} iterations; use the BVH"
+            )
         self.stats = RenderStats()
         pixels = width * height
         groups = dispatch_size(width, height, (8, 8))

@@ -3,11 +3,12 @@
 from .camera import Camera
 from .cornell import cornell_box
 from .materials import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, MaterialKind
-from .scene import Scene, SceneError, TriangleArrays
+from .scene import DegenerateTrianglesWarning, Scene, SceneError, TriangleArrays
 from .shapes import Shape, make_box, make_icosphere, make_plane
 
 __all__ = [
     "Camera",
+    "DegenerateTrianglesWarning",
     "Diffuse",
     "Emitter",
     "Glass",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -13,6 +14,22 @@ from .shapes import Shape
 
 class SceneError(ValueError):
     """The scene cannot be rendered as it is (empty, inconsistent)."""
+
+
+class DegenerateTrianglesWarning(UserWarning):
+    """Zero-area triangles were dropped: they have no normal and must never be hit."""
+
+
+def zero_area(vertices: np.ndarray) -> np.ndarray:
+    """True where a triangle's corners coincide or lie on one line.
+
+    The cross product is taken in float64 from the float32 corners, where it is exact for
+    corners of similar magnitude, so exactly collinear corners give exactly zero. (On the GPU, f32
+    rounding of a collinear triangle's edge functions can leave them all of one sign: a "hit" with
+    a NaN normal. Dropping such triangles here keeps that test out of the intersection loop.)
+    """
+    v = vertices.astype(np.float64)
+    return ~np.any(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]) != 0.0, axis=1)
 
 
 @dataclass
@@ -56,9 +73,22 @@ class Scene:
         materials = self.materials
         slot = {id(material): index for index, material in enumerate(materials)}
         counts = [shape.triangle_count for shape in self.shapes]
-        return TriangleArrays(
-            vertices=np.concatenate([shape.vertices for shape in self.shapes]),
-            material_index=np.repeat(np.array([slot[id(s.material)] for s in self.shapes], np.uint32), counts),
-            shape_index=np.repeat(np.arange(len(self.shapes), dtype=np.uint32), counts),
-            materials=materials,
-        )
+        vertices = np.concatenate([shape.vertices for shape in self.shapes])
+        material_index = np.repeat(np.array([slot[id(s.material)] for s in self.shapes], np.uint32), counts)
+        shape_index = np.repeat(np.arange(len(self.shapes), dtype=np.uint32), counts)
+        degenerate = zero_area(vertices)
+        if degenerate.any():
+            first = int(np.flatnonzero(degenerate)[0])
+            shape = self.shapes[shape_index[first]]
+            local = first - sum(counts[: shape_index[first]])
+            warnings.warn(
+                f"dropped {int(degenerate.sum())} zero-area triangles; the first is triangle {local} of "
+                f"shape {shape.name!r}",
+                DegenerateTrianglesWarning,
+                stacklevel=2,
+            )
+            keep = ~degenerate
+            vertices, material_index, shape_index = vertices[keep], material_index[keep], shape_index[keep]
+            if len(vertices) == 0:
+                raise SceneError("the scene has no triangles left after dropping zero-area ones")
+        return TriangleArrays(vertices, material_index, shape_index, materials)
