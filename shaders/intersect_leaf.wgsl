@@ -2,7 +2,9 @@
 //! include "scene_bindings.wgsl"
 //! include "intersect_triangle.wgsl"
 
-fn intersect_leaf(sheared: ShearedRay, node: BvhNode, skip_triangle: u32, hit: ptr<function, Hit>) {
+// Updates `hit` with the nearest triangle of the leaf; with `any_hit`, stops at the first one and
+// returns true (a shadow ray needs no nearest occluder).
+fn intersect_leaf(sheared: ShearedRay, node: BvhNode, skip_triangle: u32, any_hit: bool, hit: ptr<function, Hit>) -> bool {
     for (var i = node.left_or_first; i < node.left_or_first + node.triangle_count; i++) {
         if i == skip_triangle {
             continue;
@@ -11,6 +13,10 @@ fn intersect_leaf(sheared: ShearedRay, node: BvhNode, skip_triangle: u32, hit: p
         let t = intersect_triangle(sheared, triangle.v0, triangle.v1, triangle.v2, (*hit).t);
         if t < (*hit).t {
             *hit = Hit(t, i);
+            if any_hit {
+                return true;
+            }
         }
     }
+    return false;
 }

@@ -3,24 +3,85 @@
 //! include "camera.wgsl"
 //! include "rng.wgsl"
 //! include "bsdf.wgsl"
+//! include "light_sampling.wgsl"
+//! include "mis.wgsl"
 //! include "accumulate.wgsl"
 
 @group(0) @binding(4) var<storage, read_write> rng_states: array<vec4<u32>>;
 @group(0) @binding(5) var<storage, read_write> accumulation: array<AccumulatedPixel>;
 
+// Which estimator of direct light: BSDF sampling alone, light sampling alone (next-event
+// estimation), or both combined by multiple importance sampling. One compile per choice.
+override INTEGRATOR: u32 = INTEGRATOR_MIS;
+
 fn triangle_normal(triangle: Triangle) -> vec3<f32> {
     return normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
 }
 
-// One path from the camera: emission at every vertex, BSDF sampling between them, Russian
-// roulette (unbiased: survivors are divided by their survival probability) from
-// RUSSIAN_ROULETTE_DEPTH on. max_depth counts path vertices the way Mitsuba does: 1 shows only
-// emitters seen directly, 2 adds direct lighting, and so on.
+// Vertices where a light sample can land in the BSDF's lobe; elsewhere (glass, near-mirror
+// glossy) only BSDF sampling finds lights.
+fn samples_lights(material: Material) -> bool {
+    if INTEGRATOR == INTEGRATOR_BSDF || frame.light_count == 0u {
+        return false;
+    }
+    return material.kind == MATERIAL_DIFFUSE
+        || (material.kind == MATERIAL_GLOSSY && material.alpha >= GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS);
+}
+
+// Light reaching the surface point `p` of `triangle` from one sampled light point, times the
+// BSDF (cosine included), over the sample's density, weighted against BSDF sampling under MIS.
+fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, material: Material, wi: vec3<f32>) -> vec3<f32> {
+    let light = sample_light(rng_next_2d(), rng_next_2d());
+    let to_light = light.position - p;
+    let distance_squared = dot(to_light, to_light);
+    let distance = sqrt(distance_squared);
+    let direction = to_light / distance;
+    let cos_light = abs(dot(light.normal, direction));
+    if cos_light <= COS_MIN {
+        return vec3<f32>(0.0);
+    }
+    let wo = to_local(local, direction);
+    let f = bsdf_eval(material, wi, wo);
+    if all(f == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let origin = offset_ray_origin(p, local.normal, direction, triangle.v0, triangle.v1, triangle.v2);
+    if occluded(Ray(origin, direction), distance * SHADOW_RAY_SHORTENING, triangle_index) {
+        return vec3<f32>(0.0);
+    }
+    let pdf_light = area_to_solid_angle(light.pdf_area, distance_squared, cos_light);
+    var weight = 1.0;
+    if INTEGRATOR == INTEGRATOR_MIS {
+        weight = power_heuristic(pdf_light, bsdf_pdf(material, wi, wo));
+    }
+    return f * light.radiance * (weight / pdf_light);
+}
+
+// Weight of emission found by following the path: in full where the previous vertex could not
+// sample lights (the camera, glass, near-mirrors), not at all under pure NEE (light sampling
+// counted it), and by the power heuristic under MIS.
+fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, radiance: vec3<f32>, distance: f32, cos_light: f32) -> f32 {
+    if !previous_sampled_lights {
+        return 1.0;
+    }
+    if INTEGRATOR == INTEGRATOR_NEE {
+        return 0.0;
+    }
+    let pdf_light = area_to_solid_angle(pdf_light_area(radiance), distance * distance, cos_light);
+    return power_heuristic(previous_bsdf_pdf, pdf_light);
+}
+
+// One path from the camera: emission at every vertex, direct light by the chosen integrator,
+// BSDF sampling between vertices, Russian roulette (unbiased: survivors are divided by their
+// survival probability) from RUSSIAN_ROULETTE_DEPTH on. max_depth counts path vertices the way
+// Mitsuba does: 1 shows only emitters seen directly, 2 adds direct lighting, and so on.
 fn trace_path(camera: Ray) -> vec3<f32> {
     var ray = camera;
     var radiance = vec3<f32>(0.0);
     var throughput = vec3<f32>(1.0);
     var skip_triangle = NO_TRIANGLE;
+    var previous_sampled_lights = false;
+    var previous_bsdf_pdf = 0.0;
     for (var depth = 1u; ; depth++) {
         let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
         if hit.triangle == NO_TRIANGLE {
@@ -28,22 +89,30 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         }
         let triangle = triangles[hit.triangle];
         let material = materials[triangle.material];
+        let normal = triangle_normal(triangle);
         if material.kind == MATERIAL_EMITTER {
             // emitters shine from both sides and reflect nothing
-            radiance += throughput * material.color;
+            let cos_light = abs(dot(normal, ray.direction));
+            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, material.color, hit.t, cos_light);
+            radiance += throughput * material.color * weight;
             break;
         }
         if depth >= frame.max_depth {
             break;
         }
-        let normal = triangle_normal(triangle);
         let local = shading_frame(normal);
         let wi = to_local(local, -ray.direction);
+        let p = ray.origin + hit.t * ray.direction;
+        previous_sampled_lights = samples_lights(material);
+        if previous_sampled_lights {
+            radiance += throughput * direct_light(p, triangle, hit.triangle, local, material, wi);
+        }
         let u = rng_next_2d();
         let sample = bsdf_sample(material, wi, u, rng_next_f32());
         if sample.pdf <= 0.0 {
             break;
         }
+        previous_bsdf_pdf = sample.pdf;
         throughput *= sample.weight;
         if depth >= RUSSIAN_ROULETTE_DEPTH {
             let survival = min(max_component(throughput), RUSSIAN_ROULETTE_MAX_SURVIVAL);
@@ -53,7 +122,6 @@ fn trace_path(camera: Ray) -> vec3<f32> {
             throughput /= survival;
         }
         let direction = to_world(local, sample.direction);
-        let p = ray.origin + hit.t * ray.direction;
         ray = Ray(offset_ray_origin(p, normal, direction, triangle.v0, triangle.v1, triangle.v2), direction);
         skip_triangle = hit.triangle;
     }

@@ -1,10 +1,11 @@
-// Closest-hit BVH traversal: a small stack, the nearer child first, boxes tested before descent.
+// BVH traversal, closest hit and any hit: a small stack, the nearer child first, boxes tested before descent.
 //! include "intersect_leaf.wgsl"
 //! include "intersect_box.wgsl"
+//! include "hit_queries.wgsl"
 
-// Nearest triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
-// leaves). Misses return triangle NO_TRIANGLE.
-fn closest_hit(ray: Ray, t_max: f32, skip_triangle: u32) -> Hit {
+// A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
+// leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.
+fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var hit = Hit(t_max, NO_TRIANGLE);
     let sheared = shear_ray(ray);
     let inverse_direction = safe_inverse_direction(ray.direction);
@@ -18,7 +19,9 @@ fn closest_hit(ray: Ray, t_max: f32, skip_triangle: u32) -> Hit {
     loop {
         let node = nodes[node_index];
         if node.triangle_count > 0u {
-            intersect_leaf(sheared, node, skip_triangle, &hit);
+            if intersect_leaf(sheared, node, skip_triangle, any_hit, &hit) {
+                break;
+            }
         } else {
             let left = node.left_or_first;
             let left_node = nodes[left];

@@ -1,9 +1,10 @@
 // Closest-hit over trac0r's flat list of per-shape boxes: every box is tested, then its triangles.
 //! include "intersect_leaf.wgsl"
 //! include "intersect_box.wgsl"
+//! include "hit_queries.wgsl"
 
-// Same contract as traverse_bvh.wgsl's closest_hit, so the path tracer includes either one.
-fn closest_hit(ray: Ray, t_max: f32, skip_triangle: u32) -> Hit {
+// Same contract as traverse_bvh.wgsl's traverse, so the path tracer includes either one.
+fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var hit = Hit(t_max, NO_TRIANGLE);
     let sheared = shear_ray(ray);
     let inverse_direction = safe_inverse_direction(ray.direction);
@@ -12,7 +13,9 @@ fn closest_hit(ray: Ray, t_max: f32, skip_triangle: u32) -> Hit {
         if intersect_box(ray.origin, inverse_direction, node.bounds_min, node.bounds_max, hit.t) == FLOAT_MAX {
             continue;
         }
-        intersect_leaf(sheared, node, skip_triangle, &hit);
+        if intersect_leaf(sheared, node, skip_triangle, any_hit, &hit) {
+            break;
+        }
     }
     return hit;
 }

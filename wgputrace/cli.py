@@ -33,6 +33,12 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--max-depth", type=int, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit")
     render.add_argument("--seed", type=int, default=1, help="random seed: same seed and adapter, same image")
     render.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
+    render.add_argument(
+        "--integrator",
+        choices=("bsdf", "nee", "mis"),
+        default="mis",
+        help="direct light by BSDF sampling, light sampling, or both with MIS (default)",
+    )
     render.add_argument("--exposure", type=float, default=1.0, help="multiplies radiance before PNG tone mapping")
     render.add_argument("-o", "--output", default="render.png", help=f"output file ({', '.join(FORMATS)})")
 
@@ -50,7 +56,9 @@ def _render(args: argparse.Namespace) -> int:
     width, height = args.size
     context = gpu()
     start = time.perf_counter()
-    renderer = Renderer(scene, width, height, seed=args.seed, max_depth=args.max_depth, accel=args.accel)
+    renderer = Renderer(
+        scene, width, height, seed=args.seed, max_depth=args.max_depth, accel=args.accel, integrator=args.integrator
+    )
     setup_seconds = time.perf_counter() - start
     with tqdm(total=args.spp, unit="spp", desc="rendering", file=sys.stderr, dynamic_ncols=True) as bar:
 

@@ -104,6 +104,8 @@ FRAME = GpuStruct(
         ("max_depth", "u32"),
         ("camera_forward", "vec3<f32>"),
         ("node_count", "u32"),
+        ("light_count", "u32"),
+        ("light_weight_total", "f32"),
     ),
     "Per-frame values; camera_right and camera_up span half the image plane at distance 1.",
 )
@@ -113,4 +115,10 @@ ACCUMULATED_PIXEL = GpuStruct(
     "Kahan-compensated sum of a pixel's samples; sum.w counts its non-finite samples.",
 )
 
-ALL_STRUCTS = (TRIANGLE, BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL)
+LIGHT = GpuStruct(
+    "Light",
+    (("triangle", "u32"), ("alias_index", "u32"), ("threshold", "f32")),
+    "An emissive triangle in an alias table: keep this entry when u < threshold, else take entry `alias_index`.",
+)
+
+ALL_STRUCTS = (TRIANGLE, BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT)

@@ -16,6 +16,8 @@ GENERATED_STRUCTS = "generated/structs.wgsl"
 
 # Marks "no triangle" in hit records and "skip nothing" in traversal.
 NO_TRIANGLE = 0xFFFFFFFF
+# Estimators of direct light, in the order of their ids in the shaders (INTEGRATOR_BSDF = 0, ...).
+INTEGRATORS = ("bsdf", "nee", "mis")
 # Entries of the per-ray traversal stack; the BVH builder keeps trees at most this deep, which
 # bounds the stack because traversal pushes only the farther child of each node it enters.
 BVH_STACK_SIZE = 64
@@ -30,6 +32,7 @@ def generated_structs() -> str:
     parts = ["// Generated from wgputrace.gpu.layout and wgputrace.scene: host/GPU structs and ids."]
     parts += [struct.wgsl() for struct in ALL_STRUCTS]
     parts += [f"const MATERIAL_{kind.name}: u32 = {int(kind)}u;" for kind in MaterialKind]
+    parts += [f"const INTEGRATOR_{name.upper()}: u32 = {index}u;" for index, name in enumerate(INTEGRATORS)]
     parts.append(f"const NO_TRIANGLE: u32 = {NO_TRIANGLE:#x}u;")
     parts.append(f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;")
     return "\n".join(parts) + "\n"

@@ -12,8 +12,9 @@ import numpy as np
 from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
-from ..gpu.pipeline import ComputeKernel, compute_kernel, dispatch_size
+from ..gpu.pipeline import INTEGRATORS, ComputeKernel, compute_kernel, dispatch_size
 from ..scene import Scene
+from .lights import light_table
 from .rng_seed import pixel_rng_states
 from .scene_buffers import scene_records
 
@@ -26,19 +27,23 @@ _UNLIMITED_DEPTH_GPU = 0xFFFFFFFF
 _TARGET_SUBMIT_SECONDS = 0.25
 _MAX_DISPATCHES_PER_SUBMIT = 64
 
-_kernels: dict[tuple[int, str], ComputeKernel] = {}
+_kernels: dict[tuple[int, str, str], ComputeKernel] = {}
 
 
-def path_tracer_kernel(context: GpuContext, acceleration: str) -> ComputeKernel:
-    """The megakernel with the traversal for `acceleration` compiled in (cached per process)."""
-    key = (id(context.device), acceleration)
+def path_tracer_kernel(context: GpuContext, acceleration: str, integrator: str) -> ComputeKernel:
+    """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
+    (cached per process)."""
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
+    key = (id(context.device), acceleration, integrator)
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         _kernels[key] = compute_kernel(
             context,
             "path_tracer.wgsl",
             generated={"acceleration.wgsl": traversal},
-            label=f"path tracer ({acceleration})",
+            constants={"INTEGRATOR": INTEGRATORS.index(integrator)},
+            label=f"path tracer ({acceleration}, {integrator})",
         )
     return _kernels[key]
 
@@ -65,6 +70,7 @@ class Renderer:
         seed: int = 1,
         max_depth: int = 9,
         accel: str = "bvh",
+        integrator: str = "mis",
     ) -> None:
         if width < 1 or height < 1:
             raise ValueError(f"image size must be at least 1x1, got {width}x{height}")
@@ -88,7 +94,9 @@ class Renderer:
             self.context.require("max-compute-workgroups-per-dimension", count, f"a {width}x{height} image")
 
         device = self.context.device
-        self.kernel = path_tracer_kernel(self.context, accel)
+        self.integrator = integrator
+        self.kernel = path_tracer_kernel(self.context, accel, integrator)
+        self.lights = light_table(self.records.triangles, self.records.materials)
         self._frame = uniform_buffer(self.context, "frame", self._frame_record())
         self._rng = storage_buffer(self.context, "rng states", pixel_rng_states(seed, pixels))
         self._accumulation = storage_buffer(
@@ -98,6 +106,7 @@ class Renderer:
             1: storage_buffer(self.context, "triangles", self.records.triangles),
             2: storage_buffer(self.context, "bvh nodes", self.records.nodes),
             3: storage_buffer(self.context, "materials", self.records.materials),
+            6: storage_buffer(self.context, "lights", self.lights.entries),
         }
         self._bind_group = self.kernel.bind_group(
             self.context, 0, {0: self._frame, **scene_buffers, 4: self._rng, 5: self._accumulation}
@@ -122,6 +131,8 @@ class Renderer:
         record["width"], record["height"] = self.width, self.height
         record["max_depth"] = _UNLIMITED_DEPTH_GPU if self.max_depth == UNLIMITED_DEPTH else self.max_depth
         record["node_count"] = len(self.records.nodes)
+        record["light_count"] = self.lights.count
+        record["light_weight_total"] = self.lights.total_weight
         return record
 
     def _submit(self, dispatches: int) -> None:
@@ -184,9 +195,10 @@ def render(
     seed: int = 1,
     max_depth: int = 9,
     accel: str = "bvh",
+    integrator: str = "mis",
 ) -> np.ndarray:
     """Render `scene` from scratch: the mean of `spp` samples per pixel, float32 (H, W, 3)."""
-    renderer = Renderer(scene, width, height, seed=seed, max_depth=max_depth, accel=accel)
+    renderer = Renderer(scene, width, height, seed=seed, max_depth=max_depth, accel=accel, integrator=integrator)
     renderer.render(spp)
     return renderer.image()
 
