@@ -7,8 +7,10 @@ cd "$(dirname "$0")/.."
 as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
 
 # mesa-vulkan-drivers gives wgpu a Vulkan adapter on any machine (lavapipe, a CPU driver) when
-# there is no GPU driver; python3-venv is what Debian's python3 needs to make .venv.
-packages=(mesa-vulkan-drivers python3-venv python3-pip)
+# there is no GPU driver; python3-venv is what Debian's python3 needs to make .venv; xvfb is the
+# virtual X display the viewer's window tests (tests/app) open their windows on, and the libX*
+# packages are what the glfw wheel's X11 library loads at run time.
+packages=(mesa-vulkan-drivers python3-venv python3-pip xvfb libx11-6 libxrandr2 libxcursor1 libxi6 libxinerama1)
 missing=()
 for package in "${packages[@]}"; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")

@@ -35,7 +35,3 @@ const RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
 // neighbour sharing its edge) never counts as an occluder.
 const SHADOW_RAY_SHORTENING: f32 = 0.9999;
 
-// Glossy lobes narrower than this roughness are treated like mirrors: light sampling would almost
-// never land in the lobe, so those vertices skip next-event estimation and their BSDF-sampled
-// hits on emitters count in full. The choice does not bias the estimate, only its noise.
-const GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS: f32 = 0.05;

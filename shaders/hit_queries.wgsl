@@ -5,6 +5,10 @@
 // Each traversal file (traverse_bvh.wgsl, traverse_flat.wgsl) defines
 // `traverse(ray, t_max, skip_triangle, any_hit) -> Hit` and includes this file.
 
+// Nodes visited by traversals of this invocation so far, for the viewer's heat map (guides.wgsl).
+// Kernels that never read it pay nothing: the compiler drops the unread counter.
+var<private> traversal_steps: u32;
+
 fn closest_hit(ray: Ray, t_max: f32, skip_triangle: u32) -> Hit {
     return traverse(ray, t_max, skip_triangle, false);
 }

@@ -14,6 +14,13 @@
 // estimation), or both combined by multiple importance sampling. One compile per choice.
 override INTEGRATOR: u32 = INTEGRATOR_MIS;
 
+// Glossy lobes narrower than this roughness are treated like mirrors: light sampling would almost
+// never land in the lobe, so those vertices skip next-event estimation and their BSDF-sampled
+// hits on emitters count in full. The choice does not bias the estimate, only its noise.
+// Measured by bench/glossy_light_sampling.py (a glossy sphere under a small light, MIS): light
+// sampling made the glossy vertex 1.15x as efficient at roughness 0.005, 0.91x at 0.002.
+override GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS: f32 = 0.005;
+
 fn triangle_normal(triangle: Triangle) -> vec3<f32> {
     return normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
 }
@@ -46,7 +53,12 @@ fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: Sh
         return vec3<f32>(0.0);
     }
     let origin = offset_ray_origin(p, local.normal, direction, triangle.v0, triangle.v1, triangle.v2);
-    if occluded(Ray(origin, direction), distance * SHADOW_RAY_SHORTENING, triangle_index) {
+    // Aim from the moved origin: moved towards a light plane that faces the surface (a lamp just
+    // below a ceiling), a ray of the unmoved length would reach the light's plane at grazing angles
+    // and count the light as its own occluder.
+    let shadow = light.position - origin;
+    let shadow_distance = length(shadow);
+    if occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, triangle_index) {
         return vec3<f32>(0.0);
     }
     let pdf_light = area_to_solid_angle(light.pdf_area, distance_squared, cos_light);
@@ -128,14 +140,20 @@ fn trace_path(camera: Ray) -> vec3<f32> {
     return radiance;
 }
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= frame.width || id.y >= frame.height {
+// One sample for the pixel at column xy.x, row xy.y; the viewer's band-of-rows entry point
+// (path_tracer_rows.wgsl) calls this too.
+fn render_pixel(xy: vec2<u32>) {
+    if xy.x >= frame.width || xy.y >= frame.height {
         return;
     }
-    let pixel = id.y * frame.width + id.x;
+    let pixel = xy.y * frame.width + xy.x;
     rng_state = rng_states[pixel];
-    let radiance = trace_path(camera_ray(id.xy, rng_next_2d()));
+    let radiance = trace_path(camera_ray(xy, rng_next_2d()));
     accumulation[pixel] = accumulate_sample(accumulation[pixel], radiance);
     rng_states[pixel] = rng_state;
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    render_pixel(id.xy);
 }

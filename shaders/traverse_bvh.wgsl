@@ -17,6 +17,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
         return hit;
     }
     loop {
+        traversal_steps++;
         let node = nodes[node_index];
         if node.triangle_count > 0u {
             if intersect_leaf(sheared, node, skip_triangle, any_hit, &hit) {

@@ -9,6 +9,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     let sheared = shear_ray(ray);
     let inverse_direction = safe_inverse_direction(ray.direction);
     for (var n = 0u; n < frame.node_count; n++) {
+        traversal_steps++;
         let node = nodes[n];
         if intersect_box(ray.origin, inverse_direction, node.bounds_min, node.bounds_max, hit.t) == FLOAT_MAX {
             continue;

@@ -7,6 +7,7 @@ wt.save_image("out.exr", img)
 """
 
 from .image_io import load_image, save_image
+from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .render import UNLIMITED_DEPTH, Renderer, render
 from .scene import (
     Camera,
@@ -19,6 +20,7 @@ from .scene import (
     make_box,
     make_icosphere,
     make_plane,
+    model_matrix,
 )
 from .scenes import default_scene
 
@@ -33,12 +35,16 @@ __all__ = [
     "Glossy",
     "Renderer",
     "Scene",
+    "SceneLoadError",
+    "SceneLoadWarning",
     "Shape",
     "default_scene",
     "load_image",
+    "load_scene",
     "make_box",
     "make_icosphere",
     "make_plane",
+    "model_matrix",
     "render",
     "save_image",
 ]

@@ -1,4 +1,4 @@
-"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY) and `wgputrace info`."""
+"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY), `wgputrace info` and `wgputrace view` (the window)."""
 
 from __future__ import annotations
 
@@ -6,8 +6,12 @@ import argparse
 import json
 import sys
 import time
+from pathlib import Path
 
 from .image_io import FORMATS, save_image
+from .loaders import FORMATS as SCENE_FORMATS
+from .loaders import load_scene
+from .scene import Scene
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE, scene_by_name
 
 
@@ -22,12 +26,22 @@ def parse_size(text: str) -> tuple[int, int]:
     return width, height
 
 
+def scene_from_argument(text: str) -> Scene:
+    """SCENE on the command line: an existing file is loaded, anything else names a built-in scene."""
+    return load_scene(text) if Path(text).is_file() else scene_by_name(text)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="wgputrace", description="Monte Carlo path tracer on WGSL compute shaders.")
     commands = parser.add_subparsers(dest="command", required=True)
 
     render = commands.add_parser("render", help="render a scene headless to .png, .exr or .npy")
-    render.add_argument("scene", nargs="?", default=DEFAULT_SCENE, help=f"built-in scene: {', '.join(BUILTIN_SCENES)}")
+    render.add_argument(
+        "scene",
+        nargs="?",
+        default=DEFAULT_SCENE,
+        help=f"a scene file ({' '.join(SCENE_FORMATS)}) or a built-in scene: {', '.join(BUILTIN_SCENES)}",
+    )
     render.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
     render.add_argument("--size", type=parse_size, default=(512, 512), help="WIDTHxHEIGHT (default 512x512)")
     render.add_argument("--max-depth", type=int, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit")
@@ -43,6 +57,10 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("-o", "--output", default="render.png", help=f"output file ({', '.join(FORMATS)})")
 
     commands.add_parser("info", help="print the adapter, backend and the limits that matter")
+
+    from .app import add_arguments  # the viewer's arguments; its window code loads only when it runs
+
+    add_arguments(commands.add_parser("view", help="open the interactive viewer (a window; see README)"))
     return parser
 
 
@@ -50,9 +68,12 @@ def _render(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from .gpu.device import gpu
+    from .gpu.tracked_buffer import SPARE_FRACTION
     from .render import Renderer
 
-    scene = scene_by_name(args.scene)
+    load_start = time.perf_counter()
+    scene = scene_from_argument(args.scene)
+    load_seconds = time.perf_counter() - load_start
     width, height = args.size
     context = gpu()
     start = time.perf_counter()
@@ -71,7 +92,12 @@ def _render(args: argparse.Namespace) -> int:
     acceleration = renderer.records.acceleration
     print(f"adapter          {context.adapter_name}")
     print(
-        f"scene            {args.scene}: {renderer.triangle_count:,} triangles, {len(renderer.records.materials)} materials"
+        f"scene            {args.scene}: {renderer.triangle_count:,} triangles, {len(renderer.records.materials)} materials, "
+        f"loaded in {load_seconds:.2f} s"
+    )
+    print(
+        f"gpu memory       {renderer.gpu_bytes_per_triangle:.1f} B per triangle (triangles, BVH nodes, materials, "
+        f"lights; {SPARE_FRACTION:.0%} spare capacity included)"
     )
     print(
         f"acceleration     {args.accel}: {acceleration.node_count:,} nodes, depth {acceleration.depth}, "
@@ -98,6 +124,10 @@ def _info() -> int:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
+        if args.command == "view":
+            from .app import run
+
+            return run(args)
         return _render(args) if args.command == "render" else _info()
     except (ValueError, RuntimeError) as error:
         print(f"wgputrace: error: {error}", file=sys.stderr)

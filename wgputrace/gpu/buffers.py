@@ -8,7 +8,7 @@ import wgpu
 from .device import GpuContext
 
 # wgpu buffers may not be empty, and writes must cover a multiple of 4 bytes.
-_MIN_BUFFER_BYTES = 16
+MIN_BUFFER_BYTES = 16
 
 
 def storage_buffer(context: GpuContext, label: str, data: np.ndarray, *, read_back: bool = False) -> wgpu.GPUBuffer:
@@ -18,7 +18,7 @@ def storage_buffer(context: GpuContext, label: str, data: np.ndarray, *, read_ba
     usage = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST
     if read_back:
         usage |= wgpu.BufferUsage.COPY_SRC
-    buffer = context.device.create_buffer(label=label, size=max(data.nbytes, _MIN_BUFFER_BYTES), usage=usage)
+    buffer = context.device.create_buffer(label=label, size=max(data.nbytes, MIN_BUFFER_BYTES), usage=usage)
     if data.nbytes:
         context.device.queue.write_buffer(buffer, 0, data)
     return buffer

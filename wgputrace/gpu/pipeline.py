@@ -10,6 +10,7 @@ import wgpu
 from ..scene.materials import MaterialKind
 from .device import GpuContext
 from .layout import ALL_STRUCTS
+from .material_dispatch import GENERATED_MATERIALS, material_dispatch
 from .shader_source import ShaderSource, load_shader
 
 GENERATED_STRUCTS = "generated/structs.wgsl"
@@ -61,16 +62,21 @@ def compute_kernel(
     constants: dict[str, float | int | bool] | None = None,
     workgroup_size: tuple[int, int] = (8, 8),
     label: str | None = None,
+    entry_point: str = "main",
 ) -> ComputeKernel:
-    """Compile `entry` (a file under shaders/ with `fn main`) into a compute pipeline."""
-    files = {GENERATED_STRUCTS: generated_structs(), **(generated or {})}
+    """Compile `entry` (a file under shaders/ with `fn main`, or the function `entry_point`) into a
+    compute pipeline.
+
+    `generated` adds or replaces virtual files; by default the material dispatch covers every kind.
+    """
+    files = {GENERATED_STRUCTS: generated_structs(), GENERATED_MATERIALS: material_dispatch(), **(generated or {})}
     source = load_shader(entry, files)
     try:
         module = context.device.create_shader_module(label=label or entry, code=source.text)
         pipeline = context.device.create_compute_pipeline(
             label=label or entry,
             layout="auto",
-            compute={"module": module, "entry_point": "main", "constants": constants or {}},
+            compute={"module": module, "entry_point": entry_point, "constants": constants or {}},
         )
     except wgpu.GPUError as error:
         raise ShaderCompileError(source.explain(str(error))) from None

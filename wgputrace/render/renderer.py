@@ -1,5 +1,11 @@
 """The progressive renderer: scene buffers on the GPU, one path-tracing dispatch per sample per
-pixel, a drift-free accumulation buffer, and the mean image read back on request."""
+pixel, a drift-free accumulation buffer, and the mean image read back on request.
+
+Edits to the scene reach the GPU at the next `render` (or `update`): only the records that changed
+are uploaded (SceneMirror finds them, TrackedBuffer merges them into write_buffer calls), and
+accumulation restarts only when some uploaded byte changed. A restart also puts every pixel's
+random sequence back at the seed, on the GPU, so the picture after an edit is the picture a fresh
+Renderer of the edited scene makes with the same seed."""
 
 from __future__ import annotations
 
@@ -8,15 +14,19 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import wgpu
 
-from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer
+from ..gpu.buffers import read_buffer, storage_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
-from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
+from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
+from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.pipeline import INTEGRATORS, ComputeKernel, compute_kernel, dispatch_size
-from ..scene import Scene
-from .lights import light_table
+from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
+from ..scene import Camera, MaterialKind, Scene
+from .lights import LightTable
 from .rng_seed import pixel_rng_states
-from .scene_buffers import scene_records
+from .scene_buffers import SceneRecords
+from .scene_sync import LIGHTS, MATERIALS, NODES, TRIANGLES, SceneMirror
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -27,23 +37,37 @@ _UNLIMITED_DEPTH_GPU = 0xFFFFFFFF
 _TARGET_SUBMIT_SECONDS = 0.25
 _MAX_DISPATCHES_PER_SUBMIT = 64
 
-_kernels: dict[tuple[int, str, str], ComputeKernel] = {}
+_kernels: dict[tuple, ComputeKernel] = {}
 
 
-def path_tracer_kernel(context: GpuContext, acceleration: str, integrator: str) -> ComputeKernel:
+def path_tracer_kernel(
+    context: GpuContext,
+    acceleration: str,
+    integrator: str,
+    overrides: dict[str, float] | None = None,
+    *,
+    rows: bool = False,
+    material_kinds: frozenset[MaterialKind] = ALL_KINDS,
+) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
-    (cached per process)."""
+    (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
+    (for measurements such as bench/glossy_light_sampling.py). `rows` compiles the entry point
+    that renders a band of rows (path_tracer_rows.wgsl, for the viewer). `material_kinds` limits
+    the BSDF code compiled in to those kinds (gpu/material_dispatch.py)."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
-    key = (id(context.device), acceleration, integrator)
+    overrides = overrides or {}
+    kinds = shaded_kinds(material_kinds)
+    key = (id(context.device), acceleration, integrator, tuple(sorted(overrides.items())), rows, kinds)
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         _kernels[key] = compute_kernel(
             context,
-            "path_tracer.wgsl",
-            generated={"acceleration.wgsl": traversal},
-            constants={"INTEGRATOR": INTEGRATORS.index(integrator)},
-            label=f"path tracer ({acceleration}, {integrator})",
+            "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
+            generated={"acceleration.wgsl": traversal, GENERATED_MATERIALS: material_dispatch(kinds)},
+            constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
+            label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''})",
+            entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
 
@@ -71,6 +95,7 @@ class Renderer:
         max_depth: int = 9,
         accel: str = "bvh",
         integrator: str = "mis",
+        shader_overrides: dict[str, float] | None = None,
     ) -> None:
         if width < 1 or height < 1:
             raise ValueError(f"image size must be at least 1x1, got {width}x{height}")
@@ -78,7 +103,13 @@ class Renderer:
             raise ValueError(f"max_depth must be >= 1 (or -1 for no limit), got {max_depth}")
         self.context = gpu()
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
-        self.records = scene_records(scene, accel)
+        # before the BVH build, which takes seconds for millions of triangles
+        self.context.require(
+            "max-storage-buffer-binding-size",
+            scene.triangle_count * TRIANGLE.size,
+            f"the scene's {scene.triangle_count:,} triangles ({TRIANGLE.size} B each)",
+        )
+        self._mirror = SceneMirror(scene, accel)
         self.accel = accel
         loop_limit = self.context.loop_iteration_limit
         if accel == "flat" and loop_limit is not None and self.triangle_count > loop_limit:
@@ -95,33 +126,137 @@ class Renderer:
 
         device = self.context.device
         self.integrator = integrator
-        self.kernel = path_tracer_kernel(self.context, accel, integrator)
-        self.lights = light_table(self.records.triangles, self.records.materials)
-        self._frame = uniform_buffer(self.context, "frame", self._frame_record())
-        self._rng = storage_buffer(self.context, "rng states", pixel_rng_states(seed, pixels))
+        self._shader_overrides = shader_overrides
+        self._kinds = shaded_kinds(self._mirror.material_kinds)
+        self.kernel = path_tracer_kernel(self.context, accel, integrator, shader_overrides, material_kinds=self._kinds)
+        frame = self._frame_record()
+        self._frame_bytes = frame.tobytes()
+        self._frame = TrackedBuffer(
+            self.context,
+            "frame",
+            wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST,
+            frame,
+            binding_limit="max-uniform-buffer-binding-size",
+            spare=False,
+        )
+        states = pixel_rng_states(seed, pixels)
+        self._rng = storage_buffer(self.context, "rng states", states)
+        # the states at the seed, copied over the live ones on the GPU when accumulation restarts
+        self._rng_at_seed = storage_buffer(self.context, "rng states at the seed", states, read_back=True)
         self._accumulation = storage_buffer(
             self.context, "accumulation", ACCUMULATED_PIXEL.zeros(pixels), read_back=True
         )
-        scene_buffers = {
-            1: storage_buffer(self.context, "triangles", self.records.triangles),
-            2: storage_buffer(self.context, "bvh nodes", self.records.nodes),
-            3: storage_buffer(self.context, "materials", self.records.materials),
-            6: storage_buffer(self.context, "lights", self.lights.entries),
+        # COPY_SRC: what was uploaded can be read back and checked against the host records
+        storage = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST | wgpu.BufferUsage.COPY_SRC
+        limit = "max-storage-buffer-binding-size"
+        self._scene_buffers = {
+            TRIANGLES: TrackedBuffer(self.context, "triangles", storage, self._mirror.triangles, binding_limit=limit),
+            NODES: TrackedBuffer(self.context, "bvh nodes", storage, self._mirror.nodes, binding_limit=limit),
+            MATERIALS: TrackedBuffer(self.context, "materials", storage, self._mirror.materials, binding_limit=limit),
+            LIGHTS: TrackedBuffer(self.context, "lights", storage, self._mirror.lights.entries, binding_limit=limit),
         }
-        self._bind_group = self.kernel.bind_group(
-            self.context, 0, {0: self._frame, **scene_buffers, 4: self._rng, 5: self._accumulation}
-        )
         self._groups = groups
         self._dispatches_per_submit = 1
         self._device = device
+        self._bind()
+
+    @property
+    def records(self) -> SceneRecords:
+        """The scene's GPU records as last uploaded (triangles in BVH order, nodes, materials, BVH)."""
+        return self._mirror.records
+
+    @property
+    def lights(self) -> LightTable:
+        return self._mirror.lights
 
     @property
     def triangle_count(self) -> int:
-        return len(self.records.triangles)
+        return len(self._mirror.triangles)
+
+    @property
+    def upload_stats(self) -> dict[str, UploadCount]:
+        """Bytes and write_buffer calls per buffer made by the last `update` (which every `render`
+        starts with); buffers it did not write are absent. Restarting accumulation clears and
+        copies buffers on the GPU and uploads nothing."""
+        buffers = [self._frame, *self._scene_buffers.values()]
+        return {buffer.label: buffer.uploads for buffer in buffers if buffer.uploads.calls}
+
+    @property
+    def gpu_scene_bytes(self) -> dict[str, int]:
+        """Bytes allocated on the GPU for the scene, by buffer (capacity, spare rows included)."""
+        return {buffer.label: buffer.capacity_bytes for buffer in self._scene_buffers.values()}
+
+    @property
+    def gpu_bytes_per_triangle(self) -> float:
+        """Scene bytes on the GPU (triangles, BVH nodes, materials, lights) per triangle."""
+        return sum(self.gpu_scene_bytes.values()) / self.triangle_count
+
+    def update(self) -> dict[str, UploadCount]:
+        """Bring the GPU up to date with the scene: upload only the records that changed, refit or
+        rebuild the BVH, switch to the pipeline for the scene's material kinds, and restart
+        accumulation if anything the GPU reads changed. Returns `upload_stats`."""
+        for buffer in (self._frame, *self._scene_buffers.values()):
+            buffer.uploads = UploadCount()
+        generations = [buffer.generation for buffer in self._scene_buffers.values()]
+        changes = self._mirror.update()
+        arrays = {
+            TRIANGLES: self._mirror.triangles,
+            NODES: self._mirror.nodes,
+            MATERIALS: self._mirror.materials,
+            LIGHTS: self._mirror.lights.entries,
+        }
+        for name, rows in changes.items():
+            self._scene_buffers[name].upload(arrays[name], rows)
+        frame = self._frame_record()
+        frame_changed = frame.tobytes() != self._frame_bytes
+        if frame_changed:
+            self._frame.upload(frame)
+            self._frame_bytes = frame.tobytes()
+        kinds = shaded_kinds(self._mirror.material_kinds)
+        new_pipeline = kinds != self._kinds
+        if new_pipeline:
+            self._kinds = kinds
+            self.kernel = path_tracer_kernel(
+                self.context, self.accel, self.integrator, self._shader_overrides, material_kinds=kinds
+            )
+        if new_pipeline or generations != [buffer.generation for buffer in self._scene_buffers.values()]:
+            self._bind()
+        if changes or frame_changed:
+            self._restart()
+        return self.upload_stats
+
+    def _bind(self) -> None:
+        buffers = {1: TRIANGLES, 2: NODES, 3: MATERIALS, 6: LIGHTS}
+        self._bindings = {
+            0: self._frame.buffer,
+            **{binding: self._scene_buffers[name].buffer for binding, name in buffers.items()},
+            4: self._rng,
+            5: self._accumulation,
+        }
+        self._bind_group = self.kernel.bind_group(self.context, 0, self._bindings)
+
+    def _restart(self) -> None:
+        """Forget all samples and put every pixel's random sequence back at the seed, on the GPU."""
+        encoder = self._device.create_command_encoder()
+        encoder.clear_buffer(self._accumulation)
+        encoder.copy_buffer_to_buffer(self._rng_at_seed, 0, self._rng, 0, self._rng.size)
+        self._device.queue.submit([encoder.finish()])
+        self.stats = RenderStats()
 
     @property
     def samples_per_pixel(self) -> int:
         return self.stats.samples_per_pixel
+
+    @property
+    def bindings(self) -> dict:
+        """The GPU buffers of bind group 0 by binding (scene_bindings.wgsl, path_tracer.wgsl), for
+        kernels that read the scene or the accumulation where it lies (the viewer's)."""
+        return dict(self._bindings)
+
+    def set_camera(self, camera: Camera) -> None:
+        """Look through `camera` from now on: uploads only the frame uniform, restarts accumulation."""
+        self.scene.camera = camera
+        self.update()
 
     def _frame_record(self) -> np.ndarray:
         right, up, forward = self.scene.camera.image_plane(self.width, self.height)
@@ -130,7 +265,7 @@ class Renderer:
         record["camera_right"], record["camera_up"], record["camera_forward"] = right, up, forward
         record["width"], record["height"] = self.width, self.height
         record["max_depth"] = _UNLIMITED_DEPTH_GPU if self.max_depth == UNLIMITED_DEPTH else self.max_depth
-        record["node_count"] = len(self.records.nodes)
+        record["node_count"] = len(self._mirror.nodes)
         record["light_count"] = self.lights.count
         record["light_weight_total"] = self.lights.total_weight
         return record
@@ -150,6 +285,7 @@ class Renderer:
         """Add `spp` samples per pixel; `progress(n)` is called after every n samples finish."""
         if spp < 0:
             raise ValueError(f"spp must be >= 0, got {spp}")
+        self.update()
         done = 0
         while done < spp:
             batch = min(self._dispatches_per_submit, spp - done)

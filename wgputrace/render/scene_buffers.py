@@ -9,7 +9,7 @@ import numpy as np
 from ..bvh import BVH, build_bvh, build_flat
 from ..gpu.layout import BVH_NODE, MATERIAL, TRIANGLE
 from ..gpu.pipeline import BVH_STACK_SIZE
-from ..scene import Material, Scene
+from ..scene import Material, Scene, TriangleArrays
 
 ACCELERATIONS = ("bvh", "flat")
 
@@ -39,16 +39,25 @@ def node_records(acceleration: BVH) -> np.ndarray:
     return nodes
 
 
-def scene_records(scene: Scene, acceleration: str = "bvh") -> SceneRecords:
+def build_acceleration(arrays: TriangleArrays, acceleration: str) -> BVH:
     if acceleration not in ACCELERATIONS:
         raise ValueError(f"acceleration must be one of {ACCELERATIONS}, got {acceleration!r}")
-    arrays = scene.arrays()
     if acceleration == "bvh":
-        structure = build_bvh(arrays.vertices, max_depth=BVH_STACK_SIZE)
-    else:
-        structure = build_flat(arrays.vertices, arrays.shape_index)
+        return build_bvh(arrays.vertices, max_depth=BVH_STACK_SIZE)
+    return build_flat(arrays.vertices, arrays.shape_index)
+
+
+def triangle_records(vertices: np.ndarray, material_index: np.ndarray) -> np.ndarray:
+    """TRIANGLE records of (n, 3, 3) corners and their material indices, in the given order."""
+    triangles = TRIANGLE.zeros(len(vertices))
+    triangles["v0"], triangles["v1"], triangles["v2"] = vertices[:, 0], vertices[:, 1], vertices[:, 2]
+    triangles["material"] = material_index
+    return triangles
+
+
+def scene_records(scene: Scene, acceleration: str = "bvh") -> SceneRecords:
+    arrays = scene.arrays()
+    structure = build_acceleration(arrays, acceleration)
     order = structure.triangle_order
-    triangles = TRIANGLE.zeros(len(order))
-    triangles["v0"], triangles["v1"], triangles["v2"] = (arrays.vertices[order, corner] for corner in range(3))
-    triangles["material"] = arrays.material_index[order]
+    triangles = triangle_records(arrays.vertices[order], arrays.material_index[order])
     return SceneRecords(triangles, node_records(structure), material_records(arrays.materials), structure)

@@ -2,9 +2,10 @@
 
 from .camera import Camera
 from .cornell import cornell_box
+from .errors import SceneError
 from .materials import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, MaterialKind
-from .scene import DegenerateTrianglesWarning, Scene, SceneError, TriangleArrays
-from .shapes import Shape, make_box, make_icosphere, make_plane
+from .scene import DegenerateTrianglesWarning, Scene, TriangleArrays
+from .shapes import Shape, make_box, make_icosphere, make_plane, model_matrix
 
 __all__ = [
     "Camera",
@@ -24,4 +25,5 @@ __all__ = [
     "make_box",
     "make_icosphere",
     "make_plane",
+    "model_matrix",
 ]

@@ -1,4 +1,10 @@
-"""A scene: shapes (triangles sharing a material), the materials they index, and a camera."""
+"""A scene: shapes (triangles sharing a material), the materials they index, and a camera.
+
+Editing (Mitsuba's traverse/params.update, with plain attributes): add and remove shapes, assign a
+shape's `transform`, `vertices` or `material`, a material's parameters, or the scene's `camera`.
+Each assignment is checked where it happens and bumps a version; `Renderer.render` (or
+`Renderer.update`) compares versions with what it uploaded and uploads only what changed.
+"""
 
 from __future__ import annotations
 
@@ -8,12 +14,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .camera import Camera
+from .errors import SceneError
 from .materials import Material
 from .shapes import Shape
-
-
-class SceneError(ValueError):
-    """The scene cannot be rendered as it is (empty, inconsistent)."""
 
 
 class DegenerateTrianglesWarning(UserWarning):
@@ -36,9 +39,10 @@ def zero_area(vertices: np.ndarray) -> np.ndarray:
 class TriangleArrays:
     """The scene flattened for the GPU: each triangle points at its material, never copies it."""
 
-    vertices: np.ndarray  # (n, 3, 3) float32
+    vertices: np.ndarray  # (n, 3, 3) float32, world coordinates
     material_index: np.ndarray  # (n,) uint32 into `materials`
     shape_index: np.ndarray  # (n,) uint32 into the scene's shapes
+    local_index: np.ndarray  # (n,) uint32: the triangle's index within its shape
     materials: list[Material]
 
 
@@ -47,9 +51,36 @@ class Scene:
     shapes: list[Shape] = field(default_factory=list)
     camera: Camera = field(default_factory=Camera)
 
+    def __setattr__(self, key: str, value) -> None:
+        if key == "camera" and not isinstance(value, Camera):
+            raise SceneError(f"scene camera must be a Camera, got {type(value).__name__}")
+        if key == "shapes":
+            value = list(value)
+            _check_shapes(value)
+        object.__setattr__(self, key, value)
+
     def add(self, *shapes: Shape) -> Scene:
+        _check_shapes(shapes, first=len(self.shapes))
         self.shapes.extend(shapes)
         return self
+
+    def remove(self, *shapes: Shape | str) -> Scene:
+        """Remove shapes, given as objects or by (unique) name."""
+        for item in shapes:
+            shape = self.shape(item) if isinstance(item, str) else item
+            if not any(s is shape for s in self.shapes):
+                raise SceneError(f"cannot remove {shape!r}: it is not in the scene")
+            self.shapes = [s for s in self.shapes if s is not shape]
+        return self
+
+    def shape(self, name: str) -> Shape:
+        """The one shape called `name`."""
+        found = [s for s in self.shapes if s.name == name]
+        if len(found) != 1:
+            names = ", ".join(repr(s.name) for s in self.shapes[:20])
+            problem = "no shape" if not found else f"{len(found)} shapes"
+            raise SceneError(f"{problem} called {name!r} in the scene; shapes: {names}")
+        return found[0]
 
     @property
     def materials(self) -> list[Material]:
@@ -68,27 +99,35 @@ class Scene:
         return vertices.min(axis=0), vertices.max(axis=0)
 
     def arrays(self) -> TriangleArrays:
+        """All triangles in world coordinates, zero-area ones dropped with a warning."""
+        _check_shapes(self.shapes)
         if self.triangle_count == 0:
             raise SceneError("the scene has no triangles: add at least one shape")
         materials = self.materials
         slot = {id(material): index for index, material in enumerate(materials)}
         counts = [shape.triangle_count for shape in self.shapes]
-        vertices = np.concatenate([shape.vertices for shape in self.shapes])
+        vertices = np.concatenate([shape.world_vertices for shape in self.shapes])
         material_index = np.repeat(np.array([slot[id(s.material)] for s in self.shapes], np.uint32), counts)
         shape_index = np.repeat(np.arange(len(self.shapes), dtype=np.uint32), counts)
+        local_index = (np.arange(len(vertices)) - np.repeat(np.cumsum(counts) - counts, counts)).astype(np.uint32)
         degenerate = zero_area(vertices)
         if degenerate.any():
             first = int(np.flatnonzero(degenerate)[0])
-            shape = self.shapes[shape_index[first]]
-            local = first - sum(counts[: shape_index[first]])
             warnings.warn(
-                f"dropped {int(degenerate.sum())} zero-area triangles; the first is triangle {local} of "
-                f"shape {shape.name!r}",
+                f"dropped {int(degenerate.sum())} zero-area triangles; the first is triangle {local_index[first]} of "
+                f"shape {self.shapes[shape_index[first]].name!r}",
                 DegenerateTrianglesWarning,
                 stacklevel=2,
             )
             keep = ~degenerate
-            vertices, material_index, shape_index = vertices[keep], material_index[keep], shape_index[keep]
+            vertices, material_index = vertices[keep], material_index[keep]
+            shape_index, local_index = shape_index[keep], local_index[keep]
             if len(vertices) == 0:
                 raise SceneError("the scene has no triangles left after dropping zero-area ones")
-        return TriangleArrays(vertices, material_index, shape_index, materials)
+        return TriangleArrays(vertices, material_index, shape_index, local_index, materials)
+
+
+def _check_shapes(shapes, first: int = 0) -> None:
+    for index, shape in enumerate(shapes, start=first):
+        if not isinstance(shape, Shape):
+            raise SceneError(f"scene shapes[{index}] is a {type(shape).__name__}, not a Shape")

@@ -8,10 +8,9 @@ cross(v1 - v0, v2 - v0) points to, which is the outside of boxes and spheres.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
+from .errors import SceneError
 from .materials import Material
 
 # Corner order and faces of trac0r's unit box (corners p1..p8 of its source, 0-based here), with
@@ -91,31 +90,135 @@ _ICOSAHEDRON_FACES = np.array(
 )
 
 
-@dataclass(eq=False)
 class Shape:
-    """A named group of flat triangles sharing one material."""
+    """A named group of flat triangles sharing one material, placed in the world by a 4x4 transform.
 
-    name: str
-    vertices: np.ndarray  # (n, 3, 3) float32: triangle, corner, xyz
-    material: Material
-    tags: dict = field(default_factory=dict)
+    `vertices` (n, 3, 3) float32 are local coordinates (triangle, corner, xyz); the world sees
+    `world_vertices`, the transform applied in float64 (a mirroring transform swaps two corners so
+    normals keep their side). Assigning `vertices`, `transform` or `material` checks the value
+    (SceneError names the problem, and the shape stays as it was) and bumps `geometry_version`,
+    `transform_version` or `material_version`: a Renderer compares these with what it uploaded,
+    so a new transform is a BVH refit, new vertices a rebuild, a new material new indices. The
+    arrays are read-only, so an in-place edit cannot slip past the versions.
+    """
 
-    def __post_init__(self) -> None:
-        vertices = np.ascontiguousarray(self.vertices, dtype=np.float32)
-        if vertices.ndim != 3 or vertices.shape[1:] != (3, 3):
-            raise ValueError(f"shape {self.name!r}: vertices must have shape (n, 3, 3), got {vertices.shape}")
-        bad = np.flatnonzero(~np.isfinite(vertices).all(axis=(1, 2)))
-        if bad.size:
-            raise ValueError(f"shape {self.name!r}: triangle {int(bad[0])} has a NaN or infinite vertex")
-        self.vertices = vertices
+    def __init__(self, name: str, vertices, material: Material, tags: dict | None = None, transform=None) -> None:
+        self.name = name
+        self.tags = dict(tags or {})
+        self.geometry_version = self.transform_version = self.material_version = 0
+        self._place(
+            _checked_vertices(name, vertices), _IDENTITY if transform is None else checked_transform(name, transform)
+        )
+        self.material = material
+
+    def __repr__(self) -> str:
+        return f"Shape({self.name!r}, {self.triangle_count} triangles, {type(self.material).__name__} {self.material.name!r})"
+
+    @property
+    def vertices(self) -> np.ndarray:
+        return self._vertices
+
+    @vertices.setter
+    def vertices(self, value) -> None:
+        self._place(_checked_vertices(self.name, value), self._transform)
+        self.geometry_version += 1
+
+    @property
+    def transform(self) -> np.ndarray:
+        """Local to world, a 4x4 affine float64 matrix (read-only: assign a new one to move the shape)."""
+        return self._transform
+
+    @transform.setter
+    def transform(self, value) -> None:
+        self._place(self._vertices, checked_transform(self.name, value))
+        self.transform_version += 1
+
+    @property
+    def world_vertices(self) -> np.ndarray:
+        """The triangles in world coordinates, float32 (computed once per edit)."""
+        return self._world
+
+    @property
+    def material(self) -> Material:
+        return self._material
+
+    @material.setter
+    def material(self, value: Material) -> None:
+        if not isinstance(value, Material):
+            raise SceneError(f"shape {self.name!r}: material must be a Material, got {type(value).__name__}")
+        self._material = value
+        self.material_version += 1
 
     @property
     def triangle_count(self) -> int:
-        return int(self.vertices.shape[0])
+        return int(self._vertices.shape[0])
 
     def transformed(self, matrix: np.ndarray) -> Shape:
-        """This shape under an affine 4x4 or linear 3x3 matrix; a mirror keeps normals facing out."""
-        return Shape(self.name, transform_points(self.vertices, matrix), self.material, dict(self.tags))
+        """This shape's world triangles under an affine 4x4 or linear 3x3 matrix, baked into new
+        local vertices; a mirror keeps normals facing out."""
+        return Shape(self.name, transform_points(self._world, matrix), self.material, dict(self.tags))
+
+    def _place(self, vertices: np.ndarray, transform: np.ndarray) -> None:
+        # an identity stays exact: float64 arithmetic would turn -0.0 into 0.0
+        world = vertices if np.array_equal(transform, _IDENTITY) else transform_points(vertices, transform)
+        bad = np.flatnonzero(~np.isfinite(world).all(axis=(1, 2)))
+        if bad.size:
+            raise SceneError(
+                f"shape {self.name!r}: the transform takes triangle {int(bad[0])} to non-finite coordinates "
+                f"{world[bad[0]].tolist()} ({bad.size} triangle(s) affected; float32 ends near 3.4e38)"
+            )
+        world.flags.writeable = False
+        self._vertices, self._transform, self._world = vertices, transform, world
+
+
+_IDENTITY = np.eye(4)
+_IDENTITY.flags.writeable = False
+
+
+def _checked_vertices(name: str, value) -> np.ndarray:
+    """A read-only (n, 3, 3) float32 copy with finite coordinates, or SceneError naming the triangle."""
+    try:
+        with np.errstate(over="ignore"):
+            vertices = np.array(value, dtype=np.float32, order="C")
+    except (TypeError, ValueError) as error:
+        raise SceneError(f"shape {name!r}: vertices must be numbers, got {error}") from None
+    if vertices.ndim != 3 or vertices.shape[1:] != (3, 3):
+        raise SceneError(f"shape {name!r}: vertices must have shape (n, 3, 3), got {vertices.shape}")
+    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=(1, 2)))
+    if bad.size:
+        raise SceneError(
+            f"shape {name!r}: triangle {int(bad[0])} has a NaN or infinite vertex {vertices[bad[0]].tolist()} "
+            f"({bad.size} triangle(s) affected)"
+        )
+    vertices.flags.writeable = False
+    return vertices
+
+
+def checked_transform(name: str, value) -> np.ndarray:
+    """A finite, invertible 4x4 affine matrix (last row 0 0 0 1) as read-only float64, or SceneError.
+
+    A singular matrix would flatten every triangle to zero area; a projective last row has no
+    meaning for triangles, which must stay flat.
+    """
+    try:
+        matrix = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise SceneError(f"shape {name!r}: transform must be a 4x4 matrix of numbers, got {error}") from None
+    if matrix.shape != (4, 4):
+        raise SceneError(f"shape {name!r}: transform must be a 4x4 matrix, got shape {matrix.shape}")
+    if not np.all(np.isfinite(matrix)):
+        raise SceneError(f"shape {name!r}: transform has a NaN or infinite entry: {matrix.tolist()}")
+    if not np.array_equal(matrix[3], [0.0, 0.0, 0.0, 1.0]):
+        raise SceneError(f"shape {name!r}: transform must be affine (last row 0 0 0 1), got {matrix[3].tolist()}")
+    with np.errstate(all="ignore"):
+        determinant = np.linalg.det(matrix[:3, :3])
+    if not np.isfinite(determinant) or determinant == 0.0:
+        raise SceneError(
+            f"shape {name!r}: transform has determinant {determinant}: it must be finite and non-zero "
+            "(a singular matrix flattens every triangle)"
+        )
+    matrix.flags.writeable = False
+    return matrix
 
 
 def euler_rotation(orientation) -> np.ndarray:
@@ -147,7 +250,8 @@ def transform_points(vertices: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     moved = vertices.astype(np.float64) @ linear.T + offset
     if np.linalg.det(linear) < 0:
         moved = moved[:, [0, 2, 1], :]
-    return moved.astype(np.float32)
+    with np.errstate(over="ignore"):  # beyond float32's range becomes inf, which callers check
+        return moved.astype(np.float32)
 
 
 def _place(name: str, corners: np.ndarray, faces: np.ndarray, matrix: np.ndarray, material: Material) -> Shape:

@@ -20,8 +20,8 @@ class Diffuse(Material):
 
     kind = MaterialKind.DIFFUSE
 
-    def __post_init__(self) -> None:
-        self.color = check_color(self.name, "color", self.color, upper=1.0)
+    def checked_parameters(self) -> dict[str, object]:
+        return {"color": check_color(self.name, "color", self.color, upper=1.0)}
 
     def gpu_parameters(self):
         return self.color, 0.0, 1.0

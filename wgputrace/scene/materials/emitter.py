@@ -5,6 +5,8 @@
 | color     | RGB >= 0   | 1       | spectrum of the emitted light                       |
 | emittance | float >= 0 | 1       | scale: emitted radiance = color x emittance          |
 
+The radiance (each component of color x emittance) is at most RADIANCE_MAX.
+
 Mitsuba 3: an `area` emitter with radiance color x emittance on each side, and a black BSDF.
 """
 
@@ -12,7 +14,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialKind, check_color, check_number
+from .material import Material, MaterialError, MaterialKind, check_color, check_number
+
+# Far above any physical source (the sun's radiance is ~2e7 W/(sr m^2)), and low enough that the
+# float32 sums of billions of samples per pixel on the GPU stay finite (float32 ends at 3.4e38).
+RADIANCE_MAX = 1e20
 
 
 @dataclass(eq=False)
@@ -22,9 +28,16 @@ class Emitter(Material):
 
     kind = MaterialKind.EMITTER
 
-    def __post_init__(self) -> None:
-        self.color = check_color(self.name, "color", self.color, upper=None)
-        self.emittance = check_number(self.name, "emittance", self.emittance, low=0.0, high=float("inf"))
+    def checked_parameters(self) -> dict[str, object]:
+        color = check_color(self.name, "color", self.color, upper=None)
+        emittance = check_number(self.name, "emittance", self.emittance, low=0.0, high=float("inf"))
+        if max(color) * emittance > RADIANCE_MAX:
+            raise MaterialError(
+                f"material {self.name!r}: radiance color x emittance = {max(color) * emittance:.3g} exceeds "
+                f"RADIANCE_MAX = {RADIANCE_MAX:g} (color {color}, emittance {emittance})",
+                "emittance",
+            )
+        return {"color": color, "emittance": emittance}
 
     @property
     def radiance(self) -> tuple[float, float, float]:

@@ -27,9 +27,11 @@ class Glass(Material):
 
     kind = MaterialKind.GLASS
 
-    def __post_init__(self) -> None:
-        self.color = check_color(self.name, "color", self.color, upper=1.0)
-        self.ior = check_number(self.name, "ior", self.ior, low=0.0, high=IOR_MAX, low_inclusive=False)
+    def checked_parameters(self) -> dict[str, object]:
+        return {
+            "color": check_color(self.name, "color", self.color, upper=1.0),
+            "ior": check_number(self.name, "ior", self.ior, low=0.0, high=IOR_MAX, low_inclusive=False),
+        }
 
     def gpu_parameters(self):
         return self.color, 0.0, self.ior

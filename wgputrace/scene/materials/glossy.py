@@ -24,9 +24,11 @@ class Glossy(Material):
 
     kind = MaterialKind.GLOSSY
 
-    def __post_init__(self) -> None:
-        self.color = check_color(self.name, "color", self.color, upper=1.0)
-        self.roughness = check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0)
+    def checked_parameters(self) -> dict[str, object]:
+        return {
+            "color": check_color(self.name, "color", self.color, upper=1.0),
+            "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
+        }
 
     def gpu_parameters(self):
         return self.color, self.roughness, 1.0

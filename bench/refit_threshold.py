@@ -1,0 +1,171 @@
+"""How much a refit BVH slows rendering as its SAH cost degrades: the measurement behind
+wgputrace.render.scene_sync.REBUILD_DEGRADATION.
+
+    python bench/refit_threshold.py            (or: python -m bench.refit_threshold)
+    python bench/refit_threshold.py --size 64x64 --spp 4 --steps 16 --repeats 7
+
+The scene is the default Cornell box with SPHERES small spheres inside. Step by step every sphere
+takes a random walk (seeded); one renderer keeps refitting the BVH it built at step 0 (rebuilds
+disabled), and at each step a fresh Renderer builds a new BVH over the same geometry. Both render
+with the same seed. Order of work per step: validate (the two images must be equal bit for bit:
+an edited renderer promises the picture of a fresh one), then time `repeats` renders of `spp`
+samples per pixel each, interleaved, after a discarded warm-up, and keep the fastest of each: on a
+shared CPU adapter other processes only ever add time, and the median still carried it. Recorded per step: the refit
+tree's degradation (SAH cost / cost when built), seconds per sample per pixel of both, their ratio,
+and what a rebuild costs (BVH build plus full upload). Writes bench/results/refit_threshold_<adapter>.json
+and .png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+if __package__ in (None, ""):
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from wgputrace import Diffuse, Renderer, default_scene, make_icosphere, model_matrix  # noqa: E402
+from wgputrace.cli import parse_size  # noqa: E402
+from wgputrace.gpu.device import describe  # noqa: E402
+from wgputrace.render import scene_sync  # noqa: E402
+
+SEED = 20261123
+SPHERES = 24
+SPHERE_RADIUS = 0.05
+SPHERE_SUBDIVISIONS = 1  # 80 triangles each
+# Random-walk step per sphere and axis (the box is 1 wide); positions stay inside BOX_INTERIOR.
+STEP = 0.12
+BOX_INTERIOR = (np.array([-0.42, -0.05, -0.42]), np.array([0.42, 0.82, 0.42]))
+
+
+def scene_with_spheres(rng: np.random.Generator):
+    scene = default_scene()
+    grey = Diffuse("grey", color=(0.6, 0.6, 0.6))
+    low, high = BOX_INTERIOR
+    spheres = []
+    for index in range(SPHERES):
+        sphere = make_icosphere((0, 0, 0), (0, 0, 0), SPHERE_RADIUS, SPHERE_SUBDIVISIONS, grey, f"ball{index}")
+        sphere.tags["position"] = rng.uniform(low, high)
+        sphere.transform = model_matrix(sphere.tags["position"], (0, 0, 0), 1.0)
+        spheres.append(sphere)
+    scene.add(*spheres)
+    return scene, spheres
+
+
+def walk(spheres, rng: np.random.Generator) -> None:
+    low, high = BOX_INTERIOR
+    for sphere in spheres:
+        sphere.tags["position"] = np.clip(sphere.tags["position"] + rng.normal(0.0, STEP, 3), low, high)
+        sphere.transform = model_matrix(sphere.tags["position"], (0, 0, 0), 1.0)
+
+
+def seconds_per_spp(renderer: Renderer, spp: int) -> float:
+    start = time.perf_counter()
+    renderer.render(spp)
+    return (time.perf_counter() - start) / spp
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--size", type=parse_size, default=(64, 64))
+    parser.add_argument("--spp", type=int, default=4)
+    parser.add_argument("--steps", type=int, default=16)
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+    width, height = args.size
+    threshold = scene_sync.REBUILD_DEGRADATION
+    scene_sync.REBUILD_DEGRADATION = float("inf")  # the refit renderer must keep its first tree
+
+    rng = np.random.default_rng(SEED)
+    scene, spheres = scene_with_spheres(rng)
+    Renderer(scene, width, height, seed=SEED).render(1)  # warm-up: the first dispatch compiles the shader
+    refit = Renderer(scene, width, height, seed=SEED)
+    steps = []
+    for step in range(args.steps + 1):
+        if step:
+            walk(spheres, rng)
+        refit.update()
+        start = time.perf_counter()
+        fresh = Renderer(scene, width, height, seed=SEED)
+        rebuild_seconds = time.perf_counter() - start
+        # validate before timing: same picture, bit for bit
+        refit.render(1)
+        fresh.render(1)
+        if not np.array_equal(refit.image(), fresh.image()):
+            raise SystemExit(f"step {step}: the refit renderer's image differs from a fresh renderer's")
+        times = {"refit": [], "fresh": []}
+        for _ in range(args.repeats):
+            for name, renderer in (("refit", refit), ("fresh", fresh)):
+                times[name].append(seconds_per_spp(renderer, args.spp))
+        record = {
+            "step": step,
+            "degradation": refit._mirror.refitter.degradation,
+            "sah_refit": refit._mirror.refitter.cost,
+            "sah_fresh": fresh._mirror.refitter.cost,
+            "seconds_per_spp_refit": min(times["refit"]),
+            "seconds_per_spp_fresh": min(times["fresh"]),
+            "all_seconds_per_spp": times,
+            "rebuild_seconds": rebuild_seconds,
+            "bvh_build_seconds": fresh.records.acceleration.build_seconds,
+        }
+        record["time_ratio"] = record["seconds_per_spp_refit"] / record["seconds_per_spp_fresh"]
+        steps.append(record)
+        print(
+            f"step {step:2d}: degradation {record['degradation']:.3f}  time ratio {record['time_ratio']:.3f}  "
+            f"({record['seconds_per_spp_refit'] * 1e3:.1f} vs {record['seconds_per_spp_fresh'] * 1e3:.1f} ms/spp), "
+            f"rebuild {rebuild_seconds * 1e3:.1f} ms"
+        )
+
+    degradation = np.array([s["degradation"] for s in steps])
+    ratio = np.array([s["time_ratio"] for s in steps])
+    # least squares through (1, 1): a tree as good as built renders as fast as a fresh one
+    slope = float(np.dot(degradation - 1, ratio - 1) / max(np.dot(degradation - 1, degradation - 1), 1e-12))
+    info = describe()
+    result = {
+        "benchmark": "refit_threshold",
+        "git_revision": git_revision(),
+        "adapter": info,
+        "environment": environment(),
+        "load_average": load_average(),
+        "scene": f"default Cornell box + {SPHERES} spheres of {20 * 4**SPHERE_SUBDIVISIONS} triangles, random walk {STEP}",
+        "triangles": refit.triangle_count,
+        "resolution": [width, height],
+        "spp": args.spp,
+        "repeats": args.repeats,
+        "steps": steps,
+        "fit": {"time_ratio_minus_1_per_degradation_minus_1": slope},
+        "threshold_in_use": threshold,
+    }
+    name = f"refit_threshold_{slug(info['adapter'], info['backend'])}"
+    write_json(RESULTS_DIR / f"{name}.json", result)
+    chart(RESULTS_DIR / f"{name}.png", degradation, ratio, slope, threshold, result["scene"])
+    print(f"slope of (time ratio - 1) over (degradation - 1): {slope:.3f}")
+    print(f"wrote {RESULTS_DIR / name}.json and .png")
+
+
+def chart(path: Path, degradation: np.ndarray, ratio: np.ndarray, slope: float, threshold: float, title: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, axes = plt.subplots(figsize=(6, 4))
+    axes.plot(degradation, ratio, "o", label="measured")
+    line = np.linspace(1.0, degradation.max(), 20)
+    axes.plot(line, 1 + slope * (line - 1), "-", label=f"1 + {slope:.2f} (D - 1)")
+    axes.axvline(threshold, color="grey", linestyle=":", label=f"REBUILD_DEGRADATION = {threshold}")
+    axes.set_xlabel("refit SAH cost / SAH cost when built (D)")
+    axes.set_ylabel("render time, refit tree / fresh tree")
+    axes.set_title(title, fontsize=8)
+    axes.legend()
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+
+
+if __name__ == "__main__":
+    main()

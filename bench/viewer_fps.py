@@ -1,0 +1,179 @@
+"""Frames per second of the viewer in a real window, moving and at rest, at 640x480 and 1280x720.
+
+    python bench/viewer_fps.py               (or: python -m bench.viewer_fps)
+    python bench/viewer_fps.py --sizes 640x480 --seconds 10
+
+Opens the viewer's glfw window (on a virtual X display started for the run when there is no
+DISPLAY) on the default scene. Each size runs: a warm-up (kernels compile, the first frames),
+then a moving phase in which the camera turns a little every frame, as a steady mouse drag does
+(each frame restarts the accumulation: the reduced-resolution path), then a resting phase at full
+resolution. Reported per phase: frames per second (frames over wall time), median and 90th
+percentile frame times, the traced resolution, and at rest samples per second and the samples per
+pixel reached. Writes bench/results/viewer_fps_<adapter>.json and .png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from contextlib import nullcontext
+from pathlib import Path
+
+import numpy as np
+
+if __package__ in (None, ""):
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from wgputrace.app.viewer import REST_SECONDS, Viewer, ViewerOptions  # noqa: E402
+from wgputrace.app.window import create_canvas, has_display, virtual_display  # noqa: E402
+from wgputrace.cli import parse_size  # noqa: E402
+from wgputrace.gpu.device import describe  # noqa: E402
+from wgputrace.scenes import DEFAULT_SCENE  # noqa: E402
+
+WARMUP_SECONDS = 4.0
+# The camera turns this many pixels' worth of mouse drag per frame while moving.
+TURN_PIXELS_PER_FRAME = 2.0
+
+
+def run_size(size: tuple[int, int], seconds: float, target_fps: float) -> dict:
+    from rendercanvas.glfw import loop
+
+    canvas = create_canvas(size, f"wgputrace - {DEFAULT_SCENE}")
+    viewer = Viewer(canvas, ViewerOptions(size=size, target_fps=target_fps))
+    moving_start = WARMUP_SECONDS
+    resting_start = moving_start + seconds + REST_SECONDS
+    end = resting_start + seconds
+    marks: dict[str, int] = {}
+    start = time.perf_counter()
+
+    def draw() -> None:
+        now = time.perf_counter() - start
+        if moving_start <= now < moving_start + seconds:
+            marks.setdefault("moving", len(viewer.frames))
+            viewer.look(TURN_PIXELS_PER_FRAME, 0.0)
+        elif now >= resting_start:
+            marks.setdefault("resting", len(viewer.frames))
+        if moving_start + seconds <= now:
+            marks.setdefault("moving_end", len(viewer.frames))
+        viewer.draw()
+        if now >= end:
+            canvas.close()
+
+    canvas.request_draw(draw)
+    loop.run()
+    moving = viewer.frames[marks["moving"] : marks["moving_end"]]
+    resting = viewer.frames[marks["resting"] :]
+    width, height = size
+    samples = (resting[-1].samples_per_pixel - resting[0].samples_per_pixel) * width * height
+    resting_seconds = sum(frame.seconds for frame in resting[1:])
+    return {
+        "size": list(size),
+        "moving": phase(moving),
+        "resting": {
+            **phase(resting),
+            "samples_per_second": samples / resting_seconds,
+            "samples_per_pixel_reached": resting[-1].samples_per_pixel,
+        },
+    }
+
+
+def phase(frames) -> dict:
+    seconds = np.array([frame.seconds for frame in frames])
+    traced = [frame.traced_size[0] * frame.traced_size[1] for frame in frames]
+    median_traced = frames[int(np.argsort(traced)[len(traced) // 2])].traced_size
+    return {
+        "frames": len(frames),
+        "fps": len(frames) / seconds.sum(),
+        "median_frame_ms": 1e3 * statistics.median(seconds),
+        "p90_frame_ms": 1e3 * float(np.percentile(seconds, 90)),
+        "median_trace_ms": 1e3 * statistics.median(frame.trace_seconds for frame in frames),
+        "median_traced_size": list(median_traced),
+        "all_moving": all(frame.moving for frame in frames),
+    }
+
+
+def plot(path: Path, result: dict) -> None:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(7.0, 4.4))
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    names = [f"{w}x{h}" for w, h in (entry["size"] for entry in result["sizes"])]
+    x = np.arange(len(names))
+    for offset, key, color in ((-0.2, "moving", "#d08030"), (0.2, "resting", "#3b75af")):
+        values = [entry[key]["fps"] for entry in result["sizes"]]
+        bars = axes.bar(x + offset, values, width=0.4, color=color, label=key, zorder=2)
+        labels = []
+        for entry in result["sizes"]:
+            traced = entry[key]["median_traced_size"]
+            labels.append(f"{entry[key]['fps']:.1f} fps\n{traced[0]}x{traced[1]}")
+        axes.bar_label(bars, labels=labels, padding=2, fontsize=8)
+    axes.axhline(
+        result["target_fps"], color="gray", linestyle="--", linewidth=1, label=f"target {result['target_fps']:g} fps"
+    )
+    axes.set_xticks(x, names)
+    axes.set_ylabel("frames per second (label: traced resolution)")
+    axes.set_ylim(0, max(result["target_fps"], *(e["moving"]["fps"] for e in result["sizes"])) * 1.35)
+    axes.legend(loc="upper right")
+    axes.grid(axis="y", alpha=0.3, zorder=0)
+    figure.suptitle(
+        f"wgputrace viewer on {result['adapter']['adapter']}, {DEFAULT_SCENE}, rev {result['git_revision']}\n"
+        f"load average before {result['load_average_before_after'][0]}",
+        fontsize=9,
+    )
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=parse_size, nargs="+", default=[(640, 480), (1280, 720)])
+    parser.add_argument("--seconds", type=float, default=10.0, help="length of each phase (default 10)")
+    parser.add_argument("--fps", type=float, default=20.0, help="the viewer's target fps (default 20)")
+    parser.add_argument("--out", type=Path, default=RESULTS_DIR)
+    args = parser.parse_args(argv)
+    started, load_before = time.perf_counter(), load_average()
+    with nullcontext() if has_display() else virtual_display():
+        sizes = []
+        for size in args.sizes:
+            entry = run_size(size, args.seconds, args.fps)
+            sizes.append(entry)
+            print(
+                f"{size[0]}x{size[1]}: moving {entry['moving']['fps']:.1f} fps (traced "
+                f"{'x'.join(map(str, entry['moving']['median_traced_size']))}), resting {entry['resting']['fps']:.1f} fps, "
+                f"{entry['resting']['samples_per_second'] / 1e6:.3f} M samples/s",
+                file=sys.stderr,
+                flush=True,
+            )
+        import glfw
+
+        glfw.terminate()  # while the display is still there: glfw's exit handler would talk to it
+    adapter = describe()
+    result = {
+        "benchmark": "viewer_fps",
+        "git_revision": git_revision(),
+        "adapter": adapter,
+        "environment": environment(),
+        "load_average_before_after": [load_before, load_average()],
+        "scene": DEFAULT_SCENE,
+        "target_fps": args.fps,
+        "phase_seconds": args.seconds,
+        "warmup_seconds": WARMUP_SECONDS,
+        "turn_pixels_per_frame": TURN_PIXELS_PER_FRAME,
+        "sizes": sizes,
+        "wall_seconds": time.perf_counter() - started,
+    }
+    stem = f"viewer_fps_{slug(adapter['adapter'], adapter['backend'])}"
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_json(args.out / f"{stem}.json", result)
+    plot(args.out / f"{stem}.png", result)
+    print(f"wrote {args.out / stem}.json and .png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,31 @@
+// First-hit guides per pixel (normal, albedo, depth, BVH steps): debug views and the filter's edge stops.
+//! include "acceleration.wgsl"
+//! include "camera.wgsl"
+//! include "guide_packing.wgsl"
+
+@group(1) @binding(0) var guides: texture_storage_2d<rgba32uint, write>;
+
+// Through each pixel's centre, so the guides of a frame do not change from sample to sample.
+const PIXEL_CENTRE: vec2<f32> = vec2<f32>(0.5, 0.5);
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= frame.width || id.y >= frame.height {
+        return;
+    }
+    traversal_steps = 0u;
+    let ray = camera_ray(id.xy, PIXEL_CENTRE);
+    let hit = closest_hit(ray, FLOAT_MAX, NO_TRIANGLE);
+    // depth 0 marks "nothing hit": the filter never mixes such pixels with surfaces
+    var guide = Guide(vec3<f32>(0.0, 0.0, 1.0), 0.0, vec3<f32>(0.0), 0u);
+    if hit.triangle != NO_TRIANGLE {
+        let triangle = triangles[hit.triangle];
+        let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
+        // the side facing the camera: both sides of a triangle look alike to the eye
+        guide.normal = select(normal, -normal, dot(normal, ray.direction) > 0.0);
+        guide.depth = hit.t;
+        guide.albedo = materials[triangle.material].color;
+    }
+    guide.steps = traversal_steps;
+    textureStore(guides, id.xy, pack_guide(guide));
+}

@@ -1,0 +1,176 @@
+"""The viewer in a real window on a virtual X display, driven by X key and mouse events the way a
+person would drive it: the picture is the scene, follows the camera, converges, resizes."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from tests.stats import sidak, z_limit
+from wgputrace import Renderer, default_scene, load_image
+from wgputrace.app.controls import LOOK_RADIANS_PER_PIXEL, SPEED_STEP
+from wgputrace.app.viewer import REST_SECONDS
+from wgputrace.image_io import tonemap
+
+from .image_stats import BLOCKS, CHANNELS, block_z_scores
+from .running_app import START_SECONDS, RunningApp
+from .xdriver import WHEEL_UP, XDriver
+
+pytestmark = pytest.mark.gpu
+
+WIDTH, HEIGHT = 128, 96
+TITLE = "wgputrace - cornell"
+# Headless renders to compare with: another seed than the viewer's, so the two are independent.
+REFERENCE_SEED = 99
+REFERENCE_SPP = 16
+# Family-wise significance of the block z-tests of one comparison.
+SIGNIFICANCE = 1e-3
+Z_LIMIT = z_limit(sidak(SIGNIFICANCE, BLOCKS * BLOCKS * CHANNELS))
+# Screenshots taken for comparisons have at least this many samples per pixel.
+MIN_SPP = 2.0
+DRAG_PIXELS = 40
+WHEEL_NOTCHES = 2
+# sRGB-encoding on the GPU and in numpy may round a value to neighbouring 8-bit codes.
+SRGB_CODE_TOLERANCE = 1
+RESIZED = (160, 120)
+HOLD_SECONDS = 1.0
+MIN_MOVE_SECONDS = 0.1
+
+
+@pytest.fixture(scope="module")
+def viewer(x_display, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("viewer")
+    app = RunningApp(["cornell", "--size", f"{WIDTH}x{HEIGHT}", "--screenshots", str(folder)], folder)
+    driver = XDriver(x_display)
+    try:
+        app.wait_for("showing cornell", START_SECONDS)
+        window = driver.find_window(TITLE, START_SECONDS)
+        driver.pointer_to(window, WIDTH // 2, HEIGHT // 2)  # no window manager: the pointer gives focus
+        yield app, driver, window
+    finally:
+        driver.close()
+        app.stop()
+
+
+@pytest.fixture(scope="module")
+def vfov():
+    return default_scene().camera.vfov_degrees
+
+
+def resting_screenshot(app: RunningApp, driver: XDriver, min_spp: float = MIN_SPP, size=(WIDTH, HEIGHT)):
+    """Screenshots until one is at the full `size` with at least `min_spp` samples per pixel."""
+    time.sleep(REST_SECONDS)
+    while True:
+        driver.tap("p")
+        shot = app.screenshot_line()
+        if shot.size == size and shot.spp >= min_spp:
+            return shot
+        time.sleep(0.2)
+
+
+def headless(camera, size=(WIDTH, HEIGHT)) -> np.ndarray:
+    scene = default_scene()
+    scene.camera = camera
+    renderer = Renderer(scene, size[0], size[1], seed=REFERENCE_SEED)
+    renderer.render(REFERENCE_SPP)
+    return renderer.image()
+
+
+def assert_picture_is(shot, reference: np.ndarray) -> None:
+    image = load_image(shot.exr)
+    z = block_z_scores(image, reference)
+    assert np.abs(z).max() <= Z_LIMIT, f"{shot.exr} differs from the headless render: block z-scores\n{z.round(1)}"
+
+
+def test_window_shows_the_scene_and_converges_while_still(gpu_context, viewer, vfov):
+    app, driver, window = viewer
+    driver.tap("r")
+    first = resting_screenshot(app, driver)
+    later = resting_screenshot(app, driver, 4 * first.spp)
+    reference = headless(first.camera(vfov))
+    assert_picture_is(first, reference)
+    assert_picture_is(later, reference)
+    # the mean squared error against the reference falls as samples accumulate: the picture converges
+    errors = [np.mean((load_image(shot.exr) - reference) ** 2) for shot in (first, later)]
+    assert errors[1] < errors[0], f"error {errors} did not fall from {first.spp} to {later.spp} spp"
+
+
+def test_window_pixels_are_the_screenshot_and_the_tone_mapped_exr(gpu_context, viewer):
+    """Paused, the window (grabbed from X), the PNG screenshot and the EXR are the same picture."""
+    app, driver, window = viewer
+    resting_screenshot(app, driver)
+    driver.tap("Tab")  # hide the text overlay, which screenshots leave out
+    driver.tap("space")
+    time.sleep(0.5)  # a frame or two with the overlay gone
+    try:
+        driver.tap("p")
+        shot = app.screenshot_line()
+        shown = driver.grab(window)
+    finally:
+        driver.tap("space")
+        driver.tap("Tab")
+    png = np.asarray(Image.open(shot.png).convert("RGB"))
+    np.testing.assert_array_equal(shown, png)
+    expected = tonemap(load_image(shot.exr), 1.0).astype(int)
+    assert np.abs(png.astype(int) - expected).max() <= SRGB_CODE_TOLERANCE
+
+
+def test_keys_move_the_camera_and_the_picture_follows(gpu_context, viewer, vfov):
+    app, driver, window = viewer
+    driver.tap("r")
+    before = resting_screenshot(app, driver)
+    driver.hold("w", HOLD_SECONDS)
+    after = resting_screenshot(app, driver)
+    step = after.position - before.position
+    # the viewer counts the time between the frames that saw the press and the release: at
+    # least the hold time less one frame at each end
+    assert step @ before.forward > MIN_MOVE_SECONDS * before.speed, (
+        f"W did not move forward: {before.position} -> {after.position}"
+    )
+    np.testing.assert_allclose(step - (step @ before.forward) * before.forward, 0.0, atol=1e-6)
+    assert_picture_is(after, headless(after.camera(vfov)))
+    z = block_z_scores(load_image(after.exr), headless(before.camera(vfov)))
+    assert np.abs(z).max() > Z_LIMIT, "the picture after moving still matches the camera before"
+
+
+def test_mouse_drag_turns_and_the_wheel_changes_speed(gpu_context, viewer):
+    app, driver, window = viewer
+    driver.tap("r")
+    home = resting_screenshot(app, driver, 0.0)
+    driver.drag(window, (WIDTH // 4, HEIGHT // 2), (WIDTH // 4 + DRAG_PIXELS, HEIGHT // 2), steps=4)
+    driver.scroll(WHEEL_UP, WHEEL_NOTCHES)
+    turned = resting_screenshot(app, driver, 0.0)
+    # a drag to the right turns right: towards image right, cross(+z, +y) = -x for the home camera
+    yaw = DRAG_PIXELS * LOOK_RADIANS_PER_PIXEL
+    np.testing.assert_allclose(home.forward, (0, 0, 1), atol=1e-7)
+    np.testing.assert_allclose(turned.forward, (-np.sin(yaw), 0, np.cos(yaw)), atol=1e-6)
+    assert turned.speed == pytest.approx(home.speed * SPEED_STEP**WHEEL_NOTCHES, rel=1e-6)
+
+
+def test_frame_key_puts_the_whole_scene_in_view(gpu_context, viewer, vfov):
+    app, driver, window = viewer
+    driver.tap("r")
+    driver.tap("f")
+    shot = resting_screenshot(app, driver)
+    camera = shot.camera(vfov)
+    right, up, forward = camera.image_plane(WIDTH, HEIGHT)
+    low, high = default_scene().bounds()
+    corners = np.array([[(low, high)[(k >> axis) & 1][axis] for axis in range(3)] for k in range(8)])
+    offsets = corners - camera.position
+    depth = offsets @ forward
+    assert np.all(depth > 0)
+    ndc = np.stack([offsets @ right / (right @ right), offsets @ up / (up @ up)], axis=1) / depth[:, None]
+    assert np.abs(ndc).max() <= 1.0, f"scene corners outside the picture: {ndc}"
+    assert_picture_is(shot, headless(camera))
+
+
+def test_resizing_the_window_restarts_at_the_new_size(gpu_context, viewer, vfov):
+    app, driver, window = viewer
+    driver.tap("r")
+    driver.resize(window, *RESIZED)
+    shot = resting_screenshot(app, driver, size=RESIZED)
+    assert load_image(shot.exr).shape == (RESIZED[1], RESIZED[0], 3)
+    assert_picture_is(shot, headless(shot.camera(vfov), RESIZED))

@@ -1,0 +1,66 @@
+"""Writing small glTF/GLB files for the loader tests: JSON and binary built from numpy arrays, so
+every material, node and camera field is under the test's control."""
+
+from __future__ import annotations
+
+import base64
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+
+FLOAT, UNSIGNED_INT = 5126, 5125
+
+
+def gltf_document(meshes: list[tuple[np.ndarray, np.ndarray, int | None]], **extra) -> tuple[dict, bytes]:
+    """A glTF document with one mesh (one primitive) per (positions (n, 3), indices (m, 3), material
+    index) and one root node per mesh, its buffer as bytes; `extra` adds or replaces top-level keys."""
+    blob = b""
+    accessors, views, gltf_meshes = [], [], []
+    for positions, indices, material in meshes:
+        for array, kind, component in ((positions, "VEC3", FLOAT), (indices, "SCALAR", UNSIGNED_INT)):
+            data = np.ascontiguousarray(array, dtype="<f4" if component == FLOAT else "<u4").tobytes()
+            views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
+            accessors.append(
+                {
+                    "bufferView": len(views) - 1,
+                    "componentType": component,
+                    "count": array.size // (3 if kind == "VEC3" else 1),
+                    "type": kind,
+                }
+            )
+            blob += data
+        primitive = {"attributes": {"POSITION": len(accessors) - 2}, "indices": len(accessors) - 1}
+        if material is not None:
+            primitive["material"] = material
+        gltf_meshes.append({"name": f"mesh{len(gltf_meshes)}", "primitives": [primitive]})
+    document = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": list(range(len(meshes)))}],
+        "nodes": [{"mesh": i} for i in range(len(meshes))],
+        "meshes": gltf_meshes,
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": len(blob)}],
+    }
+    document.update(extra)
+    return document, blob
+
+
+def write_glb(path: Path, document: dict, blob: bytes) -> Path:
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    blob += b"\0" * (-len(blob) % 4)
+    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(blob), 0x004E4942) + blob
+    path.write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks)
+    return path
+
+
+def write_gltf(path: Path, document: dict, blob: bytes) -> Path:
+    """A .gltf whose buffer is a base64 data URI."""
+    document = json.loads(json.dumps(document))
+    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(blob).decode()
+    path.write_text(json.dumps(document))
+    return path

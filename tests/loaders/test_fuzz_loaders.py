@@ -1,0 +1,183 @@
+"""Property-based fuzzing of the loaders: random and mutated OBJ/MTL text, truncated and garbled
+GLB, PLY and STL files, and glTF JSON with random values in random places. Every input must end
+in a Scene or a SceneLoadError, within a time limit: no other exception, no hang."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+import trimesh
+from hypothesis import given
+from hypothesis import strategies as st
+
+from tests.conftest import SHARED_SCENES
+from tests.fuzzing import fuzz_settings, time_limit
+from tests.loaders.gltf_files import gltf_document, write_glb
+from tests.loaders.test_gltf import BOX, BOX_INDICES, MATERIALS
+from wgputrace import Scene, SceneLoadError, load_scene
+
+# Examples per test, chosen so the whole file stays within ~20 s on a 2-core CI machine (JSON
+# mutations are cheapest to check and reach the most code paths per example).
+TEXT_EXAMPLES = 200
+BINARY_EXAMPLES = 200
+JSON_EXAMPLES = 500
+
+numbers = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True, width=64).map(repr),
+    st.integers(-12, 12).map(str),
+    st.sampled_from(["1e39", "-0", "nan", "inf", "0x1p3", "1_0", "", "--1", "1e-45"]),
+)
+names = st.text(st.characters(blacklist_categories=["Cs"]), max_size=8)
+face_reference = st.tuples(st.integers(-12, 12), st.sampled_from(["", "/1", "//1", "/1/1", "/", "/x"])).map(
+    lambda t: f"{t[0]}{t[1]}"
+)
+obj_line = st.one_of(
+    st.lists(numbers, min_size=0, max_size=5).map(lambda n: " ".join(["v", *n])),
+    st.lists(face_reference, min_size=0, max_size=6).map(lambda r: " ".join(["f", *r])),
+    names.map(lambda n: f"o {n}"),
+    names.map(lambda n: f"g {n}"),
+    st.sampled_from(["usemtl a", "usemtl b", "usemtl", "mtllib m.mtl", "mtllib missing.mtl", "# c", "s 1", "vt 0 0"]),
+    st.text(max_size=30),
+)
+mtl_line = st.one_of(
+    st.tuples(
+        st.sampled_from(["Kd", "Ks", "Ke", "Tf", "Ns", "Ni", "d", "Tr", "Pr", "Pm", "illum", "Ka", "map_Kd"]),
+        st.lists(numbers, min_size=0, max_size=4),
+    ).map(lambda t: " ".join([t[0], *t[1]])),
+    st.sampled_from(["newmtl a", "newmtl b", "newmtl"]),
+    st.text(max_size=20),
+)
+
+
+def outcome(path) -> Scene | SceneLoadError:
+    """Load `path` under the time limit: a Scene or the documented error, anything else fails."""
+    with time_limit(), warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # repairs and skips are warnings; here only errors matter
+        try:
+            scene = load_scene(path)
+        except SceneLoadError as error:
+            assert str(error).startswith(str(error.path)), error
+            return error
+    assert isinstance(scene, Scene) and scene.triangle_count > 0
+    for shape in scene.shapes:
+        assert np.all(np.isfinite(shape.world_vertices))
+    return scene
+
+
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory):
+    return tmp_path_factory.mktemp("fuzz")
+
+
+@fuzz_settings(TEXT_EXAMPLES)
+@given(obj=st.lists(obj_line, max_size=25), mtl=st.lists(mtl_line, max_size=15))
+def test_random_obj_and_mtl_text(workdir, obj, mtl):
+    (workdir / "m.mtl").write_text("\n".join(mtl))
+    (workdir / "random.obj").write_text("\n".join(obj))
+    outcome(workdir / "random.obj")
+
+
+@pytest.fixture(scope="module")
+def cornell_text() -> str:
+    return (SHARED_SCENES / "cornell_trac0r.obj").read_text()
+
+
+@fuzz_settings(TEXT_EXAMPLES)
+@given(data=st.data())
+def test_mutated_cornell_obj(workdir, cornell_text, data):
+    lines = cornell_text.splitlines()
+    for _ in range(data.draw(st.integers(1, 4))):
+        index = data.draw(st.integers(0, len(lines) - 1))
+        kind = data.draw(st.sampled_from(["delete", "duplicate", "replace", "token"]))
+        if kind == "delete":
+            del lines[index]
+        elif kind == "duplicate":
+            lines.insert(index, lines[index])
+        elif kind == "replace":
+            lines[index] = data.draw(obj_line)
+        else:
+            tokens = lines[index].split() or [""]
+            tokens[data.draw(st.integers(0, len(tokens) - 1))] = data.draw(numbers | names)
+            lines[index] = " ".join(tokens)
+    text = "\n".join(lines).encode()
+    text = text[: data.draw(st.integers(0, len(text)))] if data.draw(st.booleans()) else text
+    (workdir / "cornell_trac0r.mtl").write_bytes((SHARED_SCENES / "cornell_trac0r.mtl").read_bytes())
+    (workdir / "mutated.obj").write_bytes(text)
+    outcome(workdir / "mutated.obj")
+
+
+def binary_files() -> dict[str, bytes]:
+    document, blob = gltf_document([(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 1)], materials=MATERIALS)
+    files = {}
+    mesh = trimesh.Trimesh(BOX, BOX_INDICES, process=False)
+    files["box.ply"] = mesh.export(file_type="ply", encoding="binary")
+    files["box.stl"] = mesh.export(file_type="stl")
+    return files, document, blob
+
+
+@pytest.fixture(scope="module")
+def originals(workdir):
+    files, document, blob = binary_files()
+    files["box.glb"] = write_glb(workdir / "original.glb", document, blob).read_bytes()
+    return files
+
+
+@fuzz_settings(BINARY_EXAMPLES)
+@given(
+    name=st.sampled_from(["box.glb", "box.ply", "box.stl"]),
+    cut=st.floats(0.0, 1.0),
+    flips=st.lists(st.tuples(st.floats(0.0, 1.0, exclude_max=True), st.integers(0, 255)), max_size=6),
+)
+def test_truncated_and_garbled_binary_files(workdir, originals, name, cut, flips):
+    data = bytearray(originals[name])
+    for where, value in flips:
+        data[int(where * len(data))] = value
+    data = data[: int(cut * len(data))] if cut < 1.0 else data
+    (workdir / name).write_bytes(bytes(data))
+    outcome(workdir / name)
+
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers(-(2**70), 2**70) | st.floats(width=64) | st.text(max_size=5),
+    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=5), children, max_size=4),
+    max_leaves=8,
+)
+
+
+def json_paths(value, prefix=()):
+    """Every path into a JSON document, containers and leaves."""
+    yield prefix
+    items = value.items() if isinstance(value, dict) else enumerate(value) if isinstance(value, list) else ()
+    for key, child in items:
+        yield from json_paths(child, (*prefix, key))
+
+
+def holds(container, key) -> bool:
+    if isinstance(container, dict):
+        return key in container
+    return isinstance(container, list) and isinstance(key, int) and key < len(container)
+
+
+def replace_at(document: dict, path: tuple, value) -> None:
+    """Put `value` at `path`, unless an earlier replacement took the path away."""
+    parent = document
+    for key in path[:-1]:
+        if not holds(parent, key):
+            return
+        parent = parent[key]
+    if holds(parent, path[-1]):
+        parent[path[-1]] = value
+
+
+@fuzz_settings(JSON_EXAMPLES)
+@given(data=st.data())
+def test_gltf_json_with_random_values_in_random_places(workdir, data):
+    document, blob = gltf_document([(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 3)], materials=MATERIALS)
+    document = json.loads(json.dumps(document))
+    paths = list(json_paths(document))[1:]
+    for _ in range(data.draw(st.integers(1, 3))):
+        replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
+    outcome(write_glb(workdir / "mutated.glb", document, blob))

@@ -1,0 +1,147 @@
+"""glTF/GLB: the documented material mapping, node transforms as shape transforms, the camera, strips
+and fans, and errors that name the file and the JSON path of what is wrong."""
+
+from __future__ import annotations
+
+import json
+import math
+import struct
+
+import numpy as np
+import pytest
+
+from tests.loaders.gltf_files import gltf_document, write_glb, write_gltf
+from wgputrace import Diffuse, Emitter, Glass, Glossy, SceneLoadError, SceneLoadWarning, load_scene, make_box
+
+BOX = make_box((0, 0, 0), (0, 0, 0), (1, 1, 1), Diffuse("unused")).vertices.reshape(-1, 3)
+BOX_INDICES = np.arange(len(BOX)).reshape(-1, 3)
+MATERIALS = [
+    {"name": "red", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1], "metallicFactor": 0.0}},
+    {
+        "name": "glass",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 1, 1], "metallicFactor": 0.0},
+        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.33}},
+    },
+    {
+        "name": "lamp",
+        "emissiveFactor": [1, 0.5, 0.25],
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}},
+    },
+    {"name": "gold", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.3, 1], "roughnessFactor": 0.5}},
+]
+
+
+def box_document(count: int = 5, **extra) -> tuple[dict, bytes]:
+    materials = [0, 1, 2, 3, None][:count]
+    return gltf_document(
+        [(BOX, BOX_INDICES, m) for m in materials], materials=json.loads(json.dumps(MATERIALS)), **extra
+    )
+
+
+@pytest.mark.parametrize("writer", [write_glb, write_gltf])
+def test_materials_transforms_and_camera(tmp_path, writer):
+    document, blob = box_document(cameras=[{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}])
+    document["nodes"][1]["translation"] = [2, 0, 0]
+    document["nodes"][2]["rotation"] = [0, math.sin(math.pi / 4), 0, math.cos(math.pi / 4)]  # 90 deg about y
+    document["nodes"][3]["matrix"] = [2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, -3, 1]  # column-major
+    document["nodes"].append({"camera": 0, "translation": [0, 1, 5], "rotation": [0, 0, 0, 1]})
+    document["scenes"][0]["nodes"].append(5)
+    scene = load_scene(writer(tmp_path / ("boxes.glb" if writer is write_glb else "boxes.gltf"), document, blob))
+    m = [shape.material for shape in scene.shapes]
+    assert isinstance(m[0], Diffuse) and m[0].color == (1.0, 0.0, 0.0)
+    assert isinstance(m[1], Glass) and m[1].ior == 1.33 and m[1].color == pytest.approx((0.9, 0.9, 1.0))
+    assert isinstance(m[2], Emitter) and (m[2].color, m[2].emittance) == ((1.0, 0.5, 0.25), 8.0)
+    assert isinstance(m[3], Glossy) and m[3].roughness == 0.25  # metallicFactor defaults to 1; alpha = 0.5^2
+    assert isinstance(m[4], Diffuse) and m[4].color == (0.8, 0.8, 0.8)
+    np.testing.assert_allclose(scene.shapes[1].world_vertices.mean(axis=(0, 1)), [2, 0, 0], atol=1e-6)
+    np.testing.assert_allclose(scene.shapes[2].transform[:3, :3], [[0, 0, 1], [0, 1, 0], [-1, 0, 0]], atol=1e-12)
+    np.testing.assert_allclose(scene.shapes[3].world_vertices.max(axis=(0, 1)), [1, 1, -2], atol=1e-6)
+    np.testing.assert_allclose(scene.camera.position, [0, 1, 5])
+    np.testing.assert_allclose(scene.camera.forward, [0, 0, -1])
+    assert scene.camera.vfov_degrees == pytest.approx(math.degrees(0.8))
+
+
+def test_without_a_camera_the_scene_is_framed_from_plus_z(tmp_path):
+    document, blob = box_document(1)
+    scene = load_scene(write_glb(tmp_path / "box.glb", document, blob))
+    assert scene.camera.forward == (0.0, 0.0, -1.0) and scene.camera.position[2] > 0.5
+
+
+def test_strips_and_fans_keep_the_winding(tmp_path):
+    square = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], np.float32)
+    document, blob = gltf_document([(square, np.array([0, 1, 2, 3]), None), (square, np.array([0, 1, 3, 2]), None)])
+    document["meshes"][0]["primitives"][0]["mode"] = 5
+    document["meshes"][1]["primitives"][0]["mode"] = 6
+    strip, fan = load_scene(write_glb(tmp_path / "modes.glb", document, blob)).shapes
+    for shape in (strip, fan):
+        v = shape.vertices.astype(np.float64)
+        normals = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+        np.testing.assert_allclose(normals, [[0, 0, 1], [0, 0, 1]])  # both triangles face +z
+
+
+def corrupt(document: dict, change) -> dict:
+    change(document)
+    return document
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (lambda d: d["accessors"][0].update(count=1000), r"accessors\[0\]: reads 12000 bytes of bufferViews\[0\]"),
+        (lambda d: d["accessors"][1].update(componentType=5126), r"indices -> accessors\[1\]: must be"),
+        (lambda d: d["meshes"][0]["primitives"][0].pop("attributes"), r"primitives\[0\]: 'attributes' is missing"),
+        (lambda d: d["meshes"][0]["primitives"][0].update(indices=99), r"accessors index 99 out of range"),
+        (lambda d: d["nodes"][0].update(children=[0]), r"nodes\[0\]: is reached twice"),
+        (lambda d: d["nodes"][0].update(matrix=[1] * 15), r"nodes\[0\].matrix: must be 16 numbers"),
+        (lambda d: d["nodes"][0].update(scale=[0, 0, 0]), "determinant 0.0"),
+        (lambda d: d["accessors"][0].update(sparse={}), "sparse accessors are not supported"),
+        (lambda d: d["bufferViews"][0].update(byteLength=10**9), r"bufferViews\[0\]: bytes 0..1000000000 lie beyond"),
+        (
+            lambda d: d["materials"][1]["extensions"]["KHR_materials_ior"].update(ior=0),
+            r"materials\[1\]: .*ior must be",
+        ),
+        (lambda d: d["materials"][0]["pbrMetallicRoughness"].update(baseColorFactor=[1, -1, 0, 1]), "color must be"),
+        (lambda d: d["materials"][3]["pbrMetallicRoughness"].update(roughnessFactor="rough"), "must be float"),
+        (lambda d: d.update(scenes=[{"nodes": [9]}]), r"nodes index 9 out of range"),
+    ],
+)
+def test_errors_name_file_and_json_path(tmp_path, change, message):
+    document, blob = box_document(4)
+    path = write_glb(tmp_path / "bad.glb", corrupt(document, change), blob)
+    with pytest.raises(SceneLoadError, match=message) as caught:
+        load_scene(path)
+    assert caught.value.path == path and str(caught.value).startswith(f"{path}: ")
+
+
+def test_broken_containers_are_named(tmp_path):
+    document, blob = box_document(1)
+    good = write_glb(tmp_path / "good.glb", document, blob).read_bytes()
+    cases = {
+        "truncated.glb": (good[: len(good) // 2], "truncated"),
+        "version.glb": (good[:4] + struct.pack("<I", 1) + good[8:], "GLB version 1"),
+        "json.glb": (good[:20] + b"{" * 4 + good[24:], "the glTF JSON does not parse"),
+        "tiny.glb": (good[:10], "shorter than its 12-byte header"),
+    }
+    for name, (data, message) in cases.items():
+        (tmp_path / name).write_bytes(data)
+        with pytest.raises(SceneLoadError, match=message):
+            load_scene(tmp_path / name)
+    (tmp_path / "text.gltf").write_text('{"asset": {"version": "2.0"},\n "nodes": [}')
+    with pytest.raises(SceneLoadError, match="does not parse") as caught:
+        load_scene(tmp_path / "text.gltf")
+    assert caught.value.line == 2
+
+
+def test_points_and_lines_are_skipped_with_a_warning(tmp_path):
+    document, blob = box_document(2)
+    document["meshes"][1]["primitives"][0]["mode"] = 1
+    with pytest.warns(SceneLoadWarning, match=r"meshes\[1\].primitives\[0\] has mode 1 \(points or lines\): skipped"):
+        scene = load_scene(write_glb(tmp_path / "lines.glb", document, blob))
+    assert len(scene.shapes) == 1
+
+
+def test_unknown_format_and_missing_file(tmp_path):
+    with pytest.raises(SceneLoadError, match=r"unknown scene format '.fbx'; wgputrace reads .obj, .gltf"):
+        load_scene(tmp_path / "model.fbx")
+    with pytest.raises(SceneLoadError, match="no such file"):
+        load_scene(tmp_path / "missing.glb")

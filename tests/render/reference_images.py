@@ -1,0 +1,113 @@
+"""Mitsuba 3 references (tests/references/<scene>.npz, made by scripts/make_references.py),
+batched renders of ours, and images of a failed comparison for a person to look at."""
+
+from __future__ import annotations
+
+import json
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from tests.render.image_statistics import BlockComparison, Estimate
+from wgputrace import Renderer, save_image
+from wgputrace.scene import DegenerateTrianglesWarning
+from wgputrace.scenes import scene_by_name
+
+REFERENCE_DIR = Path(__file__).resolve().parents[1] / "references"
+# References are stored as float16, whose 11 significant bits move a value by at most this fraction
+# when rounding. Pixels of one value all round alike, so this is a bias bound, not noise.
+STORAGE_RTOL = 2.0**-11
+
+
+@dataclass
+class Reference:
+    estimate: Estimate
+    metadata: dict
+
+
+def load_reference(name: str) -> Reference:
+    """The reference's mean with its variance, the squared standard error of Mitsuba's passes."""
+    path = REFERENCE_DIR / f"{name}.npz"
+    with np.load(path) as data:
+        metadata = json.loads(str(data["metadata"]))
+        mean = data["mean"].astype(np.float64)
+        standard_error = data["standard_error"].astype(np.float64)
+    return Reference(Estimate(mean, standard_error**2, metadata["passes"] - 1.0), metadata)
+
+
+@dataclass
+class BatchedRender:
+    batches: np.ndarray  # (K, H, W, 3) float32: K independent images of equal sample counts
+    nonfinite_samples: int  # over all batches
+
+    @property
+    def estimate(self) -> Estimate:
+        return Estimate.from_batches(self.batches)
+
+
+def render_batches(scene_name: str, size: int, *, batches: int, spp: int, seed: int, max_depth: int) -> BatchedRender:
+    """`batches` images of `spp` samples each, from one renderer: each batch continues every
+    pixel's random stream, so the batches are independent."""
+    with warnings.catch_warnings():
+        # the slivers scene drops its zero-area triangles on purpose (tests/scene checks the warning)
+        warnings.simplefilter("ignore", DegenerateTrianglesWarning)
+        renderer = Renderer(scene_by_name(scene_name), size, size, seed=seed, max_depth=max_depth)
+    images, nonfinite = [], 0
+    for _ in range(batches):
+        renderer.render(spp)
+        images.append(renderer.image())
+        nonfinite += renderer.nonfinite_samples
+        renderer.reset()
+    return BatchedRender(np.stack(images), nonfinite)
+
+
+def severity_image(comparison: BlockComparison, per_test_significance: float, size: int) -> np.ndarray:
+    """Blocks coloured by log p / log(per-test level): red where ours is brighter, blue where darker,
+    full colour where the test failed (>= 1), dimmer as the evidence weakens; channels summed."""
+    strength = np.log(np.maximum(comparison.p_value, 1e-300)) / np.log(per_test_significance)
+    signed = (np.sign(comparison.difference) * strength).sum(axis=2) / 3.0
+    image = np.zeros((*signed.shape, 3))
+    image[..., 0] = np.clip(signed, 0.0, 1.0)
+    image[..., 2] = np.clip(-signed, 0.0, 1.0)
+    image[np.abs(signed) >= 1.0, 1] = 1.0  # failing blocks: yellow (brighter) or cyan (darker)
+    block = size // signed.shape[0]
+    return np.repeat(np.repeat(image, block, axis=0), block, axis=1)
+
+
+def write_failure_images(
+    folder: Path,
+    name: str,
+    ours: np.ndarray,
+    reference: np.ndarray,
+    comparison: BlockComparison,
+    per_test_significance: float,
+) -> list[Path]:
+    """ours, reference and ours - reference as EXR; ours | reference | severity as one PNG."""
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = [
+        save_image(folder / f"{name}_ours.exr", ours),
+        save_image(folder / f"{name}_reference.exr", reference),
+        save_image(folder / f"{name}_difference.exr", ours - reference),
+    ]
+    severity = severity_image(comparison, per_test_significance, ours.shape[0])
+    gap = np.ones((ours.shape[0], 2, 3))
+    paths.append(save_image(folder / f"{name}.png", np.concatenate([ours, gap, reference, gap, severity], axis=1)))
+    return paths
+
+
+def worst_blocks(comparison: BlockComparison, ours: Estimate, reference: Estimate, size: int, count: int) -> str:
+    """The `count` blocks with the smallest p-values, one line each."""
+    ours_blocks, reference_blocks = ours.blocks(size)[0], reference.blocks(size)[0]
+    order = np.argsort(comparison.p_value, axis=None)[:count]
+    lines = []
+    for flat in order:
+        row, column, channel = np.unravel_index(flat, comparison.p_value.shape)
+        index = (row, column, channel)
+        lines.append(
+            f"block row {row} column {column} channel {'rgb'[channel]}: ours {ours_blocks[index]:.5g}, "
+            f"reference {reference_blocks[index]:.5g}, z {comparison.z[index]:.2f}, "
+            f"dof {comparison.dof[index]:.0f}, p {comparison.p_value[index]:.3g}"
+        )
+    return "\n".join(lines)

@@ -1,0 +1,144 @@
+"""Our renderer against Mitsuba 3 on the test scenes (wgputrace/scenes), per block of pixels.
+
+Each scene renders once per session at SIZE x SIZE as K independent batches; our variance per
+pixel comes from the spread of the batches. The reference (128x128, averaged down to SIZE x SIZE,
+which a box filter makes exact) brings its own standard error. Per block and channel, Welch's
+t-test asks whether the two expectations differ; the significance of each test is Sidak's share of
+FAMILY_SIGNIFICANCE over every block, channel and scene of this module. A failure writes ours,
+the reference, their difference and a map of the failing blocks under tests/failures/.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+import pytest
+
+from tests.render.image_statistics import Estimate, compare_blocks
+from tests.render.reference_images import (
+    REFERENCE_DIR,
+    STORAGE_RTOL,
+    BatchedRender,
+    load_reference,
+    render_batches,
+    worst_blocks,
+    write_failure_images,
+)
+from tests.stats import sidak
+
+SIZE = 64
+BLOCK = 8
+SEED = 20261123
+# Probability that this module reports a difference somewhere when there is none.
+FAMILY_SIGNIFICANCE = 1e-3
+REFERENCES_MAX_BYTES = 5 * 1024 * 1024
+# The scaled boxes compute every hit point and direction from coordinates 1e4 times larger or
+# smaller: float32 rounds them differently (a few steps of 2^-24 per bounce), which moves the
+# expectation by far less than this fraction; the same bound as test_closed_form's EXACT_RTOL.
+SCALED_RTOL = 1e-5
+WORST_BLOCKS_SHOWN = 5
+
+
+@dataclass(frozen=True)
+class Case:
+    scene: str
+    reference: str
+    batches: int
+    spp: int  # per batch
+
+
+# Sample counts keep the whole module within about four minutes on lavapipe (2 cores).
+CASES = {
+    case.scene: case
+    for case in (
+        Case("cornell", "cornell", batches=16, spp=32),
+        Case("tiny_light", "tiny_light", batches=16, spp=32),
+        Case("glass_grazing", "glass_grazing", batches=16, spp=32),
+        Case("glossy_spheres", "glossy_spheres", batches=16, spp=32),
+        Case("slivers", "slivers", batches=16, spp=16),
+        Case("axis_boxes", "axis_boxes", batches=16, spp=24),
+        # the same box scaled, camera included: the same image, tested against the same reference
+        # and, sample for sample, against the unscaled box's first batches (same seed)
+        Case("cornell_1e-4", "cornell", batches=8, spp=32),
+        Case("cornell_1e4", "cornell", batches=8, spp=32),
+    )
+}
+SCALED = ("cornell_1e-4", "cornell_1e4")
+UNSCALED = "cornell"
+
+BLOCK_TESTS = (SIZE // BLOCK) ** 2 * 3
+PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, BLOCK_TESTS * (len(CASES) + len(SCALED)))
+
+
+@cache
+def reference(name: str):
+    return load_reference(name)
+
+
+@cache
+def rendered(scene: str) -> BatchedRender:
+    case = CASES[scene]
+    max_depth = reference(case.reference).metadata["max_depth"]
+    return render_batches(scene, SIZE, batches=case.batches, spp=case.spp, seed=SEED, max_depth=max_depth)
+
+
+def assert_same_expectation(
+    label: str, ours: Estimate, other: Estimate, other_image: np.ndarray, relative_tolerance: float, failure_dir
+) -> None:
+    """Every block of `ours` has the expectation of `other`'s, up to `relative_tolerance` of
+    `other_image`'s block mean (a systematic difference that more samples would not reduce)."""
+    image_blocks = Estimate(other_image, np.zeros_like(other_image), np.inf).blocks(BLOCK)[0]
+    comparison = compare_blocks(ours, other, BLOCK, relative_tolerance * np.abs(image_blocks))
+    failing = comparison.p_value < PER_TEST_SIGNIFICANCE
+    if failing.any():
+        paths = write_failure_images(failure_dir, label, ours.mean, other_image, comparison, PER_TEST_SIGNIFICANCE)
+        pytest.fail(
+            f"{label}: {int(failing.sum())} of {failing.size} block tests reject equal expectations at "
+            f"p < {PER_TEST_SIGNIFICANCE:.3g}; worst:\n{worst_blocks(comparison, ours, other, BLOCK, WORST_BLOCKS_SHOWN)}"
+            f"\nimages: {', '.join(str(p) for p in paths)}"
+        )
+
+
+@pytest.mark.parametrize("scene", list(CASES))
+def test_matches_mitsuba_reference(gpu_context, failure_dir, scene):
+    case = CASES[scene]
+    ours = rendered(scene).estimate
+    ref = reference(case.reference)
+    expected = ref.estimate.downsampled(ref.metadata["width"] // SIZE)
+    assert_same_expectation(f"{scene}_vs_mitsuba", ours, expected, expected.mean, STORAGE_RTOL, failure_dir)
+
+
+@pytest.mark.parametrize("scene", list(CASES))
+def test_no_nan_or_infinity(gpu_context, scene):
+    render = rendered(scene)
+    assert render.nonfinite_samples == 0, f"{scene}: {render.nonfinite_samples} samples were NaN or infinite"
+    assert np.isfinite(render.batches).all()
+
+
+@pytest.mark.parametrize("scaled", SCALED)
+def test_scaled_cornell_box_gives_the_same_image(gpu_context, failure_dir, scaled):
+    """Paired per batch with the unscaled box (same seed, so mostly the same paths): the batch
+    differences have expectation zero, and their spread holds only the paths that went differently,
+    so this sees far smaller differences than a comparison of independent images."""
+    scaled_batches = rendered(scaled).batches.astype(np.float64)
+    unscaled_batches = rendered(UNSCALED).batches[: len(scaled_batches)].astype(np.float64)
+    difference = Estimate.from_batches(scaled_batches - unscaled_batches)
+    zero = Estimate(np.zeros_like(difference.mean), np.zeros_like(difference.mean), np.inf)
+    unscaled = unscaled_batches.mean(axis=0)
+    assert_same_expectation(f"{scaled}_vs_{UNSCALED}", difference, zero, unscaled, SCALED_RTOL, failure_dir)
+
+
+def test_references_are_small_and_match_their_settings():
+    paths = sorted(REFERENCE_DIR.glob("*.npz"))
+    total = sum(path.stat().st_size for path in paths)
+    assert total < REFERENCES_MAX_BYTES, f"references take {total:,} bytes, more than {REFERENCES_MAX_BYTES:,}"
+    assert {path.stem for path in paths} == {case.reference for case in CASES.values()}
+    for path in paths:
+        ref = reference(path.stem)
+        metadata = ref.metadata
+        assert metadata["scene"] == path.stem
+        assert ref.estimate.mean.shape == (metadata["height"], metadata["width"], 3)
+        assert metadata["width"] % SIZE == 0 and metadata["height"] == metadata["width"]
+        assert np.isfinite(ref.estimate.mean).all() and np.isfinite(ref.estimate.variance).all()

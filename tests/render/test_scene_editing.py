@@ -1,0 +1,196 @@
+"""Editing a rendered scene: each kind of edit uploads only what it touches (counted per buffer),
+accumulation restarts only when the picture can change, and the picture after the edit is, bit for
+bit, what a fresh Renderer of the edited scene makes with the same seed (a restart puts every
+pixel's random sequence back at the seed; lights and BVH order cannot leak into the image)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wgputrace import Camera, Diffuse, Emitter, Glass, Renderer, Scene, default_scene, make_box, make_icosphere
+from wgputrace import model_matrix as place
+from wgputrace.gpu.device import DeviceLimitError
+from wgputrace.gpu.layout import BVH_NODE, FRAME, MATERIAL, TRIANGLE
+from wgputrace.gpu.tracked_buffer import SPARE_FRACTION, UploadCount
+from wgputrace.render import scene_sync
+from wgputrace.scene import SceneError
+
+SIZE = 24
+SEED = 5
+SPP = 2
+
+
+def fresh_image(scene: Scene) -> np.ndarray:
+    renderer = Renderer(scene, SIZE, SIZE, seed=SEED)
+    renderer.render(SPP)
+    return renderer.image()
+
+
+def rendered(renderer: Renderer) -> np.ndarray:
+    renderer.render(SPP)
+    assert renderer.samples_per_pixel == SPP, "the edit should have restarted accumulation"
+    return renderer.image()
+
+
+@pytest.fixture
+def cornell(gpu_context):
+    scene = default_scene()
+    renderer = Renderer(scene, SIZE, SIZE, seed=SEED)
+    renderer.render(SPP)
+    return scene, renderer
+
+
+def material(scene: Scene, name: str):
+    return next(m for m in scene.materials if m.name == name)
+
+
+def test_an_unchanged_scene_uploads_nothing_and_keeps_accumulating(cornell):
+    _, renderer = cornell
+    renderer.render(SPP)
+    assert renderer.upload_stats == {}
+    assert renderer.samples_per_pixel == 2 * SPP
+
+
+def test_a_material_colour_edit_uploads_one_material_record(cornell):
+    scene, renderer = cornell
+    material(scene, "red").color = (0.2, 0.6, 0.9)
+    image = rendered(renderer)
+    assert renderer.upload_stats == {"materials": UploadCount(bytes=MATERIAL.size, calls=1)}
+    np.testing.assert_array_equal(image, fresh_image(scene))
+
+
+def test_a_camera_move_uploads_only_the_frame(cornell):
+    scene, renderer = cornell
+    scene.camera = Camera((0.1, 0.35, -1.1), (-0.1, 0, 1), (0, 1, 0), 50.0)
+    image = rendered(renderer)
+    assert renderer.upload_stats == {"frame": UploadCount(bytes=FRAME.size, calls=1)}
+    np.testing.assert_array_equal(image, fresh_image(scene))
+
+
+def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell):
+    scene, renderer = cornell
+    sphere = scene.shape("sphere2")
+    nodes_before = renderer.records.nodes.copy()
+    sphere.transform = place((0.0, -0.05, -0.1), (0, 0, 0), 1.0)
+    image = rendered(renderer)
+    stats = renderer.upload_stats
+    assert set(stats) == {"triangles", "bvh nodes"}
+    assert stats["triangles"].bytes == sphere.triangle_count * TRIANGLE.size
+    changed_nodes = np.count_nonzero(renderer.records.nodes != nodes_before)
+    assert stats["bvh nodes"].bytes == changed_nodes * BVH_NODE.size
+    assert changed_nodes < len(nodes_before) // 2  # not the whole tree
+    assert stats["triangles"].calls <= sphere.triangle_count // 8  # merged into runs, not one call a row
+    np.testing.assert_array_equal(image, fresh_image(scene))
+
+
+def test_moving_the_lamp_keeps_light_sampling_equal_to_a_fresh_renderer(cornell):
+    scene, renderer = cornell
+    scene.shape("lamp").transform = place((0.1, 0.0, 0.15), (0, 0.3, 0), 1.0)
+    image = rendered(renderer)
+    assert "lights" in renderer.upload_stats
+    np.testing.assert_array_equal(image, fresh_image(scene))
+
+
+def test_an_edit_that_restores_a_value_uploads_nothing_and_keeps_the_samples(cornell):
+    scene, renderer = cornell
+    red = material(scene, "red")
+    red.color = red.color
+    scene.shape("box1").transform = np.eye(4)
+    renderer.render(SPP)
+    assert renderer.upload_stats == {}
+    assert renderer.samples_per_pixel == 2 * SPP
+
+
+def test_adding_and_removing_shapes_rebuilds_and_switches_the_pipeline(gpu_context):
+    white = Diffuse("white", color=(0.7, 0.7, 0.7))
+    lamp = Emitter("lamp", color=(1, 1, 1), emittance=4.0)
+    scene = Scene(
+        [
+            make_box((0, -1, 0), (0, 0, 0), (4, 0.1, 4), white, "floor"),
+            make_box((0, 2, 0), (0, 0, 0), (1, 0.1, 1), lamp, "lamp"),
+        ],
+        Camera((0, 0.5, -4), (0, -0.1, 1), (0, 1, 0), 45.0),
+    )
+    renderer = Renderer(scene, SIZE, SIZE, seed=SEED)
+    renderer.render(SPP)
+    assert "fn glass_sample" not in renderer.kernel.source.text  # no dielectric code without glass
+    ball = make_icosphere((0, 0, 0), (0, 0, 0), 0.6, 1, Glass("glass", ior=1.5), "ball")
+    scene.add(ball)
+    image = rendered(renderer)
+    assert "fn glass_sample" in renderer.kernel.source.text
+    assert {"triangles", "bvh nodes", "materials", "frame"} <= set(renderer.upload_stats)
+    np.testing.assert_array_equal(image, fresh_image(scene))
+    scene.remove(ball)
+    image = rendered(renderer)
+    assert "fn glass_sample" not in renderer.kernel.source.text
+    np.testing.assert_array_equal(image, fresh_image(scene))
+
+
+def test_reassigning_a_material_rewrites_only_that_shapes_triangles(cornell):
+    scene, renderer = cornell
+    box = scene.shape("sphere2")
+    box.material = material(scene, "white")
+    image = rendered(renderer)
+    # glossy is still used by box2, so the material list keeps its order
+    assert renderer.upload_stats == {"triangles": renderer.upload_stats["triangles"]}
+    assert renderer.upload_stats["triangles"].bytes == box.triangle_count * TRIANGLE.size
+    np.testing.assert_array_equal(image, fresh_image(scene))
+
+
+def test_a_refit_past_the_threshold_rebuilds(cornell, monkeypatch):
+    scene, renderer = cornell
+    mirror = renderer._mirror
+    sphere = scene.shape("sphere1")
+    sphere.transform = place((0.0, 0.0, 0.02), (0, 0, 0), 1.0)  # a small move stays a refit
+    renderer.update()
+    assert (mirror.refits, mirror.rebuilds) == (1, 1)
+    assert mirror.refitter.degradation <= scene_sync.REBUILD_DEGRADATION
+    monkeypatch.setattr(scene_sync, "REBUILD_DEGRADATION", 1.0)
+    sphere.transform = place((0.3, 0.5, 0.3), (0, 0, 0), 1.0)
+    image = rendered(renderer)
+    assert (mirror.refits, mirror.rebuilds) == (1, 2)
+    assert mirror.refitter.degradation == 1.0
+    np.testing.assert_array_equal(image, fresh_image(scene))
+
+
+def test_pipelines_are_cached_by_material_kinds(cornell):
+    scene, renderer = cornell
+    other = Renderer(default_scene(), SIZE, SIZE, seed=SEED + 1)
+    assert other.kernel is renderer.kernel
+    for name in ("fn diffuse_sample", "fn glossy_sample", "fn glass_sample"):
+        assert name in renderer.kernel.source.text
+
+
+def test_gpu_bytes_per_triangle_counts_every_scene_buffer(cornell):
+    _, renderer = cornell
+    sizes = renderer.gpu_scene_bytes
+    assert set(sizes) == {"triangles", "bvh nodes", "materials", "lights"}
+    triangles = renderer.triangle_count
+    assert sizes["triangles"] == (triangles + int(np.ceil(triangles * SPARE_FRACTION))) * TRIANGLE.size
+    assert renderer.gpu_bytes_per_triangle == sum(sizes.values()) / triangles
+    # triangle and node records, each with the spare capacity, are most of it
+    nodes = len(renderer.records.nodes)
+    used = triangles * TRIANGLE.size + nodes * BVH_NODE.size
+    assert used / triangles < renderer.gpu_bytes_per_triangle < (1 + SPARE_FRACTION) * used / triangles + 1
+
+
+def test_a_scene_larger_than_the_adapter_allows_names_limit_and_value(gpu_context, monkeypatch):
+    monkeypatch.setitem(gpu_context.device.limits, "max-storage-buffer-binding-size", 16_384)
+    with pytest.raises(
+        DeviceLimitError,
+        match=r"the scene's 676 triangles \(48 B each\) needs max-storage-buffer-binding-size = 32,448 "
+        r"but the adapter .* offers 16,384",
+    ):
+        Renderer(default_scene(), SIZE, SIZE)
+
+
+def test_an_edit_that_empties_the_scene_fails_and_the_renderer_recovers(cornell):
+    scene, renderer = cornell
+    shapes = list(scene.shapes)
+    scene.remove(*shapes)
+    with pytest.raises(SceneError, match="no triangles"):
+        renderer.render(SPP)
+    scene.add(*shapes)
+    renderer.render(SPP)
+    assert renderer.upload_stats == {}  # back to what the GPU holds: nothing to upload

@@ -1,0 +1,88 @@
+"""The desktop viewer (`python app.py [SCENE]`, `wgputrace view [SCENE]`) and its notebook form.
+
+Nothing else in wgputrace imports this package: windows and input live here only. Importing it
+is light; rendercanvas, glfw and the GPU are loaded when a viewer starts.
+
+In Jupyter (`pip install wgputrace[notebook]`):
+
+    from wgputrace.app import notebook_viewer
+    viewer = notebook_viewer("cornell", size=(480, 360))
+    viewer.canvas  # the last expression of a cell: shows the live picture; keys and mouse work there too
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The viewer's arguments, shared by app.py and `wgputrace view`."""
+    from ..cli import parse_size
+    from ..scenes import BUILTIN_SCENES, DEFAULT_SCENE
+
+    parser.add_argument(
+        "scene",
+        nargs="?",
+        default=DEFAULT_SCENE,
+        help=f"built-in scene ({', '.join(BUILTIN_SCENES)}) or a .py file defining scene(); files reload on change",
+    )
+    parser.add_argument("--size", type=parse_size, default=(640, 480), help="window WIDTHxHEIGHT (default 640x480)")
+    parser.add_argument("--max-depth", type=int, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit")
+    parser.add_argument("--seed", type=int, default=1, help="random seed")
+    parser.add_argument("--exposure", type=float, default=1.0, help="multiplies radiance before display")
+    parser.add_argument("--fps", type=float, default=20.0, help="target frames per second (default 20)")
+    parser.add_argument("--filter", action="store_true", help="start with the pre-convergence filter on (key N)")
+    parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
+    parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")
+
+
+def options_from(args: argparse.Namespace):
+    from .viewer import ViewerOptions
+
+    return ViewerOptions(
+        scene=args.scene,
+        size=args.size,
+        max_depth=args.max_depth,
+        seed=args.seed,
+        exposure=args.exposure,
+        target_fps=args.fps,
+        filter=args.filter,
+        info=not args.no_info,
+        screenshot_dir=args.screenshots,
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Open the window and run until it closes; 2 with a message when no window can be opened."""
+    from .viewer import Viewer
+    from .window import NoDisplayError, create_canvas, run_loop
+
+    options = options_from(args)
+    try:
+        canvas = create_canvas(options.size, f"wgputrace - {options.scene}")
+    except NoDisplayError as error:
+        print(f"wgputrace view: error: {error}", file=sys.stderr)
+        return 2
+    Viewer(canvas, options)
+    run_loop()
+    return 0
+
+
+def notebook_viewer(scene: str = "cornell", size: tuple[int, int] = (480, 360), **options):
+    """A viewer drawing into a Jupyter widget (rendercanvas's notebook backend, needs the
+    `notebook` extra); show `viewer.canvas` in a cell. Keyword options as ViewerOptions."""
+    from rendercanvas.jupyter import RenderCanvas
+
+    from .viewer import Viewer, ViewerOptions
+    from .window import MAX_FPS
+
+    canvas = RenderCanvas(size=size, title=f"wgputrace - {scene}", update_mode="continuous", max_fps=MAX_FPS)
+    return Viewer(canvas, ViewerOptions(scene=scene, size=size, **options))
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="app.py", description="wgputrace's interactive viewer")
+    add_arguments(parser)
+    return run(parser.parse_args(argv))

@@ -1,0 +1,392 @@
+"""The interactive viewer: a progressive path-traced picture in a window, navigation, debug views,
+the pre-convergence filter and screenshots.
+
+Every frame adds samples on the GPU and presents the accumulation through tone mapping and sRGB
+on the GPU; nothing is read back to Python except for screenshots. While the camera moves, the
+viewer traces a reduced resolution, one sample per pixel, chosen so a frame holds the target
+frame time; once the camera has rested for REST_SECONDS it traces the full resolution, adding as
+many samples (or rows of a sample) per frame as fit the same budget.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..bvh.levels import box_edges, node_levels
+from ..gpu.device import gpu
+from ..gpu.graphics import image_texture
+from ..image_io import save_image
+from ..render import Renderer
+from ..render.display import IMAGE_FORMAT, Display, ViewSettings
+from ..render.present import Presenter
+from ..render.progressive import BandedRenderer
+from ..render.view_layout import View
+from ..scenes import DEFAULT_SCENE
+from .controls import MOVE_KEYS, FlyCamera
+from .overlay import text_overlay
+from .scene_file import SceneLoadError, load_scene, modified_time
+
+TARGET_FPS = 20.0
+# Part of a frame kept for resolving, filtering, presenting and events, until measured.
+INITIAL_OVERHEAD_SECONDS = 0.01
+# Tracing gets at least this much of every frame, however slow presenting is.
+MIN_TRACE_SECONDS = 0.005
+# The camera counts as resting once it has not changed for this long.
+REST_SECONDS = 0.25
+# While moving the traced image is at least 1/MAX_PREVIEW_SCALE of the window in each direction.
+MAX_PREVIEW_SCALE = 16
+# Before the first frame has measured the adapter, the preview starts this coarse.
+UNMEASURED_PREVIEW_SCALE = 8
+# The overlay's text is redrawn this often (Pillow costs milliseconds; per frame would show in the fps).
+OVERLAY_SECONDS = 0.25
+# A scene file is checked for changes this often.
+SCENE_POLL_SECONDS = 0.5
+# The fps shown and the per-frame cost besides tracing follow each frame by this fraction
+# (smoothing over about ten frames).
+FRAME_SMOOTHING = 0.1
+# `frames` keeps at most this many records (a long session would otherwise grow it without end).
+FRAME_LOG_LIMIT = 100_000
+EXPOSURE_STEP = 2.0**0.5
+STATUS_SECONDS = 4.0
+OVERLAY_POSITION = (8, 8)
+
+VIEW_KEYS = {"1": View.RADIANCE, "2": View.NORMAL, "3": View.ALBEDO, "4": View.DEPTH, "5": View.HEAT}
+HELP = (
+    "WASDQE move, drag look, wheel speed, R reset, F frame the scene",
+    "1-5 views, N filter, B boxes, [ ] box level, P screenshot, +/- exposure, Space pause, Tab info",
+)
+
+
+@dataclass
+class ViewerOptions:
+    scene: str = DEFAULT_SCENE
+    size: tuple[int, int] = (640, 480)
+    max_depth: int = 9
+    seed: int = 1
+    exposure: float = 1.0
+    target_fps: float = TARGET_FPS
+    filter: bool = False
+    info: bool = True
+    screenshot_dir: Path = field(default_factory=Path.cwd)
+
+
+@dataclass
+class FrameRecord:
+    """One presented frame, for benchmarks and tests."""
+
+    seconds: float  # wall time since the previous frame ended
+    trace_seconds: float
+    traced_size: tuple[int, int]
+    samples_per_pixel: float
+    moving: bool
+
+
+def _normalized(key: str) -> str:
+    """Letters in lower case (Shift held gives capitals); named keys ("Tab") as they are."""
+    return key.lower() if len(key) == 1 else key
+
+
+class SceneView:
+    """Everything that depends on the scene and the window size: renderer, bands, display."""
+
+    def __init__(self, scene, size: tuple[int, int], options: ViewerOptions) -> None:
+        self.renderer = Renderer(scene, size[0], size[1], seed=options.seed, max_depth=options.max_depth)
+        self.banded = BandedRenderer(self.renderer)
+        self.display = Display(self.banded)
+        nodes = self.renderer.records.nodes
+        self.levels = node_levels(nodes["left_or_first"], nodes["triangle_count"])
+
+
+class Viewer:
+    def __init__(self, canvas, options: ViewerOptions) -> None:
+        self.canvas, self.options = canvas, options
+        self.context = gpu()
+        self.surface = canvas.get_context("wgpu")
+        target_format = self.surface.get_preferred_format(self.context.adapter)
+        self.surface.configure(device=self.context.device, format=target_format)
+        self.presenter = Presenter(self.context, target_format)
+        self.settings = ViewSettings(filter_enabled=options.filter)
+        self.exposure = options.exposure
+        self.show_info = options.info
+        self.show_boxes = False
+        self.paused = False  # Space: stop adding samples (the picture stays as it is)
+        self.box_level = 0
+        self.frames: list[FrameRecord] = []
+        self.errors: list[str] = []
+        self.status = ""
+        self._status_until = 0.0
+        # what a frame shows with no scene loaded: one black pixel
+        self._black = image_texture(self.context, "black", 1, 1, IMAGE_FORMAT)
+        self.scene = None
+        self.view: SceneView | None = None
+        self.controller: FlyCamera | None = None
+        self._scene_time = modified_time(options.scene)
+        self._next_scene_poll = 0.0
+        self._next_overlay = 0.0
+        self._camera_changed = False
+        self._moving = False
+        self._last_change = 0.0
+        self._dragging = False
+        self._pointer = (0.0, 0.0)
+        self._overhead = INITIAL_OVERHEAD_SECONDS
+        self._frame_seconds: float | None = None
+        self._last_frame = time.perf_counter()
+        self._screenshots = 0
+        self._load_scene()
+        canvas.add_event_handler(
+            self._on_event, "key_down", "key_up", "pointer_down", "pointer_up", "pointer_move", "wheel"
+        )
+        canvas.request_draw(self.draw)
+
+    # scene and size
+
+    def _load_scene(self) -> None:
+        try:
+            scene = load_scene(self.options.scene)
+        except SceneLoadError as error:
+            message = f"scene not loaded: {error}"
+            print(f"wgputrace view: {message}", file=sys.stderr, flush=True)
+            self.errors = [message] + (
+                [f"still showing the previous scene ({self.options.scene})"] if self.scene else []
+            )
+            self._next_overlay = 0.0
+            return
+        self.errors = []
+        self.scene = scene
+        self.controller = FlyCamera(scene.camera, scene.bounds())
+        self.settings.depth_scale = self.controller.scene_size
+        self.view = None  # rebuilt at the next frame's size
+        self._next_overlay = 0.0
+
+    def _poll_scene_file(self, now: float) -> None:
+        if now < self._next_scene_poll:
+            return
+        self._next_scene_poll = now + SCENE_POLL_SECONDS
+        changed = modified_time(self.options.scene)
+        if changed is not None and changed != self._scene_time:
+            self._scene_time = changed
+            print(f"wgputrace view: {self.options.scene} changed, reloading", file=sys.stderr, flush=True)
+            self._load_scene()
+
+    def _ensure_view(self, size: tuple[int, int]) -> None:
+        if self.view is not None and (self.view.renderer.width, self.view.renderer.height) == size:
+            return
+        self.view = SceneView(self.scene, size, self.options)
+        self._update_boxes()
+        # start as if the camera had just moved: a reduced picture first, then the full one
+        self._restart(time.perf_counter(), moving=True)
+
+    # navigation and keys
+
+    def _on_event(self, event: dict) -> None:
+        kind = event["event_type"]
+        if kind == "key_down":
+            self._key(event["key"])
+        elif kind == "key_up":
+            if self.controller is not None:
+                self.controller.release(_normalized(event["key"]), time.perf_counter())
+        elif kind == "pointer_down" and event.get("button") == 1:
+            self._dragging, self._pointer = True, (event["x"], event["y"])
+        elif kind == "pointer_up" and event.get("button") == 1:
+            self._dragging = False
+        elif kind == "pointer_move" and self._dragging:
+            self.look(event["x"] - self._pointer[0], event["y"] - self._pointer[1])
+            self._pointer = (event["x"], event["y"])
+        elif kind == "wheel" and self.controller is not None:
+            self.controller.wheel(event["dy"])
+            self._next_overlay = 0.0
+
+    def look(self, dx: float, dy: float) -> None:
+        """Turn as a mouse drag of (dx, dy) pixels does."""
+        if self.controller is not None:
+            self.controller.look(dx, dy)
+            self._camera_changed = True
+
+    def _key(self, key: str) -> None:
+        key = _normalized(key)
+        if self.controller is not None and key in MOVE_KEYS:
+            self.controller.press(key, time.perf_counter())
+        elif key == "Escape":
+            self.canvas.close()
+        elif key == "Tab":
+            self.show_info = not self.show_info
+        elif key == " ":
+            self.paused = not self.paused
+        elif key in VIEW_KEYS:
+            self.settings.view = VIEW_KEYS[key]
+        elif key == "n":
+            self.settings.filter_enabled = not self.settings.filter_enabled
+        elif key == "b":
+            self.show_boxes = not self.show_boxes
+            self._update_boxes()
+        elif key in ("[", "]") and self.view is not None:
+            deepest = int(self.view.levels.max())
+            self.box_level = min(max(self.box_level + (1 if key == "]" else -1), 0), deepest)
+            self.show_boxes = True
+            self._update_boxes()
+        elif key in ("+", "="):
+            self.exposure *= EXPOSURE_STEP
+        elif key == "-":
+            self.exposure /= EXPOSURE_STEP
+        elif key == "p":
+            self.screenshot()
+        elif self.controller is not None and key == "r":
+            self.controller.reset()
+            self._camera_changed = True
+        elif self.controller is not None and key == "f":
+            width, height = self.canvas.get_physical_size()
+            self.controller.frame_scene(width / max(height, 1))
+            self._camera_changed = True
+        self._next_overlay = 0.0
+
+    def _update_boxes(self) -> None:
+        if self.view is None or not self.show_boxes:
+            self.presenter.set_box_lines(None)
+            return
+        nodes = self.view.renderer.records.nodes[self.view.levels == self.box_level]
+        self.presenter.set_box_lines(box_edges(nodes["bounds_min"], nodes["bounds_max"]))
+
+    # frames
+
+    def _preview_size(self) -> tuple[int, int]:
+        """The largest reduced size whose one sample per pixel fits the frame budget."""
+        width, height = self.view.banded.full_size
+        seconds_per_sample = self.view.banded.seconds_per_sample
+        if seconds_per_sample is None:
+            scale = UNMEASURED_PREVIEW_SCALE
+        else:
+            needed = width * height * seconds_per_sample / self._trace_budget()
+            scale = min(max(math.ceil(math.sqrt(needed)), 2), MAX_PREVIEW_SCALE)
+        return max(width // scale, 1), max(height // scale, 1)
+
+    def _trace_budget(self) -> float:
+        return max(1.0 / self.options.target_fps - self._overhead, MIN_TRACE_SECONDS)
+
+    def _restart(self, now: float, *, moving: bool) -> None:
+        camera = self.controller.camera()
+        view = self.view
+        if not moving and view.banded.samples_per_pixel > 0:
+            radiance = dataclasses.replace(self.settings, view=View.RADIANCE)
+            view.display.render(radiance)
+            view.display.keep_as_fallback(view.banded.size)
+        view.banded.restart(camera, self._preview_size() if moving else None)
+        view.display.camera_changed()
+        width, height = view.banded.full_size
+        self.presenter.set_camera(camera, width, height, self.controller.scene_size)
+        self._moving = moving
+        if moving:
+            self._last_change = now
+
+    def draw(self) -> None:
+        """One frame: move, trace what fits the budget, resolve, present."""
+        start = time.perf_counter()
+        self._poll_scene_file(start)
+        texture = self.surface.get_current_texture()
+        size = (texture.size[0], texture.size[1])
+        trace_seconds = 0.0
+        image, image_size = self._black, (1, 1)
+        if self.scene is not None and min(size) > 0:  # a minimized window has no pixels to trace
+            self._ensure_view(size)
+            moved = self.controller.move(start) or self._camera_changed
+            self._camera_changed = False
+            if moved:
+                self._restart(start, moving=True)
+            elif self._moving and start - self._last_change >= REST_SECONDS:
+                self._restart(start, moving=False)
+            banded = self.view.banded
+            # a moving picture is always whole: one pass at the reduced size, chosen to fit
+            if not self.paused:
+                trace_seconds = banded.advance(self._trace_budget(), whole_pass=self._moving)
+            image, image_size = self.view.display.render(self.settings), banded.size
+        if start >= self._next_overlay:
+            self._refresh_overlay(start, size)
+        exposure = self.exposure if self.settings.view == View.RADIANCE else 1.0
+        self.presenter.draw(texture, image, image_size, exposure)
+        end = time.perf_counter()
+        self._overhead += FRAME_SMOOTHING * ((end - start - trace_seconds) - self._overhead)
+        seconds = end - self._last_frame
+        self._frame_seconds = (
+            seconds
+            if self._frame_seconds is None
+            else self._frame_seconds + FRAME_SMOOTHING * (seconds - self._frame_seconds)
+        )
+        self._last_frame = end
+        if self.view is not None:
+            banded = self.view.banded
+            if not self.frames:
+                print(f"wgputrace view: showing {self.options.scene} in a {size[0]}x{size[1]} window", flush=True)
+            self.frames.append(FrameRecord(seconds, trace_seconds, banded.size, banded.samples_done, self._moving))
+            if len(self.frames) > FRAME_LOG_LIMIT:
+                del self.frames[: FRAME_LOG_LIMIT // 2]
+
+    # overlay and screenshots
+
+    def info_lines(self) -> list[str]:
+        fps = 0.0 if not self._frame_seconds else 1.0 / self._frame_seconds
+        lines = [f"fps {fps:5.1f}   target {self.options.target_fps:g}"]
+        if self.view is not None:
+            banded, renderer = self.view.banded, self.view.renderer
+            camera = self.controller.camera()
+            samples_per_second = 0.0 if not banded.seconds_per_sample else 1.0 / banded.seconds_per_sample
+            state = "moving" if self._moving else "resting"
+            lines += [
+                f"{banded.samples_done:.2f} spp   {samples_per_second / 1e6:.3f} M samples/s   "
+                f"tracing {banded.size[0]}x{banded.size[1]} of {banded.full_size[0]}x{banded.full_size[1]} ({state})",
+                "camera ({:.3f}, {:.3f}, {:.3f})  dir ({:.3f}, {:.3f}, {:.3f})  speed {:.3g}/s".format(
+                    *camera.position, *camera.forward, self.controller.speed
+                ),
+                f"scene {self.options.scene}: {renderer.triangle_count:,} triangles, "
+                f"{len(renderer.records.nodes):,} BVH nodes, depth {int(self.view.levels.max())}",
+                f"view {self.settings.view.name.lower()}   filter "
+                + (f"on (weight {self.view.display.filter_weight:.2f})" if self.settings.filter_enabled else "off")
+                + (f"   boxes level {self.box_level}" if self.show_boxes else "")
+                + f"   exposure {self.exposure:.3g}"
+                + ("   PAUSED" if self.paused else ""),
+            ]
+        lines += [f"adapter {self.context.adapter_name}", *HELP]
+        return lines
+
+    def _refresh_overlay(self, now: float, size: tuple[int, int]) -> None:
+        self._next_overlay = now + OVERLAY_SECONDS
+        lines = self.info_lines() if self.show_info else []
+        if self.show_info and self.status and now < self._status_until:
+            lines.append(self.status)
+        if not lines and not self.errors:
+            self.presenter.set_overlay(None)
+            return
+        max_width = max(size[0] - 2 * OVERLAY_POSITION[0], 1)
+        self.presenter.set_overlay(text_overlay(lines, self.errors, max_width), OVERLAY_POSITION)
+
+    def screenshot(self) -> tuple[Path, Path] | None:
+        """Save what the window shows (without the overlay) as PNG, and the linear image as EXR."""
+        if self.view is None:
+            return None
+        banded = self.view.banded
+        image = self.view.display.render(self.settings)
+        size = self.canvas.get_physical_size()
+        exposure = self.exposure if self.settings.view == View.RADIANCE else 1.0
+        pixels = self.presenter.screenshot(image, banded.size, size, exposure)
+        linear = self.view.display.read_image()
+        self.options.screenshot_dir.mkdir(parents=True, exist_ok=True)
+        stem = self.options.screenshot_dir / f"wgputrace-{Path(self.options.scene).stem}-{self._screenshots:03d}"
+        self._screenshots += 1
+        from PIL import Image
+
+        png = stem.with_suffix(".png")
+        Image.fromarray(pixels).save(png)
+        exr = save_image(stem.with_suffix(".exr"), linear)
+        self.status = f"saved {png.name} and {exr.name} at {banded.samples_done:.2f} spp"
+        self._status_until = time.perf_counter() + STATUS_SECONDS
+        camera = self.controller.camera()
+        print(
+            f"wgputrace view: saved {png} and {exr}: {banded.samples_done:.3f} spp at "
+            f"{banded.size[0]}x{banded.size[1]}, camera {' '.join(f'{v:.9g}' for v in camera.position)} "
+            f"dir {' '.join(f'{v:.9g}' for v in camera.forward)} speed {self.controller.speed:.9g}",
+            flush=True,
+        )
+        return png, Path(exr)

@@ -1,0 +1,100 @@
+"""GPU buffers that follow a numpy array of records and upload only the rows that changed.
+
+Rows given as changed are merged into runs of consecutive rows, and each run is one
+`queue.write_buffer`. Buffers are allocated with spare capacity so that a scene growing a little
+keeps its buffer (and the bind groups that point at it); growing past the capacity reallocates,
+uploads everything, and bumps `generation` so the owner knows to rebind.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .buffers import MIN_BUFFER_BYTES
+from .device import GpuContext
+
+# Headroom allocated beyond the current size, as a fraction of it: a few added shapes fit without
+# reallocating, and the bytes per triangle reported on the GPU stay within this of what is used.
+SPARE_FRACTION = 0.25
+
+
+@dataclass
+class UploadCount:
+    """Host-to-GPU writes: bytes and `queue.write_buffer` calls."""
+
+    bytes: int = 0
+    calls: int = 0
+
+
+class TrackedBuffer:
+    def __init__(
+        self, context: GpuContext, label: str, usage: int, data: np.ndarray, *, binding_limit: str, spare: bool = True
+    ) -> None:
+        self.context, self.label, self.usage = context, label, usage
+        self.binding_limit, self.spare = binding_limit, spare
+        self.generation = 0
+        self.uploads = UploadCount()
+        self.used_bytes = 0
+        self.buffer = None
+        self.dtype = data.dtype
+        self._allocate(np.ascontiguousarray(data))
+
+    @property
+    def capacity_bytes(self) -> int:
+        return self.buffer.size
+
+    def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
+        """Make the GPU copy equal `data`, given that only `rows` (sorted, unique) differ from the
+        last upload, rows beyond the old length included; None means every row."""
+        data = np.ascontiguousarray(data)
+        if data.dtype != self.dtype:
+            # np.concatenate of padded structured records silently packs them (numpy 2)
+            raise ValueError(
+                f"buffer {self.label!r} holds records of {self.dtype.itemsize} B, got {data.dtype.itemsize} B: {data.dtype}"
+            )
+        if data.nbytes > self.buffer.size:
+            self._allocate(data)
+            return
+        self.used_bytes = data.nbytes
+        if rows is None:
+            self._write(0, data)
+            return
+        for start, stop in merged_runs(rows):
+            self._write(start * data.itemsize, data[start:stop])
+
+    def _allocate(self, data: np.ndarray) -> None:
+        what = f"buffer {self.label!r} ({len(data):,} records of {data.itemsize} B)"
+        self.context.require(self.binding_limit, data.nbytes, what)
+        self.context.require("max-buffer-size", data.nbytes, what)
+        capacity = data.nbytes
+        if self.spare:
+            spare_rows = int(np.ceil(len(data) * SPARE_FRACTION))
+            capacity = min(data.nbytes + spare_rows * data.itemsize, self.context.device.limits[self.binding_limit])
+        if self.buffer is not None:
+            self.buffer.destroy()
+        self.buffer = self.context.device.create_buffer(
+            label=self.label, size=max(capacity, MIN_BUFFER_BYTES), usage=self.usage
+        )
+        self.generation += 1
+        self.used_bytes = data.nbytes
+        self._write(0, data)
+
+    def _write(self, offset: int, data: np.ndarray) -> None:
+        if data.nbytes == 0:
+            return
+        self.context.device.queue.write_buffer(self.buffer, offset, data)
+        self.uploads.bytes += data.nbytes
+        self.uploads.calls += 1
+
+
+def merged_runs(rows: np.ndarray) -> list[tuple[int, int]]:
+    """Sorted unique row indices as half-open runs of consecutive rows: [1, 2, 3, 7] -> [(1, 4), (7, 8)]."""
+    rows = np.asarray(rows, np.int64)
+    if rows.size == 0:
+        return []
+    breaks = np.flatnonzero(np.diff(rows) != 1) + 1
+    starts = rows[np.concatenate([[0], breaks])]
+    stops = rows[np.concatenate([breaks - 1, [rows.size - 1]])] + 1
+    return list(zip(starts.tolist(), stops.tolist(), strict=True))

@@ -1,0 +1,388 @@
+"""glTF 2.0 (.gltf with its buffers, or binary .glb): triangles, node transforms, materials, camera.
+
+Why not trimesh's glTF reader, which the PLY and STL loaders use: its PBRMaterial drops every key
+it does not know, so KHR_materials_transmission and KHR_materials_ior never reach us (nor which
+file material a primitive used), and it ignores cameras without the optional aspectRatio.
+
+What is read: the default scene's node tree (`matrix` or translation/rotation/scale), each mesh
+instance becoming one Shape per primitive with the node's world matrix as its `transform`;
+primitives in mode TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN (points and lines are skipped with a
+SceneLoadWarning), their POSITION (float VEC3) and indices; the first perspective camera met in
+the tree (looking along its node's -z, +y up, vertical field of view `yfov`). Sparse accessors,
+textures, normals, skins and morph targets are not read; closed shapes are wound outwards
+(orientation.py).
+
+Materials (metallic-roughness; the first rule that applies):
+
+| glTF material                                                          | wgputrace material |
+|------------------------------------------------------------------------|--------------------|
+| `emissiveFactor` x `KHR_materials_emissive_strength.emissiveStrength` > 0 | Emitter: color = emissiveFactor, emittance = emissiveStrength (default 1) |
+| `KHR_materials_transmission.transmissionFactor` >= 0.5                 | Glass: color = baseColorFactor rgb, ior = `KHR_materials_ior.ior` (default 1.5) |
+| `pbrMetallicRoughness.metallicFactor` (default 1) >= 0.5               | Glossy: color = baseColorFactor rgb, roughness = roughnessFactor^2 (glTF's roughness is perceptual; GGX alpha is its square) |
+| anything else                                                          | Diffuse: color = baseColorFactor rgb |
+| a primitive without a material                                         | Diffuse: grey 0.8 (not glTF's default, which is a rough metal) |
+
+Errors name the file and the JSON path of the offending entry (`meshes[0].primitives[1].indices`).
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import json
+import struct
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..scene import Camera, Diffuse, Emitter, Glass, Glossy, Material, MaterialError, SceneError, Shape
+from .errors import SceneLoadError, SceneLoadWarning
+
+GLB_MAGIC = 0x46546C67  # "glTF"
+GLB_JSON_CHUNK = 0x4E4F534A
+GLB_BIN_CHUNK = 0x004E4942
+# componentType -> numpy dtype (little-endian, as glTF stores everything)
+COMPONENT_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
+INDEX_TYPES = (5121, 5123, 5125)
+ELEMENT_SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+MODE_TRIANGLES, MODE_STRIP, MODE_FAN = 4, 5, 6
+DEFAULT_DIFFUSE = 0.8
+DEFAULT_IOR = 1.5  # KHR_materials_ior's default
+# We have no blends of lobes: a factor from this value up picks the lobe.
+LOBE_THRESHOLD = 0.5
+
+
+class _Reader:
+    """One glTF file: typed access to its JSON with errors naming the JSON path, and its buffers."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.binary_chunk: bytes | None = None
+        self.document = self._document()
+        self._buffers: dict[int, bytes] = {}
+
+    def fail(self, where: str, problem: str) -> SceneLoadError:
+        return SceneLoadError(self.path, f"{where}: {problem}")
+
+    def _document(self) -> dict:
+        try:
+            data = self.path.read_bytes()
+        except OSError as error:
+            raise SceneLoadError(self.path, f"cannot read the file: {error.strerror or error}") from None
+        if data[:4] == struct.pack("<I", GLB_MAGIC):
+            text = self._glb_chunks(data)
+        else:
+            text = data
+        try:
+            document = json.loads(text)
+        except (ValueError, RecursionError) as error:
+            line = getattr(error, "lineno", None) if data[:4] != struct.pack("<I", GLB_MAGIC) else None
+            raise SceneLoadError(self.path, f"the glTF JSON does not parse: {error}", line) from None
+        if not isinstance(document, dict):
+            raise SceneLoadError(self.path, f"the glTF JSON must be an object, got {type(document).__name__}")
+        return document
+
+    def _glb_chunks(self, data: bytes) -> bytes:
+        if len(data) < 20:
+            raise SceneLoadError(
+                self.path, f"GLB file of {len(data)} bytes is shorter than its 12-byte header and a chunk"
+            )
+        _, version, length = struct.unpack_from("<III", data, 0)
+        if version != 2:
+            raise SceneLoadError(self.path, f"GLB version {version}; only glTF 2 is supported")
+        if length > len(data):
+            raise SceneLoadError(self.path, f"GLB header says {length} bytes, the file has {len(data)} (truncated?)")
+        chunks, offset = [], 12
+        while offset + 8 <= length:
+            size, kind = struct.unpack_from("<II", data, offset)
+            if offset + 8 + size > length:
+                raise SceneLoadError(
+                    self.path, f"GLB chunk at byte {offset} of {size} bytes runs past the end ({length})"
+                )
+            chunks.append((kind, data[offset + 8 : offset + 8 + size]))
+            offset += 8 + size
+        if not chunks or chunks[0][0] != GLB_JSON_CHUNK:
+            raise SceneLoadError(self.path, "GLB's first chunk must be JSON")
+        if len(chunks) > 1 and chunks[1][0] == GLB_BIN_CHUNK:
+            self.binary_chunk = chunks[1][1]
+        return chunks[0][1]
+
+    def get(self, node: dict, key: str, kind, where: str, default=None):
+        value = node.get(key, default)
+        if value is None and default is None:
+            raise self.fail(where, f"{key!r} is missing")
+        if kind is float and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        if not isinstance(value, kind) or isinstance(value, bool) and kind is not bool:
+            raise self.fail(f"{where}.{key}", f"must be {getattr(kind, '__name__', kind)}, got {value!r:.60}")
+        return value
+
+    def item(self, collection: str, index, where: str) -> dict:
+        items = self.get(self.document, collection, list, "glTF", [])
+        if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < len(items):
+            raise self.fail(where, f"{collection} index {index!r:.40} out of range ({len(items)} {collection})")
+        value = items[index]
+        if not isinstance(value, dict):
+            raise self.fail(f"{collection}[{index}]", f"must be an object, got {type(value).__name__}")
+        return value
+
+    def numbers(self, node: dict, key: str, count: int, where: str, default) -> np.ndarray:
+        value = node.get(key, default)
+        if (
+            not isinstance(value, list)
+            or len(value) != count
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+        ):
+            raise self.fail(f"{where}.{key}", f"must be {count} numbers, got {value!r:.80}")
+        array = np.array(value, dtype=np.float64)
+        if not np.all(np.isfinite(array)):
+            raise self.fail(f"{where}.{key}", f"must be finite, got {value!r:.80}")
+        return array
+
+    def buffer(self, index: int, where: str) -> bytes:
+        if index not in self._buffers:
+            entry = self.item("buffers", index, where)
+            uri = entry.get("uri")
+            if uri is None:
+                if self.binary_chunk is None:
+                    raise self.fail(f"buffers[{index}]", "has no uri and the file has no GLB binary chunk")
+                data = self.binary_chunk
+            elif not isinstance(uri, str):
+                raise self.fail(f"buffers[{index}].uri", f"must be a string, got {uri!r:.40}")
+            elif uri.startswith("data:"):
+                try:
+                    data = base64.b64decode(uri.split(",", 1)[1], validate=True)
+                except (IndexError, binascii.Error, ValueError) as error:
+                    raise self.fail(f"buffers[{index}].uri", f"data URI does not decode: {error}") from None
+            else:
+                file = self.path.parent / uri
+                try:
+                    data = file.read_bytes()
+                except OSError as error:
+                    raise self.fail(f"buffers[{index}].uri", f"cannot read {file}: {error.strerror or error}") from None
+            length = self.get(entry, "byteLength", int, f"buffers[{index}]")
+            if length > len(data):
+                raise self.fail(f"buffers[{index}]", f"byteLength {length} but only {len(data)} bytes are there")
+            self._buffers[index] = data
+        return self._buffers[index]
+
+    def accessor(self, index, where: str, types: tuple[int, ...], shapes: tuple[str, ...]) -> np.ndarray:
+        """Accessor `index` as a (count, components) array, every byte it reads bounds-checked."""
+        where = f"{where} -> accessors[{index}]"
+        entry = self.item("accessors", index, where)
+        if "sparse" in entry:
+            raise self.fail(where, "sparse accessors are not supported")
+        component = self.get(entry, "componentType", int, where)
+        shape = self.get(entry, "type", str, where)
+        count = self.get(entry, "count", int, where)
+        if component not in types or shape not in shapes:
+            raise self.fail(where, f"must be {shapes} of componentType {types}, got {shape} of {component}")
+        if count < 0:
+            raise self.fail(where, f"count must be >= 0, got {count}")
+        dtype = np.dtype(COMPONENT_TYPES[component])
+        width = ELEMENT_SIZES[shape]
+        if "bufferView" not in entry:  # the spec says: all zeros
+            return np.zeros((count, width), dtype)
+        view_index = entry["bufferView"]
+        view = self.item("bufferViews", view_index, where)
+        view_where = f"bufferViews[{view_index}]"
+        data = self.buffer(self.get(view, "buffer", int, view_where), view_where)
+        view_offset = self.get(view, "byteOffset", int, view_where, 0)
+        view_length = self.get(view, "byteLength", int, view_where)
+        element = dtype.itemsize * width
+        stride = self.get(view, "byteStride", int, view_where, element)
+        offset = self.get(entry, "byteOffset", int, where, 0)
+        if min(view_offset, view_length, offset) < 0 or stride < element:
+            raise self.fail(
+                where, f"negative offset or length, or byteStride {stride} below the element size {element}"
+            )
+        if view_offset + view_length > len(data):
+            raise self.fail(
+                view_where,
+                f"bytes {view_offset}..{view_offset + view_length} lie beyond the buffer ({len(data)} bytes)",
+            )
+        end = offset + (stride * (count - 1) + element if count else 0)
+        if end > view_length:
+            raise self.fail(where, f"reads {end} bytes of {view_where}, which holds {view_length}")
+        if count == 0:
+            return np.zeros((0, width), dtype)
+        raw = np.frombuffer(data, np.uint8, count=view_length, offset=view_offset)
+        rows = np.lib.stride_tricks.as_strided(raw[offset:], shape=(count, element), strides=(stride, 1))
+        return np.ascontiguousarray(rows).view(dtype).reshape(count, width)
+
+
+def read_gltf(path: Path) -> tuple[list[Shape], Camera | None]:
+    reader = _Reader(path)
+    document = reader.document
+    scenes = reader.get(document, "scenes", list, "glTF", [])
+    if scenes:
+        scene_index = reader.get(document, "scene", int, "glTF", 0)
+        roots = reader.get(reader.item("scenes", scene_index, "scene"), "nodes", list, f"scenes[{scene_index}]", [])
+    else:  # no scenes: every node that is nobody's child is a root
+        nodes = reader.get(document, "nodes", list, "glTF", [])
+        children = {c for n in nodes if isinstance(n, dict) for c in n.get("children", []) if isinstance(c, int)}
+        roots = [i for i in range(len(nodes)) if i not in children]
+    materials: dict[int | None, Material] = {}
+    shapes: list[Shape] = []
+    camera = None
+    stack = [(root, np.eye(4), "scene") for root in reversed(roots)]
+    visited: set[int] = set()
+    while stack:
+        index, parent, where = stack.pop()
+        node = reader.item("nodes", index, where)
+        where = f"nodes[{index}]"
+        if index in visited:
+            raise reader.fail(where, "is reached twice: glTF nodes must form a tree")
+        visited.add(index)
+        world = parent @ _local_matrix(reader, node, where)
+        if "mesh" in node:
+            shapes += _mesh_shapes(reader, node["mesh"], world, materials, where)
+        if "camera" in node and camera is None:
+            camera = _camera(reader, node["camera"], world, where)
+        children = reader.get(node, "children", list, where, [])
+        stack += [(child, world, where) for child in reversed(children)]
+    return shapes, camera
+
+
+def _local_matrix(reader: _Reader, node: dict, where: str) -> np.ndarray:
+    if "matrix" in node:
+        return reader.numbers(node, "matrix", 16, where, None).reshape(4, 4).T  # glTF is column-major
+    translation = reader.numbers(node, "translation", 3, where, [0.0, 0.0, 0.0])
+    x, y, z, w = reader.numbers(node, "rotation", 4, where, [0.0, 0.0, 0.0, 1.0])
+    scale = reader.numbers(node, "scale", 3, where, [1.0, 1.0, 1.0])
+    norm = np.sqrt(x * x + y * y + z * z + w * w)
+    if norm == 0:
+        raise reader.fail(f"{where}.rotation", "is the zero quaternion")
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    rotation = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+    matrix = np.eye(4)
+    matrix[:3, :3] = rotation * scale
+    matrix[:3, 3] = translation
+    return matrix
+
+
+def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: dict, where: str) -> list[Shape]:
+    mesh = reader.item("meshes", mesh_index, f"{where}.mesh")
+    mesh_where = f"meshes[{mesh_index}]"
+    name = mesh.get("name") if isinstance(mesh.get("name"), str) else f"mesh{mesh_index}"
+    shapes = []
+    primitives = reader.get(mesh, "primitives", list, mesh_where)
+    for number, primitive in enumerate(primitives):
+        primitive_where = f"{mesh_where}.primitives[{number}]"
+        if not isinstance(primitive, dict):
+            raise reader.fail(primitive_where, f"must be an object, got {type(primitive).__name__}")
+        mode = reader.get(primitive, "mode", int, primitive_where, MODE_TRIANGLES)
+        if mode not in (MODE_TRIANGLES, MODE_STRIP, MODE_FAN):
+            warnings.warn(
+                f"{reader.path}: {primitive_where} has mode {mode} (points or lines): skipped",
+                SceneLoadWarning,
+                stacklevel=4,
+            )
+            continue
+        attributes = reader.get(primitive, "attributes", dict, primitive_where)
+        positions = reader.accessor(
+            reader.get(attributes, "POSITION", int, f"{primitive_where}.attributes"),
+            f"{primitive_where}.attributes.POSITION",
+            (5126,),
+            ("VEC3",),
+        )
+        if "indices" in primitive:
+            indices = reader.accessor(primitive["indices"], f"{primitive_where}.indices", INDEX_TYPES, ("SCALAR",))
+            indices = indices.ravel().astype(np.int64)
+        else:
+            indices = np.arange(len(positions))
+        if indices.size and indices.max() >= len(positions):
+            bad = int(np.flatnonzero(indices >= len(positions))[0])
+            raise reader.fail(
+                f"{primitive_where}.indices",
+                f"index {indices[bad]} at position {bad} is beyond the {len(positions)} positions",
+            )
+        faces = _triangles(indices, mode)
+        if faces.size == 0:
+            continue
+        material = _material(reader, primitive.get("material"), materials, primitive_where)
+        label = name if len(primitives) == 1 else f"{name}.{number}"
+        try:
+            shapes.append(Shape(label, positions[faces], material, transform=world))
+        except SceneError as error:
+            raise reader.fail(f"{where} ({primitive_where})", str(error)) from None
+    return shapes
+
+
+def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
+    """(n, 3) vertex indices of the triangles a primitive's index list draws."""
+    if mode == MODE_TRIANGLES:
+        return indices[: len(indices) // 3 * 3].reshape(-1, 3)
+    k = np.arange(max(len(indices) - 2, 0))
+    if mode == MODE_STRIP:  # every other triangle swaps two corners to keep the winding
+        odd = k % 2
+        return np.stack([indices[k], indices[k + 1 + odd], indices[k + 2 - odd]], axis=1)
+    return np.stack([indices[k + 1], indices[k + 2], np.broadcast_to(indices[:1], k.shape)], axis=1)
+
+
+def _material(reader: _Reader, index, cache: dict, where: str) -> Material:
+    if index is not None and (not isinstance(index, int) or isinstance(index, bool)):
+        raise reader.fail(f"{where}.material", f"must be a material index, got {index!r:.40}")
+    if index not in cache:
+        cache[index] = _mapped_material(reader, index, where)
+    return cache[index]
+
+
+def _mapped_material(reader: _Reader, index, where: str) -> Material:
+    """The wgputrace material for glTF material `index`, by the table in this module's docstring."""
+    if index is None:
+        return Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
+    entry = reader.item("materials", index, f"{where}.material")
+    where = f"materials[{index}]"
+    name = entry.get("name") if isinstance(entry.get("name"), str) else f"material{index}"
+    pbr = reader.get(entry, "pbrMetallicRoughness", dict, where, {})
+    base = reader.numbers(pbr, "baseColorFactor", 4, f"{where}.pbrMetallicRoughness", [1.0, 1.0, 1.0, 1.0])[:3]
+    metallic = reader.get(pbr, "metallicFactor", float, f"{where}.pbrMetallicRoughness", 1.0)
+    roughness = reader.get(pbr, "roughnessFactor", float, f"{where}.pbrMetallicRoughness", 1.0)
+    emissive = reader.numbers(entry, "emissiveFactor", 3, where, [0.0, 0.0, 0.0])
+    extensions = reader.get(entry, "extensions", dict, where, {})
+
+    def extension(name: str, key: str, default: float) -> float:
+        block = reader.get(extensions, name, dict, f"{where}.extensions", {})
+        return reader.get(block, key, float, f"{where}.extensions.{name}", default)
+
+    strength = extension("KHR_materials_emissive_strength", "emissiveStrength", 1.0)
+    transmission = extension("KHR_materials_transmission", "transmissionFactor", 0.0)
+    try:
+        if emissive.max() * strength > 0:
+            return Emitter(name, color=emissive.tolist(), emittance=strength)
+        if transmission >= LOBE_THRESHOLD:
+            return Glass(name, color=base.tolist(), ior=extension("KHR_materials_ior", "ior", DEFAULT_IOR))
+        if metallic >= LOBE_THRESHOLD:
+            return Glossy(name, color=base.tolist(), roughness=roughness * roughness)
+        return Diffuse(name, color=base.tolist())
+    except MaterialError as error:
+        raise reader.fail(where, str(error)) from None
+
+
+def _camera(reader: _Reader, index, world: np.ndarray, where: str) -> Camera | None:
+    entry = reader.item("cameras", index, f"{where}.camera")
+    camera_where = f"cameras[{index}]"
+    if reader.get(entry, "type", str, camera_where, "perspective") != "perspective":
+        warnings.warn(
+            f"{reader.path}: {camera_where} is not perspective: framing the scene instead",
+            SceneLoadWarning,
+            stacklevel=4,
+        )
+        return None
+    perspective = reader.get(entry, "perspective", dict, camera_where)
+    yfov = reader.get(perspective, "yfov", float, f"{camera_where}.perspective")
+    linear = world[:3, :3]
+    try:
+        return Camera(
+            tuple(world[:3, 3]), tuple(linear @ [0.0, 0.0, -1.0]), tuple(linear @ [0.0, 1.0, 0.0]), np.degrees(yfov)
+        )
+    except ValueError as error:
+        raise reader.fail(f"{camera_where} at {where}", str(error)) from None

@@ -1,0 +1,241 @@
+"""What a frame shows, as linear colour on the GPU: the accumulated mean (optionally through the
+pre-convergence filter) or a debug view (normal, albedo, depth, BVH steps), never read back.
+
+The guides (first hit through each pixel's centre) are traced once per camera; the filter is an
+edge-avoiding a-trous wavelet (Dammertz et al. 2010) on radiance divided by albedo, its edges
+stopped by the guides, blended with the plain mean by a weight that falls to zero at
+FILTER_FADE_SPP samples per pixel: from there on the picture is the unfiltered mean, bit for bit.
+The filter is the expensive part (FILTER_PASSES x 25 taps per pixel), so it runs again only once
+the samples have grown by FILTER_REFRESH_GROWTH; the frames between blend the fresh mean with the
+last filtered image.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..gpu.buffers import uniform_buffer
+from ..gpu.graphics import bind_group, copy_texture, image_texture, read_texture
+from ..gpu.pipeline import compute_kernel, dispatch_size
+from .progressive import BandedRenderer
+from .view_layout import (
+    ATROUS_PARAMS,
+    GENERATED_VIEW_STRUCTS,
+    RESOLVE_PARAMS,
+    ResolveMode,
+    View,
+    generated_view_structs,
+)
+
+# a-trous passes: taps 1, 2, 4, 8, 16 pixels apart, a footprint of 2 * 2 * (1 + 2 + 4 + 8 + 16) + 1 = 125 pixels.
+FILTER_PASSES = 5
+# Edge stops (bench/filter_psnr.py measures the filter with these): normals must agree to
+# cos^NORMAL_POWER, depths within DEPTH_SIGMA of the distance per tap spacing, albedos within
+# ALBEDO_SIGMA (linear RGB distance).
+FILTER_NORMAL_POWER = 64.0
+FILTER_DEPTH_SIGMA = 0.02
+FILTER_ALBEDO_SIGMA = 0.1
+# The filter's weight falls linearly in log2(spp) from 1 at one sample to 0 here: its bias stays
+# while the noise it removes shrinks as 1/sqrt(spp), so its use ends where the mean is clean.
+FILTER_FADE_SPP = 256
+# The filtered image is recomputed once the samples per pixel have grown by this factor.
+FILTER_REFRESH_GROWTH = 1.25
+# The heat map's colour ramp ends at 2^HEAT_LOG2_MAX - 1 BVH nodes visited by a primary ray.
+HEAT_LOG2_MAX = 7.0
+
+IMAGE_FORMAT = "rgba32float"
+GUIDE_FORMAT = "rgba32uint"
+
+
+def filter_weight(samples_per_pixel: float) -> float:
+    """How much of the filtered picture a frame shows at this many samples per pixel: 1 at 1 spp
+    (or fewer), falling linearly in log2(spp) to 0 at FILTER_FADE_SPP."""
+    if samples_per_pixel <= 1.0:
+        return 1.0
+    return max(0.0, 1.0 - math.log2(samples_per_pixel) / math.log2(FILTER_FADE_SPP))
+
+
+@dataclass
+class ViewSettings:
+    view: View = View.RADIANCE
+    filter_enabled: bool = False
+    depth_scale: float = 1.0  # distance shown black in the depth view: the scene's diagonal
+    fade: bool = True  # False: the filter at full weight at any sample count (bench/filter_psnr.py)
+
+
+class Display:
+    """Resolves a BandedRenderer's buffers into a linear image texture each frame."""
+
+    def __init__(self, banded: BandedRenderer) -> None:
+        self.banded = banded
+        self.context = context = banded.context
+        renderer = banded.renderer
+        width, height = banded.full_size
+        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
+        traversal = {"acceleration.wgsl": f'//! include "traverse_{renderer.accel}.wgsl"\n'}
+        self._guides_kernel = compute_kernel(context, "guides.wgsl", generated={**generated, **traversal})
+        self._resolve_kernel = compute_kernel(context, "resolve.wgsl", generated=generated)
+        self._atrous_kernel = compute_kernel(context, "atrous.wgsl", generated=generated)
+        self.guides = image_texture(context, "pixel guides", width, height, GUIDE_FORMAT)
+        self.resolved = image_texture(context, "resolved image", width, height, IMAGE_FORMAT)
+        self._demodulated = image_texture(context, "demodulated image", width, height, IMAGE_FORMAT)
+        self._ping_pong = [image_texture(context, f"filter {k}", width, height, IMAGE_FORMAT) for k in range(2)]
+        self._filtered = image_texture(context, "filtered image", width, height, IMAGE_FORMAT)
+        self._fallback = image_texture(context, "fallback image", width, height, IMAGE_FORMAT)
+        self._fallback_size = (0, 0)
+        self._resolve_params = uniform_buffer(context, "resolve params", RESOLVE_PARAMS.zeros(1))
+        self._atrous_params = [
+            uniform_buffer(context, f"a-trous params {k}", ATROUS_PARAMS.zeros(1)) for k in range(FILTER_PASSES)
+        ]
+        bindings = renderer.bindings
+        self._guides_groups = (
+            self._guides_kernel.bind_group(context, 0, {b: bindings[b] for b in (0, 1, 2, 3)}),
+            bind_group(context, self._guides_kernel.pipeline, 1, {0: self.guides.create_view()}),
+        )
+        resolve_inputs = {
+            0: self._resolve_params,
+            1: bindings[5],
+            2: self.guides.create_view(),
+            3: self._fallback.create_view(),
+            4: self._filtered.create_view(),
+        }
+        self._resolve_groups = {
+            target_name: bind_group(
+                context, self._resolve_kernel.pipeline, 0, {**resolve_inputs, 5: target.create_view()}
+            )
+            for target_name, target in (("resolved", self.resolved), ("demodulated", self._demodulated))
+        }
+        # pass k reads the demodulated image (k = 0) or the previous pass's output; the last writes `filtered`
+        self._atrous_groups = []
+        for k in range(FILTER_PASSES):
+            source = self._demodulated if k == 0 else self._ping_pong[(k - 1) % 2]
+            target = self._filtered if k == FILTER_PASSES - 1 else self._ping_pong[k % 2]
+            self._atrous_groups.append(
+                bind_group(
+                    context,
+                    self._atrous_kernel.pipeline,
+                    0,
+                    {
+                        0: self._atrous_params[k],
+                        1: self.guides.create_view(),
+                        2: source.create_view(),
+                        3: target.create_view(),
+                    },
+                )
+            )
+        self._guides_current = False
+        self._filtered_at: float | None = None  # samples per pixel when `filtered` was made
+        self._resolved_as: tuple | None = None  # what `resolved` shows where no sample changed since
+        self.filter_weight = 0.0  # the weight the last frame showed the filter with
+
+    def keep_as_fallback(self, size: tuple[int, int]) -> None:
+        """Show the resolved image of the last frame (`size` pixels), scaled up, where the next
+        passes have no sample yet: the last preview frame while the first full pass comes in."""
+        copy_texture(self.context, self.resolved, self._fallback, size)
+        self._fallback_size = size
+
+    def camera_changed(self) -> None:
+        """The guides and the filtered image are stale (call after BandedRenderer.restart)."""
+        self._guides_current = False
+        self._filtered_at = None
+        self._resolved_as = None
+
+    def _resolve_params_record(
+        self, settings: ViewSettings, mode: ResolveMode, weight: float, first_row: int = 0
+    ) -> np.ndarray:
+        width, height = self.banded.size
+        record = RESOLVE_PARAMS.zeros(1)
+        record["width"], record["height"] = width, height
+        record["samples_per_pixel"], record["rows_done"] = self.banded.samples_per_pixel, self.banded.rows_done
+        record["view"], record["mode"] = int(settings.view), int(mode)
+        record["depth_scale"], record["heat_log2_max"] = settings.depth_scale, HEAT_LOG2_MAX
+        record["fallback_width"], record["fallback_height"] = self._fallback_size
+        record["filter_weight"] = weight
+        record["first_row"] = first_row
+        return record
+
+    def _dispatch(self, passes: list[tuple[object, tuple]], rows: int | None = None) -> None:
+        width, height = self.banded.size
+        groups = dispatch_size(width, height if rows is None else rows, (8, 8))
+        encoder = self.context.device.create_command_encoder()
+        for kernel, bind_groups in passes:
+            compute = encoder.begin_compute_pass()
+            compute.set_pipeline(kernel.pipeline)
+            for index, group in enumerate(bind_groups):
+                compute.set_bind_group(index, group)
+            compute.dispatch_workgroups(*groups)
+            compute.end()
+        self.context.device.queue.submit([encoder.finish()])
+
+    def _refilter(self) -> None:
+        """Demodulate the current mean and run the a-trous passes into `filtered`."""
+        width, height = self.banded.size
+        queue = self.context.device.queue
+        radiance = ViewSettings()
+        queue.write_buffer(self._resolve_params, 0, self._resolve_params_record(radiance, ResolveMode.DEMODULATED, 0.0))
+        passes = [(self._resolve_kernel, (self._resolve_groups["demodulated"],))]
+        for k in range(FILTER_PASSES):
+            record = ATROUS_PARAMS.zeros(1)
+            record["width"], record["height"], record["step"] = width, height, 1 << k
+            record["normal_power"], record["depth_sigma"] = FILTER_NORMAL_POWER, FILTER_DEPTH_SIGMA
+            record["albedo_sigma"] = FILTER_ALBEDO_SIGMA
+            queue.write_buffer(self._atrous_params[k], 0, record)
+            passes.append((self._atrous_kernel, (self._atrous_groups[k],)))
+        self._dispatch(passes)
+        self._filtered_at = self.banded.samples_done
+
+    def render(self, settings: ViewSettings):
+        """Resolve the current samples as `settings` asks; returns the texture holding the image
+        (the banded renderer's current size, from the top-left corner; row 0 on top)."""
+        if not self._guides_current:
+            self._dispatch([(self._guides_kernel, self._guides_groups)])
+            self._guides_current = True
+        weight = 0.0
+        if settings.filter_enabled and settings.view == View.RADIANCE:
+            weight = filter_weight(self.banded.samples_done) if settings.fade else 1.0
+        if weight > 0.0:
+            samples = self.banded.samples_done
+            if self._filtered_at is None or samples >= FILTER_REFRESH_GROWTH * self._filtered_at:
+                self._refilter()
+        mode = ResolveMode.BLENDED if weight > 0.0 else ResolveMode.MEAN
+        # Only rows with new samples change, unless what is shown changed or the filter's blend
+        # weight (which moves with every sample) is in use. Resolving is a storage load per pixel,
+        # the slow kind on CPU adapters: at rest a frame resolves only the band it traced.
+        shown_as = (settings.view, settings.depth_scale, mode, self.banded.size, self._fallback_size)
+        touched = self.banded.take_touched_rows()
+        if shown_as != self._resolved_as or weight > 0.0:
+            touched = (0, self.banded.size[1])
+        if touched is not None:
+            record = self._resolve_params_record(settings, mode, weight, touched[0])
+            self.context.device.queue.write_buffer(self._resolve_params, 0, record)
+            self._dispatch([(self._resolve_kernel, (self._resolve_groups["resolved"],))], touched[1] - touched[0])
+        self._resolved_as = shown_as
+        self.filter_weight = weight
+        return self.resolved
+
+    def read_image(self) -> np.ndarray:
+        """The last resolved image as float32 (height, width, 3) linear colour (screenshots, tests)."""
+        return read_texture(self.context, self.resolved, np.float32, 4, self.banded.size)[:, :, :3].copy()
+
+    def read_guides(self) -> dict[str, np.ndarray]:
+        """The guides as decoded arrays (tests): normal (H, W, 3), depth, albedo (H, W, 3), steps."""
+        texels = read_texture(self.context, self.guides, np.uint32, 4, self.banded.size)
+        return decode_guides(texels)
+
+
+def decode_guides(texels: np.ndarray) -> dict[str, np.ndarray]:
+    """guide_packing.wgsl's unpack_guide in numpy, for (..., 4) uint32 texels."""
+    snorm = np.maximum((texels[..., 0:1] >> np.array([0, 16], np.uint32) & 0xFFFF).astype(np.int16) / 32767.0, -1.0)
+    n = np.concatenate([snorm, 1.0 - np.abs(snorm).sum(axis=-1, keepdims=True)], axis=-1)
+    folded = (1.0 - np.abs(n[..., 1::-1])) * np.where(n[..., :2] >= 0, 1.0, -1.0)
+    n[..., :2] = np.where(n[..., 2:3] < 0, folded, n[..., :2])
+    albedo = (texels[..., 2:3] >> np.array([0, 8, 16], np.uint32) & 0xFF) / 255.0
+    return {
+        "normal": n / np.linalg.norm(n, axis=-1, keepdims=True),
+        "depth": texels[..., 1].view(np.float32),
+        "albedo": albedo,
+        "steps": texels[..., 3],
+    }

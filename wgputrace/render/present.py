@@ -1,0 +1,135 @@
+"""Presenting a resolved image to a window's texture (or an offscreen one, for screenshots): scaled
+to the target, exposure, sRGB, the text overlay, and BVH box edges drawn as lines. All on the GPU."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..gpu.buffers import storage_buffer, uniform_buffer
+from ..gpu.device import GpuContext
+from ..gpu.graphics import bind_group, read_texture, render_kernel, rgba8_texture, target_texture, write_rgba8
+from ..scene import Camera
+from .view_layout import BOX_LINES_PARAMS, GENERATED_VIEW_STRUCTS, PRESENT_PARAMS, generated_view_structs
+
+# trac0r drew its boxes in yellow.
+BOX_COLOR = (1.0, 0.85, 0.0, 1.0)
+# Box edges closer than NEAR_FRACTION or farther than FAR_FACTOR times the scene's size from the
+# camera are clipped (the depth range of the line projection).
+NEAR_FRACTION = 1e-4
+FAR_FACTOR = 1e3
+
+
+def camera_clip_matrix(camera: Camera, width: int, height: int, scene_size: float) -> np.ndarray:
+    """4x4 world-to-clip matrix that puts a point where the path tracer's camera ray through it
+    lands: clip x, y = the image-plane coordinates in [-1, 1] (y up), w = distance along forward."""
+    right, up, forward = camera.image_plane(width, height)
+    position = np.asarray(camera.position)
+    near, far = NEAR_FRACTION * scene_size, FAR_FACTOR * scene_size
+    depth_scale = far / (far - near)
+    rows = [
+        np.append(right / right.dot(right), 0.0),
+        np.append(up / up.dot(up), 0.0),
+        np.append(forward * depth_scale, -near * depth_scale),
+        np.append(forward, 0.0),
+    ]
+    matrix = np.array(rows)
+    # the rows above act on the offset from the camera; fold the translation in
+    matrix[:, 3] -= matrix[:, :3] @ position
+    return matrix
+
+
+class Presenter:
+    """Draws to textures of `target_format`; encodes sRGB itself when the format does not."""
+
+    def __init__(self, context: GpuContext, target_format: str) -> None:
+        self.context, self.target_format = context, target_format
+        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
+        encode = not target_format.endswith("-srgb")
+        self._image_kernel = render_kernel(
+            context, "present.wgsl", target_format, generated=generated, constants={"ENCODE_SRGB": encode}
+        )
+        self._lines_kernel = render_kernel(
+            context, "bvh_lines.wgsl", target_format, generated=generated, topology="line-list"
+        )
+        self._params = uniform_buffer(context, "present params", PRESENT_PARAMS.zeros(1))
+        self._lines_params = uniform_buffer(context, "box lines params", BOX_LINES_PARAMS.zeros(1))
+        self._overlay = rgba8_texture(context, "overlay", 1, 1)
+        self._overlay_position = (0, 0)
+        self._lines: tuple[object, int] | None = None
+        self._lines_group = None
+
+    def set_overlay(self, pixels: np.ndarray | None, position: tuple[int, int] = (0, 0)) -> None:
+        """Show (height, width, 4) uint8 RGBA pixels (straight alpha) at `position` from the
+        target's top-left corner; None hides the overlay."""
+        if pixels is None:
+            self._overlay_position = None
+            return
+        height, width = pixels.shape[:2]
+        if tuple(self._overlay.size[:2]) != (width, height):
+            self._overlay = rgba8_texture(self.context, "overlay", width, height)
+        write_rgba8(self.context, self._overlay, pixels)
+        self._overlay_position = position
+
+    def set_box_lines(self, endpoints: np.ndarray | None) -> None:
+        """Draw the (n, 2, 3) world-space segments over the image from now on; None stops."""
+        if endpoints is None or len(endpoints) == 0:
+            self._lines, self._lines_group = None, None
+            return
+        points = np.zeros((len(endpoints) * 2, 4), np.float32)
+        points[:, :3] = endpoints.reshape(-1, 3)
+        buffer = storage_buffer(self.context, "box line endpoints", points)
+        self._lines = (buffer, len(points))
+        self._lines_group = bind_group(self.context, self._lines_kernel.pipeline, 0, {0: self._lines_params, 1: buffer})
+
+    def set_camera(self, camera: Camera, width: int, height: int, scene_size: float) -> None:
+        """The camera (and full image size) the box lines are projected with."""
+        record = BOX_LINES_PARAMS.zeros(1)
+        matrix = camera_clip_matrix(camera, width, height, scene_size)
+        record["row_x"], record["row_y"], record["row_z"], record["row_w"] = matrix
+        record["color"] = BOX_COLOR
+        self.context.device.queue.write_buffer(self._lines_params, 0, record)
+
+    def draw(self, target, image, image_size: tuple[int, int], exposure: float, *, overlay: bool = True) -> None:
+        """Draw `image` (the texture Display.render returned, image_size pixels from its top-left
+        corner) to the texture `target`."""
+        width, height = target.size[0], target.size[1]
+        params = PRESENT_PARAMS.zeros(1)
+        params["image_width"], params["image_height"] = image_size
+        params["target_width"], params["target_height"] = width, height
+        show_overlay = overlay and self._overlay_position is not None
+        if show_overlay:
+            params["overlay_x"], params["overlay_y"] = self._overlay_position
+        params["overlay_visible"] = int(show_overlay)
+        params["exposure"] = exposure
+        device = self.context.device
+        device.queue.write_buffer(self._params, 0, params)
+        group = bind_group(
+            self.context,
+            self._image_kernel.pipeline,
+            0,
+            {0: self._params, 1: image.create_view(), 2: self._overlay.create_view()},
+        )
+        encoder = device.create_command_encoder()
+        render = encoder.begin_render_pass(
+            color_attachments=[
+                {"view": target.create_view(), "load_op": "clear", "store_op": "store", "clear_value": (0, 0, 0, 1)}
+            ]
+        )
+        render.set_pipeline(self._image_kernel.pipeline)
+        render.set_bind_group(0, group)
+        render.draw(3)
+        if self._lines is not None:
+            render.set_pipeline(self._lines_kernel.pipeline)
+            render.set_bind_group(0, self._lines_group)
+            render.draw(self._lines[1])
+        render.end()
+        device.queue.submit([encoder.finish()])
+
+    def screenshot(self, image, image_size: tuple[int, int], size: tuple[int, int], exposure: float) -> np.ndarray:
+        """What `draw` shows on a target of `size`, without the overlay, as (height, width, 3) uint8 sRGB."""
+        texture = target_texture(self.context, "screenshot", size[0], size[1], self.target_format)
+        self.draw(texture, image, image_size, exposure, overlay=False)
+        pixels = read_texture(self.context, texture, np.uint8, 4)
+        if self.target_format.startswith("bgra"):
+            pixels = pixels[:, :, [2, 1, 0, 3]]
+        return pixels[:, :, :3]

@@ -1,0 +1,163 @@
+"""Progressive rendering within a time budget: samples added a band of rows at a time, at the
+full image size or a reduced one, into a Renderer's own buffers (the viewer's renderer).
+
+A pass over the whole image adds one sample per pixel. When a pass takes longer than the budget
+(seconds at 1280x720 on a CPU adapter), each call renders the band of rows that fits and the
+next call goes on below it; when it takes less, a call renders as many whole passes as fit.
+A reduced size traces only the top-left width x height pixels of the buffers, through a camera
+with the same field of view: the viewer's preview while the camera moves.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..gpu.buffers import uniform_buffer
+from ..scene import Camera
+from .renderer import Renderer, path_tracer_kernel
+
+# The path tracer's workgroup is 8x8: bands are whole rows of workgroups.
+BAND_ROWS_STEP = 8
+# A call never runs more whole passes than this, however fast they are: the frame must end.
+MAX_PASSES_PER_CALL = 16
+# The cost estimate follows each measurement by this fraction: fast enough to follow a camera
+# that turns from a wall to a detailed object, slow enough that one hiccup does not halve a band.
+COST_SMOOTHING = 0.3
+
+
+class BandedRenderer:
+    """Adds samples to `renderer`'s accumulation band by band; counts them in `samples_per_pixel`
+    (whole passes) and `rows_done` (rows of the pass under way that have their sample)."""
+
+    def __init__(self, renderer: Renderer) -> None:
+        self.renderer = renderer
+        self.context = renderer.context
+        self.full_size = (renderer.width, renderer.height)
+        # the renderer's own material kinds: the same BSDF code, compiled once more with this entry point
+        self.kernel = path_tracer_kernel(
+            self.context, renderer.accel, renderer.integrator, rows=True, material_kinds=renderer._kinds
+        )
+        self._band = uniform_buffer(self.context, "band first row", np.zeros(1, np.uint32))
+        self._scene_group = self.kernel.bind_group(self.context, 0, renderer.bindings)
+        self._band_group = self.kernel.bind_group(self.context, 1, {0: self._band})
+        self.size = self.full_size
+        self.samples_per_pixel = 0
+        self.rows_done = 0
+        # seconds per pixel-sample, measured; None until the first band has run
+        self.seconds_per_sample: float | None = None
+        # rows [first, end) whose samples changed since take_touched_rows() was last asked
+        self._touched: tuple[int, int] | None = None
+        self._warm_up()
+
+    def _warm_up(self) -> None:
+        # llvmpipe compiles a pipeline at its first dispatch, which would count as seconds per
+        # sample; a band starting below the last row compiles it and touches no pixel
+        self.context.device.queue.write_buffer(self._band, 0, np.array([self.full_size[1]], np.uint32))
+        encoder = self.context.device.create_command_encoder()
+        compute = encoder.begin_compute_pass()
+        compute.set_pipeline(self.kernel.pipeline)
+        compute.set_bind_group(0, self._scene_group)
+        compute.set_bind_group(1, self._band_group)
+        compute.dispatch_workgroups(1, 1, 1)
+        compute.end()
+        self.context.device.queue.submit([encoder.finish()])
+        self.context.finish()
+
+    @property
+    def reduced(self) -> bool:
+        return self.size != self.full_size
+
+    def restart(self, camera: Camera, size: tuple[int, int] | None = None) -> None:
+        """Forget all samples; trace `size` pixels (at most the full size) through `camera`."""
+        width, height = size or self.full_size
+        if not (1 <= width <= self.full_size[0] and 1 <= height <= self.full_size[1]):
+            raise ValueError(
+                f"size {width}x{height} must lie within the renderer's {self.full_size[0]}x{self.full_size[1]}"
+            )
+        self.renderer.scene.camera = camera
+        record = self.renderer._frame_record()
+        record["width"], record["height"] = width, height
+        record["camera_right"], record["camera_up"], record["camera_forward"] = camera.image_plane(width, height)
+        device = self.context.device
+        device.queue.write_buffer(self.renderer.bindings[0], 0, record)
+        encoder = device.create_command_encoder()
+        # only the pixels that will be traced: clearing 10 MB per frame while moving costs time
+        encoder.clear_buffer(self.renderer.bindings[5], 0, width * height * self._accumulated_pixel_bytes)
+        device.queue.submit([encoder.finish()])
+        self.size, self.samples_per_pixel, self.rows_done = (width, height), 0, 0
+        self._touched = (0, height)
+
+    @property
+    def _accumulated_pixel_bytes(self) -> int:
+        return self.renderer.bindings[5].size // (self.full_size[0] * self.full_size[1])
+
+    def rows_for(self, seconds: float) -> int:
+        """Rows of the current size that the cost estimate says fit in `seconds` (one band before
+        anything has been measured)."""
+        if self.seconds_per_sample is None:
+            return BAND_ROWS_STEP
+        return int(seconds / (self.seconds_per_sample * self.size[0]))
+
+    def advance(self, budget_seconds: float, *, whole_pass: bool = False) -> float:
+        """Render what fits in `budget_seconds`: whole passes, or the next band of rows (at least
+        one whole pass with `whole_pass`, from the start of a pass). Returns the seconds it took
+        (it waits for the adapter)."""
+        height = self.size[1]
+        rows = self.rows_for(budget_seconds)
+        if whole_pass and self.rows_done == 0:
+            rows = max(rows, height)
+        if self.rows_done == 0 and rows >= height:
+            passes, first_row, band_rows = min(rows // height, MAX_PASSES_PER_CALL), 0, height
+        else:
+            band = max(rows // BAND_ROWS_STEP * BAND_ROWS_STEP, BAND_ROWS_STEP)
+            passes, first_row, band_rows = 1, self.rows_done, min(band, height - self.rows_done)
+        return self._dispatch(first_row, band_rows, passes)
+
+    def add_passes(self, passes: int) -> float:
+        """Exactly `passes` samples per pixel more, whatever they cost (benchmarks, tests)."""
+        if self.rows_done != 0:
+            raise ValueError(f"a pass is under way ({self.rows_done} of {self.size[1]} rows): finish it with advance()")
+        return self._dispatch(0, self.size[1], passes)
+
+    def _dispatch(self, first_row: int, band_rows: int, passes: int) -> float:
+        width, height = self.size
+        device = self.context.device
+        device.queue.write_buffer(self._band, 0, np.array([first_row], np.uint32))
+        start = time.perf_counter()
+        encoder = device.create_command_encoder()
+        for _ in range(passes):
+            compute = encoder.begin_compute_pass()
+            compute.set_pipeline(self.kernel.pipeline)
+            compute.set_bind_group(0, self._scene_group)
+            compute.set_bind_group(1, self._band_group)
+            compute.dispatch_workgroups(-(-width // 8), -(-band_rows // 8), 1)
+            compute.end()
+        device.queue.submit([encoder.finish()])
+        self.context.finish()
+        seconds = time.perf_counter() - start
+        measured = seconds / (passes * band_rows * width)
+        if self.seconds_per_sample is None:
+            self.seconds_per_sample = measured
+        else:
+            self.seconds_per_sample += COST_SMOOTHING * (measured - self.seconds_per_sample)
+        end_row = min(first_row + band_rows, height)
+        touched = self._touched or (first_row, end_row)
+        self._touched = (min(touched[0], first_row), max(touched[1], end_row))
+        if first_row + band_rows >= height:
+            self.samples_per_pixel += passes
+            self.rows_done = 0
+        else:
+            self.rows_done = first_row + band_rows
+        return seconds
+
+    def take_touched_rows(self) -> tuple[int, int] | None:
+        """Rows [first, end) whose samples changed since the last call (None: nothing changed)."""
+        touched, self._touched = self._touched, None
+        return touched
+
+    @property
+    def samples_done(self) -> float:
+        """Samples per pixel so far, counting the pass under way as the fraction of its rows done."""
+        return self.samples_per_pixel + self.rows_done / self.size[1]

@@ -1,0 +1,207 @@
+"""The scene's GPU records kept on the host and brought up to date after edits, doing only the work
+each edit needs, and reporting which rows changed so only those are uploaded.
+
+| edit                                        | work                                          | rows that change                     |
+|---------------------------------------------|-----------------------------------------------|--------------------------------------|
+| material parameter                          | that material's record                        | one material record                  |
+| shape transform (same zero-area triangles)  | its world triangles, BVH refit                | its triangles, nodes whose bounds moved |
+| shape material reassigned                   | material list and every triangle's index      | materials and triangles whose index moved |
+| shapes added/removed, vertices replaced     | arrays, BVH build                             | whatever differs (nearly all)        |
+
+The light table (next-event estimation) is rebuilt when an emitter's triangles or record change.
+Its entries follow the scene's triangle order, not the BVH's, so a refit tree and a fresh build
+sample the same light for the same random numbers: the picture after an edit is bit for bit the
+picture of a fresh Renderer of the edited scene (up to exact ties of two hit distances).
+
+A refit whose SAH cost exceeds the built tree's by REBUILD_DEGRADATION becomes a rebuild.
+Rows are compared as bytes before they count as changed, so an edit that restores a value
+uploads nothing and does not restart accumulation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bvh import BVH, Refitter
+from ..scene import MaterialKind, Scene, Shape
+from ..scene.scene import zero_area
+from .lights import LightTable, light_table
+from .scene_buffers import SceneRecords, build_acceleration, material_records, node_records, triangle_records
+
+# Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
+# Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
+# wandering through the Cornell box, a refit tree against a fresh one on the same geometry. Render
+# time grew faster than the SAH cost, time ratio ~ 1 + 1.37 (D - 1) on lavapipe, so at 1.2 a refit
+# tree renders ~27% slower, while rebuilding that 2,600-triangle scene (BVH build and full upload)
+# took 17-150 ms, a fraction of one sample per pixel at 64x64 and ~1% of one at 512x512: past this
+# value a rebuild pays for itself within the next sample. (A scene of millions of triangles takes
+# seconds to rebuild; see the README's notes on big meshes.)
+REBUILD_DEGRADATION = 1.2
+
+TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights"
+
+
+def changed_rows(old: np.ndarray, new: np.ndarray) -> np.ndarray:
+    """Rows of `new` whose fields differ from `old` bit for bit (so -0.0 differs from 0.0, and a NaN
+    from itself only if its bits do); rows beyond old's length all count. Fields, not whole rows:
+    numpy leaves the padding between fields undefined when it copies records."""
+    common = min(len(old), len(new))
+    differs = np.zeros(common, bool)
+    for name in new.dtype.names if common else ():  # every GPU field is made of 4-byte words
+        a, b = old[name][:common].view(np.uint32), new[name][:common].view(np.uint32)
+        differs |= (a != b).reshape(common, -1).any(axis=1)
+    return np.concatenate([np.flatnonzero(differs), np.arange(common, len(new))])
+
+
+class SceneMirror:
+    """GPU records of `scene` (triangles in BVH order, nodes, materials) and the state needed to
+    update them incrementally."""
+
+    def __init__(self, scene: Scene, acceleration: str) -> None:
+        self.scene, self.acceleration_kind = scene, acceleration
+        self.triangles = self.nodes = self.materials = None
+        self.lights: LightTable | None = None
+        self.rebuilds = self.refits = 0
+        self._rebuild()
+
+    @property
+    def records(self) -> SceneRecords:
+        return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh)
+
+    @property
+    def material_kinds(self) -> frozenset:
+        return frozenset(material.kind for material in self._materials)
+
+    def update(self) -> dict[str, np.ndarray]:
+        """Bring the records up to date with the scene; return the changed rows of each array
+        (only arrays with changes appear)."""
+        shapes = list(self.scene.shapes)
+        same_shapes = len(shapes) == len(self._shapes) and all(
+            a is b for a, b in zip(shapes, self._shapes, strict=False)
+        )
+        if not same_shapes or any(
+            not isinstance(s, Shape) or s.geometry_version != v[0] for s, v in zip(shapes, self._versions, strict=True)
+        ):
+            return self._rebuild()
+        changes: dict[str, np.ndarray] = {}
+        moved = [i for i, (s, v) in enumerate(zip(shapes, self._versions, strict=True)) if s.transform_version != v[1]]
+        if moved:
+            refit = self._refit(moved)
+            if refit is None:
+                return self._rebuild()
+            changes.update(refit)
+        reassigned = any(s.material_version != v[2] for s, v in zip(shapes, self._versions, strict=True))
+        if reassigned or self.scene.materials != self._materials:
+            changes = _union(changes, self._reassign_materials())
+        else:
+            changes = _union(changes, self._update_material_records())
+        emitter = self.materials["kind"] == int(MaterialKind.EMITTER)
+        if (
+            reassigned
+            or emitter[self.triangles["material"][changes.get(TRIANGLES, [])]].any()
+            or emitter[changes.get(MATERIALS, [])].any()
+        ):
+            changes[LIGHTS] = self._update_lights()
+        self._snapshot()
+        return {name: rows for name, rows in changes.items() if rows.size}
+
+    def _snapshot(self) -> None:
+        self._shapes = list(self.scene.shapes)
+        self._versions = [(s.geometry_version, s.transform_version, s.material_version) for s in self._shapes]
+        self._materials = self.scene.materials
+        self._material_versions = [m.version for m in self._materials]
+
+    def _rebuild(self) -> dict[str, np.ndarray]:
+        arrays = self.scene.arrays()
+        bvh = build_acceleration(arrays, self.acceleration_kind)
+        order = bvh.triangle_order
+        vertices = arrays.vertices[order]
+        new = {
+            TRIANGLES: triangle_records(vertices, arrays.material_index[order]),
+            NODES: node_records(bvh),
+            MATERIALS: material_records(arrays.materials),
+        }
+        old = {TRIANGLES: self.triangles, NODES: self.nodes, MATERIALS: self.materials}
+        changes = {
+            name: np.arange(len(new[name])) if old[name] is None else changed_rows(old[name], new[name]) for name in new
+        }
+        self.triangles, self.nodes, self.materials = new[TRIANGLES], new[NODES], new[MATERIALS]
+        self.bvh: BVH = bvh
+        self.refitter = Refitter(bvh, vertices)
+        # where each shape's kept triangles start in input order, their local indices, and the
+        # BVH position of every input triangle
+        counts = np.bincount(arrays.shape_index, minlength=len(self.scene.shapes))
+        self._input_start = np.concatenate([[0], np.cumsum(counts)])
+        self._local_index = arrays.local_index
+        self._position = np.empty(len(order), np.int64)
+        self._position[order] = np.arange(len(order))
+        changes[LIGHTS] = self._update_lights()
+        self.rebuilds += 1
+        self._snapshot()
+        return {name: rows for name, rows in changes.items() if rows.size}
+
+    def _refit(self, moved: list[int]) -> dict[str, np.ndarray] | None:
+        """New world triangles of the moved shapes and a refit BVH; None where only a rebuild will do
+        (a triangle turned zero-area or back, or the refit tree got too slow)."""
+        positions, corners = [], []
+        for index in moved:
+            shape = self.scene.shapes[index]
+            span = slice(self._input_start[index], self._input_start[index + 1])
+            kept = self._local_index[span]
+            world = shape.world_vertices
+            if not np.array_equal(np.flatnonzero(~zero_area(world)), kept):
+                return None
+            positions.append(self._position[span])
+            corners.append(world[kept])
+        positions, corners = np.concatenate(positions), np.concatenate(corners)
+        order = np.argsort(positions)
+        positions, corners = positions[order], corners[order]
+        touched = self.refitter.move(positions, corners)
+        if self.bvh.kind == "bvh" and self.refitter.degradation > REBUILD_DEGRADATION:
+            return None
+        self.refits += 1
+        triangles = self.triangles[positions]
+        for corner in range(3):
+            triangles[f"v{corner}"] = corners[:, corner]
+        rows = positions[changed_rows(self.triangles[positions], triangles)]
+        self.triangles[positions] = triangles
+        self.nodes["bounds_min"][touched] = self.bvh.bounds_min[touched]
+        self.nodes["bounds_max"][touched] = self.bvh.bounds_max[touched]
+        return {TRIANGLES: rows, NODES: touched}
+
+    def _reassign_materials(self) -> dict[str, np.ndarray]:
+        """A shape got another material: new material list, every triangle's index recomputed."""
+        materials = self.scene.materials
+        slot = {id(material): index for index, material in enumerate(materials)}
+        kept_counts = np.diff(self._input_start)
+        material_index = np.repeat(np.array([slot[id(s.material)] for s in self.scene.shapes], np.uint32), kept_counts)
+        indices = material_index[self.bvh.triangle_order]
+        triangle_rows = np.flatnonzero(indices != self.triangles["material"])
+        self.triangles["material"] = indices
+        records = material_records(materials)
+        material_rows = changed_rows(self.materials, records)
+        self.materials = records
+        return {TRIANGLES: triangle_rows, MATERIALS: material_rows}
+
+    def _update_material_records(self) -> dict[str, np.ndarray]:
+        edited = [
+            i for i, (m, v) in enumerate(zip(self._materials, self._material_versions, strict=True)) if m.version != v
+        ]
+        if not edited:
+            return {}
+        records = material_records([self._materials[i] for i in edited])
+        rows = np.asarray(edited)[changed_rows(self.materials[edited], records)]
+        self.materials[edited] = records
+        return {MATERIALS: rows}
+
+    def _update_lights(self) -> np.ndarray:
+        """A new light table in scene order pointing at BVH positions; its changed rows."""
+        table = light_table(self.triangles[self._position], self.materials)
+        table.entries["triangle"] = self._position[table.entries["triangle"]]
+        rows = np.arange(table.count) if self.lights is None else changed_rows(self.lights.entries, table.entries)
+        self.lights = table
+        return rows
+
+
+def _union(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    return {name: np.union1d(a.get(name, []), b.get(name, [])).astype(np.int64) for name in a.keys() | b.keys()}

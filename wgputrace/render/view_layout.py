@@ -1,0 +1,107 @@
+"""Host/GPU structs and constants of the viewer's kernels (guides, resolve, filter, present, box
+lines), defined once like gpu.layout's: each becomes a numpy dtype and the WGSL in
+generated/view_structs.wgsl."""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+from ..gpu.layout import GpuStruct
+
+GENERATED_VIEW_STRUCTS = "generated/view_structs.wgsl"
+
+# The filter divides radiance by the first hit's albedo and multiplies it back; albedo channels
+# below this (black materials, nothing hit) divide by it instead of by ~0.
+FILTER_ALBEDO_MIN = 1e-3
+# Guides store the normal in two 16-bit snorms (guide_packing.wgsl): decoded normals are off by
+# at most this much per component (measured bound of the octahedral code at 16 bits, with margin).
+GUIDE_NORMAL_ERROR = 1e-4
+# ... and the albedo in 8-bit unorms: off by at most half a step.
+GUIDE_ALBEDO_ERROR = 0.5 / 255
+
+
+class ResolveMode(IntEnum):
+    """What resolve.wgsl writes for the radiance view; the ids are its RESOLVE_* constants."""
+
+    MEAN = 0  # the mean of the samples
+    DEMODULATED = 1  # the mean over albedo: the filter's input
+    BLENDED = 2  # the mean blended with the filtered image by filter_weight
+
+
+class View(IntEnum):
+    """What the viewer shows; the ids are the VIEW_* constants of resolve.wgsl."""
+
+    RADIANCE = 0
+    NORMAL = 1
+    ALBEDO = 2
+    DEPTH = 3
+    HEAT = 4
+
+
+RESOLVE_PARAMS = GpuStruct(
+    "ResolveParams",
+    (
+        ("width", "u32"),
+        ("height", "u32"),
+        ("samples_per_pixel", "u32"),
+        ("rows_done", "u32"),
+        ("view", "u32"),
+        ("mode", "u32"),
+        ("depth_scale", "f32"),
+        ("heat_log2_max", "f32"),
+        ("fallback_width", "u32"),
+        ("fallback_height", "u32"),
+        ("filter_weight", "f32"),
+        ("first_row", "u32"),
+    ),
+    "What resolve.wgsl shows (from row first_row on): pixels of rows < rows_done have samples_per_pixel + 1 samples; "
+    "pixels without samples show the fallback image (width 0: none); mode is a RESOLVE_* id.",
+)
+ATROUS_PARAMS = GpuStruct(
+    "AtrousParams",
+    (
+        ("width", "u32"),
+        ("height", "u32"),
+        ("step", "u32"),
+        ("normal_power", "f32"),
+        ("depth_sigma", "f32"),
+        ("albedo_sigma", "f32"),
+    ),
+    "One a-trous pass: the tap spacing and the edge-stop widths.",
+)
+PRESENT_PARAMS = GpuStruct(
+    "PresentParams",
+    (
+        ("image_width", "u32"),
+        ("image_height", "u32"),
+        ("target_width", "u32"),
+        ("target_height", "u32"),
+        ("overlay_x", "u32"),
+        ("overlay_y", "u32"),
+        ("overlay_visible", "u32"),
+        ("exposure", "f32"),
+    ),
+    "Image and target sizes in pixels, where the overlay sits, and the exposure.",
+)
+BOX_LINES_PARAMS = GpuStruct(
+    "BoxLinesParams",
+    (
+        ("row_x", "vec4<f32>"),
+        ("row_y", "vec4<f32>"),
+        ("row_z", "vec4<f32>"),
+        ("row_w", "vec4<f32>"),
+        ("color", "vec4<f32>"),
+    ),
+    "Rows of the 4x4 world-to-clip matrix of the path tracer's camera, and the line colour.",
+)
+
+VIEW_STRUCTS = (RESOLVE_PARAMS, ATROUS_PARAMS, PRESENT_PARAMS, BOX_LINES_PARAMS)
+
+
+def generated_view_structs() -> str:
+    parts = ["// Generated from wgputrace.render.view_layout: the viewer's host/GPU structs and view ids."]
+    parts += [struct.wgsl() for struct in VIEW_STRUCTS]
+    parts += [f"const VIEW_{view.name}: u32 = {int(view)}u;" for view in View]
+    parts += [f"const RESOLVE_{mode.name}: u32 = {int(mode)}u;" for mode in ResolveMode]
+    parts.append(f"const FILTER_ALBEDO_MIN: f32 = {FILTER_ALBEDO_MIN!r};")
+    return "\n".join(parts) + "\n"

@@ -1,0 +1,38 @@
+"""Scenes available by name on the command line: the default Cornell box and the test scenes,
+each chosen to hit a known failure of path tracers (see each family's module)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import partial
+
+from ..scene import Scene
+from .axis_aligned import axis_boxes
+from .cornell import cornell, scaled_cornell, tiny_light
+from .glass import glass_grazing
+from .glossy import glossy_spheres
+from .slivers import slivers
+
+BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
+    "cornell": cornell,
+    "tiny_light": tiny_light,
+    "cornell_1e-4": partial(scaled_cornell, 1e-4),
+    "cornell_1e4": partial(scaled_cornell, 1e4),
+    "glass_grazing": glass_grazing,
+    "glossy_spheres": glossy_spheres,
+    "slivers": slivers,
+    "axis_boxes": axis_boxes,
+}
+DEFAULT_SCENE = "cornell"
+
+
+def default_scene() -> Scene:
+    """The trac0r Cornell box (listing 16 of the thesis)."""
+    return BUILTIN_SCENES[DEFAULT_SCENE]()
+
+
+def scene_by_name(name: str) -> Scene:
+    try:
+        return BUILTIN_SCENES[name]()
+    except KeyError:
+        raise ValueError(f"unknown scene {name!r}; built-in scenes: {', '.join(sorted(BUILTIN_SCENES))}") from None
