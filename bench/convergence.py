@@ -2,7 +2,7 @@
 functions of samples per pixel and of render time, for the Cornell box and the tiny-light scene.
 
     python bench/convergence.py                 (or: python -m bench.convergence)
-    python bench/convergence.py --max-spp 256 --runs 1 --integrators mis
+    python bench/convergence.py --max-spp 64 --runs 1 --integrators mis
 
 For each scene and integrator: a validation render first (finite, no dropped samples, image mean
 equal to the reference's within a z-test; its first dispatch is the shader compile, so it is the
@@ -200,7 +200,7 @@ def parse_arguments(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenes", nargs="+", default=list(SCENES), help=f"default: {' '.join(SCENES)}")
     parser.add_argument("--integrators", nargs="+", default=list(INTEGRATORS), help=f"default: {' '.join(INTEGRATORS)}")
-    parser.add_argument("--max-spp", type=int, default=512, help="last checkpoint, a power of two (default 512)")
+    parser.add_argument("--max-spp", type=int, default=256, help="last checkpoint, a power of two (default 256)")
     parser.add_argument("--runs", type=int, default=2, help="progressive renders per scene and integrator (default 2)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the first run; run k uses seed + k")
     parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")

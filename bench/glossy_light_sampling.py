@@ -63,7 +63,9 @@ def measure(size: int, spp: int, reference_spp: int, repeats: int) -> list[dict]
     rows = []
     for roughness in ROUGHNESSES:
         scene = glossy_sphere(roughness)
-        references = [render_timed(scene, size, reference_spp, t, seed=1000 + i)[0] for i, t in enumerate(POLICIES.values())]
+        references = [
+            render_timed(scene, size, reference_spp, t, seed=1000 + i)[0] for i, t in enumerate(POLICIES.values())
+        ]
         reference = np.mean(references, axis=0)
         # validate before timing: both policies are unbiased, so the mean of their per-pixel
         # difference is zero within its standard error (pixels are independent)
@@ -113,8 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     started = time.perf_counter()
     rows = measure(args.size, args.spp, args.reference_spp, args.repeats)
-    gains = [r["light sampling gain"] for r in rows]
-    helping = [r["roughness"] for r, g in zip(rows, gains) if g >= 1.0]
+    helping = [r["roughness"] for r in rows if r["light sampling gain"] >= 1.0]
     threshold = min(helping) if helping else None
     device = describe()
     result = {
@@ -134,7 +135,9 @@ def main(argv: list[str] | None = None) -> int:
     }
     stem = f"glossy_light_sampling_{slug(device['adapter'], device['backend'])}"
     write_json(args.out / f"{stem}.json", result)
-    plot(args.out / f"{stem}.png", rows, f"{device['adapter']}, {args.size}^2, {args.spp} spp, {result['git_revision']}")
+    plot(
+        args.out / f"{stem}.png", rows, f"{device['adapter']}, {args.size}^2, {args.spp} spp, {result['git_revision']}"
+    )
     print(f"light sampling helps from roughness {threshold}; wrote {args.out / stem}.json and .png")
     return 0
 

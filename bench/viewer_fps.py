@@ -6,8 +6,8 @@
 Opens the viewer's glfw window (on a virtual X display started for the run when there is no
 DISPLAY) on the default scene. Each size runs: a warm-up (kernels compile, the first frames),
 then a moving phase in which the camera turns a little every frame, as a steady mouse drag does
-(each frame restarts the accumulation: the reduced-resolution path), then a resting phase at full
-resolution. Reported per phase: frames per second (frames over wall time), median and 90th
+(each frame restarts the accumulation: the reduced-resolution path; it turns right and left in
+turn, so the view stays on the scene), then a resting phase at full resolution. Reported per phase: frames per second (frames over wall time), median and 90th
 percentile frame times, the traced resolution, and at rest samples per second and the samples per
 pixel reached. Writes bench/results/viewer_fps_<adapter>.json and .png.
 """
@@ -34,8 +34,10 @@ from wgputrace.gpu.device import describe  # noqa: E402
 from wgputrace.scenes import DEFAULT_SCENE  # noqa: E402
 
 WARMUP_SECONDS = 4.0
-# The camera turns this many pixels' worth of mouse drag per frame while moving.
+# The camera turns this many pixels' worth of mouse drag per frame while moving, to the right for
+# TURN_SECONDS, then back to the left, and so on: the view stays on the scene.
 TURN_PIXELS_PER_FRAME = 2.0
+TURN_SECONDS = 1.0
 
 
 def run_size(size: tuple[int, int], seconds: float, target_fps: float) -> dict:
@@ -53,7 +55,8 @@ def run_size(size: tuple[int, int], seconds: float, target_fps: float) -> dict:
         now = time.perf_counter() - start
         if moving_start <= now < moving_start + seconds:
             marks.setdefault("moving", len(viewer.frames))
-            viewer.look(TURN_PIXELS_PER_FRAME, 0.0)
+            direction = 1.0 if int((now - moving_start) / TURN_SECONDS) % 2 == 0 else -1.0
+            viewer.look(direction * TURN_PIXELS_PER_FRAME, 0.0)
         elif now >= resting_start:
             marks.setdefault("resting", len(viewer.frames))
         if moving_start + seconds <= now:
@@ -164,6 +167,7 @@ def main(argv: list[str] | None = None) -> int:
         "phase_seconds": args.seconds,
         "warmup_seconds": WARMUP_SECONDS,
         "turn_pixels_per_frame": TURN_PIXELS_PER_FRAME,
+        "turn_seconds": TURN_SECONDS,
         "sizes": sizes,
         "wall_seconds": time.perf_counter() - started,
     }

@@ -10,8 +10,11 @@ struct BsdfSample {
     // solid-angle density; for a delta lobe, the discrete probability of choosing it
     pdf: f32,
     is_delta: bool,
+    // eta_incident / eta_transmitted for a refraction (the factor whose square scales radiance),
+    // 1 for reflections
+    eta: f32,
 }
 
 fn no_bsdf_sample() -> BsdfSample {
-    return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false);
+    return BsdfSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, false, 1.0);
 }

@@ -6,7 +6,8 @@
 // `traverse(ray, t_max, skip_triangle, any_hit) -> Hit` and includes this file.
 
 // Nodes visited by traversals of this invocation so far, for the viewer's heat map (guides.wgsl).
-// Kernels that never read it pay nothing: the compiler drops the unread counter.
+// Kernels that never read it pay nothing measurable: on lavapipe the path tracer ran as fast
+// with the increment as without it (alternating runs, differences within the run-to-run noise).
 var<private> traversal_steps: u32;
 
 fn closest_hit(ray: Ray, t_max: f32, skip_triangle: u32) -> Hit {

@@ -85,7 +85,10 @@ fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, radian
 
 // One path from the camera: emission at every vertex, direct light by the chosen integrator,
 // BSDF sampling between vertices, Russian roulette (unbiased: survivors are divided by their
-// survival probability) from RUSSIAN_ROULETTE_DEPTH on. max_depth counts path vertices the way
+// survival probability) from RUSSIAN_ROULETTE_DEPTH on. Roulette judges the throughput without
+// the eta^2 radiance scaling of refraction (as pbrt and Mitsuba do): inside glass that scaling
+// would make paths die more often and survivors carry heavier weights, only to undo itself on
+// the way out. max_depth counts path vertices the way
 // Mitsuba does: 1 shows only emitters seen directly, 2 adds direct lighting, and so on.
 fn trace_path(camera: Ray) -> vec3<f32> {
     var ray = camera;
@@ -94,6 +97,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
     var skip_triangle = NO_TRIANGLE;
     var previous_sampled_lights = false;
     var previous_bsdf_pdf = 0.0;
+    var eta_scale = 1.0;
     for (var depth = 1u; ; depth++) {
         let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
         if hit.triangle == NO_TRIANGLE {
@@ -126,8 +130,9 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         }
         previous_bsdf_pdf = sample.pdf;
         throughput *= sample.weight;
+        eta_scale /= sample.eta * sample.eta;
         if depth >= RUSSIAN_ROULETTE_DEPTH {
-            let survival = min(max_component(throughput), RUSSIAN_ROULETTE_MAX_SURVIVAL);
+            let survival = min(max_component(throughput) * eta_scale, RUSSIAN_ROULETTE_MAX_SURVIVAL);
             if rng_next_f32() >= survival {
                 break;
             }

@@ -19,5 +19,5 @@ fn diffuse_sample(color: vec3<f32>, wi: vec3<f32>, u: vec2<f32>) -> BsdfSample {
     }
     let wo = sample_cosine_hemisphere(u);
     // eval / pdf = (color wo.z / pi) / (wo.z / pi): exactly the albedo
-    return BsdfSample(wo, color, pdf_cosine_hemisphere(wo.z), false);
+    return BsdfSample(wo, color, pdf_cosine_hemisphere(wo.z), false, 1.0);
 }

@@ -37,10 +37,10 @@ fn glass_pdf(wi: vec3<f32>, wo: vec3<f32>) -> f32 {
 fn glass_sample(color: vec3<f32>, ior: f32, wi: vec3<f32>, u: f32) -> BsdfSample {
     let fresnel = fresnel_dielectric(wi.z, ior);
     if u < fresnel.reflectance {
-        return BsdfSample(vec3<f32>(-wi.x, -wi.y, wi.z), vec3<f32>(1.0), fresnel.reflectance, true);
+        return BsdfSample(vec3<f32>(-wi.x, -wi.y, wi.z), vec3<f32>(1.0), fresnel.reflectance, true, 1.0);
     }
     let wo = vec3<f32>(-fresnel.eta_ti * wi.x, -fresnel.eta_ti * wi.y, fresnel.cos_theta_t);
     // radiance is compressed into a smaller solid angle on entering a denser medium: scale by eta_ti^2
     let weight = color * (fresnel.eta_ti * fresnel.eta_ti);
-    return BsdfSample(wo, weight, 1.0 - fresnel.reflectance, true);
+    return BsdfSample(wo, weight, 1.0 - fresnel.reflectance, true, fresnel.eta_ti);
 }

@@ -79,5 +79,5 @@ fn glossy_sample(color: vec3<f32>, roughness: f32, wi: vec3<f32>, u: vec2<f32>) 
         return no_bsdf_sample();
     }
     // eval / pdf: D and G1(wi) cancel, leaving F G1(wo)
-    return BsdfSample(wo, color * ggx_smith_g1(wo, m, alpha), glossy_pdf(roughness, wi, wo), false);
+    return BsdfSample(wo, color * ggx_smith_g1(wo, m, alpha), glossy_pdf(roughness, wi, wo), false, 1.0);
 }

@@ -8,8 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.bvh.test_refit import bounds_from_scratch
 from wgputrace import Camera, Diffuse, Emitter, Glass, Renderer, Scene, default_scene, make_box, make_icosphere
 from wgputrace import model_matrix as place
+from wgputrace.gpu.buffers import read_buffer
 from wgputrace.gpu.device import DeviceLimitError
 from wgputrace.gpu.layout import BVH_NODE, FRAME, MATERIAL, TRIANGLE
 from wgputrace.gpu.tracked_buffer import SPARE_FRACTION, UploadCount
@@ -19,6 +21,10 @@ from wgputrace.scene import SceneError
 SIZE = 24
 SEED = 5
 SPP = 2
+
+
+def triangle_corners(records: np.ndarray) -> np.ndarray:
+    return np.stack([records["v0"], records["v1"], records["v2"]], axis=1)
 
 
 def fresh_image(scene: Scene) -> np.ndarray:
@@ -81,14 +87,29 @@ def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell)
     assert stats["bvh nodes"].bytes == changed_nodes * BVH_NODE.size
     assert changed_nodes < len(nodes_before) // 2  # not the whole tree
     assert stats["triangles"].calls <= sphere.triangle_count // 8  # merged into runs, not one call a row
+    # the refit tree's bounds are exact (not merely conservative), and that is what the GPU holds
+    bvh, nodes = renderer.records.acceleration, renderer.records.nodes
+    expected_min, expected_max = bounds_from_scratch(bvh, triangle_corners(renderer.records.triangles))
+    np.testing.assert_array_equal(nodes["bounds_min"], expected_min)
+    np.testing.assert_array_equal(nodes["bounds_max"], expected_max)
+    np.testing.assert_array_equal(
+        read_buffer(renderer.context, renderer.bindings[2], BVH_NODE.dtype, len(nodes)), nodes
+    )
     np.testing.assert_array_equal(image, fresh_image(scene))
 
 
-def test_moving_the_lamp_keeps_light_sampling_equal_to_a_fresh_renderer(cornell):
-    scene, renderer = cornell
-    scene.shape("lamp").transform = place((0.1, 0.0, 0.15), (0, 0.3, 0), 1.0)
+def test_moving_a_light_keeps_light_sampling_equal_to_a_fresh_renderer(gpu_context, monkeypatch):
+    """A refit tree orders the moved light's triangles as they were; a fresh build orders them by
+    where they are now. Light sampling must not see the difference."""
+    scene = default_scene()
+    bulb = make_icosphere((0.2, 0.7, 0.2), (0, 0, 0), 0.05, 1, Emitter("bulb", emittance=20.0), "bulb")
+    scene.add(bulb)
+    renderer = Renderer(scene, SIZE, SIZE, seed=SEED)
+    renderer.render(SPP)
+    monkeypatch.setattr(scene_sync, "REBUILD_DEGRADATION", np.inf)  # keep the refit tree, however poor
+    bulb.transform = place((-0.4, -0.6, -0.3), (0, 0, 0), 1.0)
     image = rendered(renderer)
-    assert "lights" in renderer.upload_stats
+    assert "lights" in renderer.upload_stats and renderer._mirror.refits == 1
     np.testing.assert_array_equal(image, fresh_image(scene))
 
 

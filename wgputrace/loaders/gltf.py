@@ -30,6 +30,7 @@ from __future__ import annotations
 import base64
 import binascii
 import json
+import math
 import struct
 import warnings
 from pathlib import Path
@@ -113,7 +114,8 @@ class _Reader:
         if value is None and default is None:
             raise self.fail(where, f"{key!r} is missing")
         if kind is float and isinstance(value, int) and not isinstance(value, bool):
-            value = float(value)
+            # JSON integers are unbounded; beyond float range they count as infinite (and fail later)
+            value = float(value) if abs(value) < 2**1024 else (math.inf if value > 0 else -math.inf)
         if not isinstance(value, kind) or isinstance(value, bool) and kind is not bool:
             raise self.fail(f"{where}.{key}", f"must be {getattr(kind, '__name__', kind)}, got {value!r:.60}")
         return value
@@ -135,7 +137,10 @@ class _Reader:
             or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
         ):
             raise self.fail(f"{where}.{key}", f"must be {count} numbers, got {value!r:.80}")
-        array = np.array(value, dtype=np.float64)
+        try:
+            array = np.array(value, dtype=np.float64)
+        except OverflowError:  # a JSON integer beyond float range
+            array = np.array([np.inf])
         if not np.all(np.isfinite(array)):
             raise self.fail(f"{where}.{key}", f"must be finite, got {value!r:.80}")
         return array

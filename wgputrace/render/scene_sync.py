@@ -31,11 +31,11 @@ from .scene_buffers import SceneRecords, build_acceleration, material_records, n
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
 # Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
 # wandering through the Cornell box, a refit tree against a fresh one on the same geometry. Render
-# time grew faster than the SAH cost, time ratio ~ 1 + 1.37 (D - 1) on lavapipe, so at 1.2 a refit
-# tree renders ~27% slower, while rebuilding that 2,600-triangle scene (BVH build and full upload)
-# took 17-150 ms, a fraction of one sample per pixel at 64x64 and ~1% of one at 512x512: past this
-# value a rebuild pays for itself within the next sample. (A scene of millions of triangles takes
-# seconds to rebuild; see the README's notes on big meshes.)
+# time grew faster than the SAH cost, time ratio ~ 1 + 1.38 (D - 1) on lavapipe, so at 1.2 a refit
+# tree renders ~28% slower, while rebuilding that 2,600-triangle scene (BVH build and full upload)
+# took 18-29 ms, a quarter of one sample per pixel at 64x64 and under 1% of one at 512x512: past
+# this value a rebuild pays for itself within the next sample. (A million triangles take seconds
+# to rebuild: bench/big_mesh.py.)
 REBUILD_DEGRADATION = 1.2
 
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights"
@@ -62,6 +62,9 @@ class SceneMirror:
         self.triangles = self.nodes = self.materials = None
         self.lights: LightTable | None = None
         self.rebuilds = self.refits = 0
+        # set while the BVH is out of step with the records (a refit that must become a rebuild,
+        # which then did not finish: interrupted, out of memory): the next update rebuilds
+        self._needs_rebuild = False
         self._rebuild()
 
     @property
@@ -79,8 +82,13 @@ class SceneMirror:
         same_shapes = len(shapes) == len(self._shapes) and all(
             a is b for a, b in zip(shapes, self._shapes, strict=False)
         )
-        if not same_shapes or any(
-            not isinstance(s, Shape) or s.geometry_version != v[0] for s, v in zip(shapes, self._versions, strict=True)
+        if (
+            self._needs_rebuild
+            or not same_shapes
+            or any(
+                not isinstance(s, Shape) or s.geometry_version != v[0]
+                for s, v in zip(shapes, self._versions, strict=True)
+            )
         ):
             return self._rebuild()
         changes: dict[str, np.ndarray] = {}
@@ -88,6 +96,7 @@ class SceneMirror:
         if moved:
             refit = self._refit(moved)
             if refit is None:
+                self._needs_rebuild = True
                 return self._rebuild()
             changes.update(refit)
         reassigned = any(s.material_version != v[2] for s, v in zip(shapes, self._versions, strict=True))
@@ -137,6 +146,7 @@ class SceneMirror:
         self._position[order] = np.arange(len(order))
         changes[LIGHTS] = self._update_lights()
         self.rebuilds += 1
+        self._needs_rebuild = False
         self._snapshot()
         return {name: rows for name, rows in changes.items() if rows.size}
 

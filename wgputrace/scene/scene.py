@@ -92,6 +92,7 @@ class Scene:
 
     @property
     def triangle_count(self) -> int:
+        _check_shapes(self.shapes)
         return sum(shape.triangle_count for shape in self.shapes)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
