@@ -36,7 +36,9 @@ from wgputrace.gpu.device import describe  # noqa: E402
 from wgputrace.scenes import scene_by_name  # noqa: E402
 
 SCENES = ("cornell", "tiny_light")
-INTEGRATORS = ("mis", "bsdf")
+INTEGRATORS = ("mis", "nee", "bsdf")
+# Time-to-equal-error ratios are measured against this strategy's error at its last checkpoint.
+BASELINE_INTEGRATOR = "bsdf"
 VALIDATION_SPP = 16
 VALIDATION_SIGNIFICANCE = 1e-3  # family-wise, over scenes x integrators x channels
 CHANNELS = 3
@@ -154,6 +156,38 @@ def curves(rows: list[dict]) -> dict:
     return result
 
 
+def time_to_equal_error(curves_by_name: dict) -> dict:
+    """Per scene and integrator: the time it needs to reach the relative MSE that the baseline
+    (BSDF sampling) reaches at its last checkpoint, over the baseline's time for it. Both times
+    come from power laws fitted to relative MSE against time over the checkpoints from
+    FIT_MIN_SPP on, so single noisy checkpoints (a firefly in a heavy-tailed estimator) do not
+    decide the ratio. For unbiased strategies relative MSE falls as 1/time, so the ratio does not
+    depend on which error level is chosen."""
+
+    def fitted(curve: dict) -> tuple[float, float]:
+        keep = [i for i, spp in enumerate(curve["spp"]) if spp >= FIT_MIN_SPP]
+        log_seconds = np.log([curve["seconds"][i] for i in keep])
+        log_error = np.log([max(curve["relative_mse"][i], np.finfo(float).tiny) for i in keep])
+        slope, intercept = np.polyfit(log_seconds, log_error, 1)
+        return float(slope), float(intercept)
+
+    ratios = {}
+    for baseline in (c for c in curves_by_name.values() if c["integrator"] == BASELINE_INTEGRATOR):
+        base_slope, base_intercept = fitted(baseline)
+        target = float(np.exp(base_intercept + base_slope * np.log(baseline["seconds"][-1])))
+        for curve in (c for c in curves_by_name.values() if c["scene"] == baseline["scene"]):
+            slope, intercept = fitted(curve)
+            seconds = float(np.exp((np.log(target) - intercept) / slope))
+            ratios[f"{curve['scene']}/{curve['integrator']}"] = {
+                "baseline_relative_mse": target,
+                "baseline_seconds": baseline["seconds"][-1],
+                "seconds_to_reach_it": seconds,
+                "ratio_to_baseline_time": seconds / baseline["seconds"][-1],
+                "fitted_slope_relative_mse_vs_seconds": slope,
+            }
+    return ratios
+
+
 def plot(path: Path, result: dict) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -249,6 +283,7 @@ def main(argv: list[str] | None = None) -> int:
         "curves": curves(rows),
         "wall_seconds": time.perf_counter() - started,
     }
+    result["time_to_equal_error"] = time_to_equal_error(result["curves"])
     args.out.mkdir(parents=True, exist_ok=True)
     csv_path, json_path, png_path = (args.out / f"{stem}{suffix}" for suffix in (".csv", ".json", ".png"))
     lines = [",".join(CSV_COLUMNS)] + [",".join(str(row[column]) for column in CSV_COLUMNS) for row in rows]
@@ -260,6 +295,11 @@ def main(argv: list[str] | None = None) -> int:
             f"{name:24s} RMSE {curve['rmse'][-1]:.4g} at {curve['spp'][-1]} spp in {curve['seconds'][-1]:.1f} s; "
             f"slope {curve['slope_rmse_vs_spp']:.3f} vs spp, {curve['slope_rmse_vs_seconds']:.3f} vs time; "
             f"relative MSE slope {curve['slope_relative_mse_vs_spp']:.3f}"
+        )
+    for name, ratio in result["time_to_equal_error"].items():
+        print(
+            f"{name:24s} reaches {BASELINE_INTEGRATOR}'s final relative MSE in {ratio['ratio_to_baseline_time']:.3g} "
+            f"of its time (fitted slope {ratio['fitted_slope_relative_mse_vs_seconds']:.2f})"
         )
     print(f"wrote {csv_path}, {json_path.name}, {png_path.name} in {result['wall_seconds']:.0f} s")
     return 0

@@ -47,13 +47,17 @@ class BatchedRender:
         return Estimate.from_batches(self.batches)
 
 
-def render_batches(scene_name: str, size: int, *, batches: int, spp: int, seed: int, max_depth: int) -> BatchedRender:
+def render_batches(
+    scene_name: str, size: int, *, batches: int, spp: int, seed: int, max_depth: int, integrator: str = "mis"
+) -> BatchedRender:
     """`batches` images of `spp` samples each, from one renderer: each batch continues every
     pixel's random stream, so the batches are independent."""
     with warnings.catch_warnings():
         # the slivers scene drops its zero-area triangles on purpose (tests/scene checks the warning)
         warnings.simplefilter("ignore", DegenerateTrianglesWarning)
-        renderer = Renderer(scene_by_name(scene_name), size, size, seed=seed, max_depth=max_depth)
+        renderer = Renderer(
+            scene_by_name(scene_name), size, size, seed=seed, max_depth=max_depth, integrator=integrator
+        )
     images, nonfinite = [], 0
     for _ in range(batches):
         renderer.render(spp)
