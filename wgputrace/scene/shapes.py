@@ -161,7 +161,7 @@ class Shape:
     def _place(self, vertices: np.ndarray, transform: np.ndarray) -> None:
         # an identity stays exact: float64 arithmetic would turn -0.0 into 0.0
         world = vertices if np.array_equal(transform, _IDENTITY) else transform_points(vertices, transform)
-        bad = np.flatnonzero(~np.isfinite(world).all(axis=(1, 2)))
+        bad = _nonfinite_triangles(world)
         if bad.size:
             raise SceneError(
                 f"shape {self.name!r}: the transform takes triangle {int(bad[0])} to non-finite coordinates "
@@ -175,6 +175,11 @@ _IDENTITY = np.eye(4)
 _IDENTITY.flags.writeable = False
 
 
+def _nonfinite_triangles(vertices: np.ndarray) -> np.ndarray:
+    """Indices of the (n, 3, 3) triangles with a NaN or infinite coordinate."""
+    return np.flatnonzero(~np.isfinite(vertices).all(axis=(1, 2)))
+
+
 def _checked_vertices(name: str, value) -> np.ndarray:
     """A read-only (n, 3, 3) float32 copy with finite coordinates, or SceneError naming the triangle."""
     try:
@@ -184,7 +189,7 @@ def _checked_vertices(name: str, value) -> np.ndarray:
         raise SceneError(f"shape {name!r}: vertices must be numbers, got {error}") from None
     if vertices.ndim != 3 or vertices.shape[1:] != (3, 3):
         raise SceneError(f"shape {name!r}: vertices must have shape (n, 3, 3), got {vertices.shape}")
-    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=(1, 2)))
+    bad = _nonfinite_triangles(vertices)
     if bad.size:
         raise SceneError(
             f"shape {name!r}: triangle {int(bad[0])} has a NaN or infinite vertex {vertices[bad[0]].tolist()} "
