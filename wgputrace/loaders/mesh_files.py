@@ -7,14 +7,13 @@ three corners are triangulated by trimesh, and closed meshes are wound outwards 
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ..scene import Diffuse, SceneError, Shape
-from .errors import SceneLoadError, SceneLoadWarning
-from .orientation import orient_outwards
+from .errors import SceneLoadError
+from .orientation import wind_outwards
 
 DEFAULT_DIFFUSE = 0.8
 
@@ -37,15 +36,7 @@ def read_mesh_file(path: Path) -> list[Shape]:
         raise SceneLoadError(path, f"face {bad} {faces[bad].tolist()} refers beyond the {len(vertices)} vertices")
     with np.errstate(over="ignore"):
         triangles = vertices[faces].astype(np.float32)
-    turn = orient_outwards(triangles)
-    if turn.any():
-        triangles[turn] = triangles[turn][:, [0, 2, 1]]
-        warnings.warn(
-            f"{path}: the mesh is closed but {int(turn.sum())} of its {len(triangles)} triangles were wound inwards; "
-            "turned them outwards",
-            SceneLoadWarning,
-            stacklevel=3,
-        )
+    wind_outwards(triangles, path, "the mesh", stacklevel=3)
     try:
         return [Shape(path.stem, triangles, Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3))]
     except SceneError as error:

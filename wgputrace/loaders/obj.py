@@ -37,7 +37,7 @@ import numpy as np
 
 from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Shape
 from .errors import SceneLoadError, SceneLoadWarning
-from .orientation import orient_outwards
+from .orientation import wind_outwards
 
 DEFAULT_DIFFUSE = 0.8
 DEFAULT_IOR = 1.5
@@ -128,15 +128,7 @@ def _shapes(path: Path, corners: np.ndarray, runs) -> list[Shape]:
     for name, material, faces in runs:
         seen[name] = seen.get(name, 0) + 1
         triangles = corners[np.asarray(faces, np.int64).reshape(-1, 3)]
-        turn = orient_outwards(triangles)
-        if turn.any():
-            triangles[turn] = triangles[turn][:, [0, 2, 1]]
-            warnings.warn(
-                f"{path}: shape {name!r} is closed but {int(turn.sum())} of its {len(triangles)} triangles were "
-                "wound inwards; turned them outwards (Glass needs the inside behind the normal)",
-                SceneLoadWarning,
-                stacklevel=4,
-            )
+        wind_outwards(triangles, path, f"shape {name!r}", stacklevel=4)
         label = name if seen[name] == 1 else f"{name}#{seen[name]}"
         shapes.append(Shape(label, triangles, material))
     return shapes

@@ -10,9 +10,13 @@ its corners 1 and 2, the same convention as a mirroring transform (scene/shapes.
 
 from __future__ import annotations
 
+import warnings
 from collections import deque
+from pathlib import Path
 
 import numpy as np
+
+from .errors import SceneLoadWarning
 
 
 def orient_outwards(triangles: np.ndarray) -> np.ndarray:
@@ -42,6 +46,20 @@ def orient_outwards(triangles: np.ndarray) -> np.ndarray:
     components = _components(count, face_a, face_b)
     volume = _signed_volumes(np.where(turn[:, None, None], triangles[:, [0, 2, 1]], triangles), components)
     return turn ^ (volume[components] < 0)
+
+
+def wind_outwards(triangles: np.ndarray, path: Path, what: str, stacklevel: int) -> None:
+    """Turn the inward-wound triangles of closed parts outwards in place, with a warning naming
+    `what` (the mesh, or a shape of the file) and how many turned."""
+    turn = orient_outwards(triangles)
+    if turn.any():
+        triangles[turn] = triangles[turn][:, [0, 2, 1]]
+        warnings.warn(
+            f"{path}: {what} is closed but {int(turn.sum())} of its {len(triangles)} triangles were wound "
+            "inwards; turned them outwards (Glass needs the inside behind the normal)",
+            SceneLoadWarning,
+            stacklevel=stacklevel + 1,
+        )
 
 
 def _weld(points: np.ndarray) -> np.ndarray:
