@@ -1,5 +1,6 @@
 """Tracked buffers: changed rows become merged write_buffer calls, the GPU copy equals the host
-array afterwards, spare capacity absorbs small growth, and larger growth reallocates."""
+array afterwards, a first allocation is exact, outgrowing it reallocates with spare capacity, and
+that spare absorbs the next small growth."""
 
 from __future__ import annotations
 
@@ -43,7 +44,7 @@ def test_changed_rows_upload_as_merged_runs(gpu_context, rng):
     data = records(rng, 100)
     buffer = TrackedBuffer(gpu_context, "test", USAGE, data, binding_limit=LIMIT)
     assert buffer.uploads.calls == 1 and buffer.uploads.bytes == data.nbytes
-    assert buffer.capacity_bytes == data.nbytes + int(np.ceil(100 * SPARE_FRACTION)) * TRIANGLE.size
+    assert buffer.capacity_bytes == data.nbytes  # no spare until the records outgrow their buffer
     buffer.uploads.calls = buffer.uploads.bytes = 0
     rows = np.array([3, 4, 5, 50, 98, 99])
     data[rows] = records(rng, len(rows))
@@ -52,18 +53,25 @@ def test_changed_rows_upload_as_merged_runs(gpu_context, rng):
     np.testing.assert_array_equal(on_gpu(gpu_context, buffer, 100), data)
 
 
-def test_growth_within_capacity_keeps_the_buffer_and_beyond_reallocates(gpu_context, rng):
+def test_growth_reallocates_with_spare_that_holds_the_next_growth(gpu_context, rng):
     data = records(rng, 40)
     buffer = TrackedBuffer(gpu_context, "test", USAGE, data, binding_limit=LIMIT)
     generation, gpu_buffer = buffer.generation, buffer.buffer
-    grown = extended(data, records(rng, 10))  # 25 % spare of 40 rows holds 10 more
-    buffer.upload(grown, np.arange(40, 50))
-    assert buffer.buffer is gpu_buffer and buffer.generation == generation
-    np.testing.assert_array_equal(on_gpu(gpu_context, buffer, 50), grown)
-    larger = extended(grown, records(rng, 1))
-    buffer.upload(larger, np.arange(50, 51))
+    grown = extended(data, records(rng, 8))
+    buffer.upload(grown, np.arange(40, 48))
     assert buffer.buffer is not gpu_buffer and buffer.generation == generation + 1
-    np.testing.assert_array_equal(on_gpu(gpu_context, buffer, 51), larger)
+    spare = int(np.ceil(48 * SPARE_FRACTION))
+    assert buffer.capacity_bytes == (48 + spare) * TRIANGLE.size
+    np.testing.assert_array_equal(on_gpu(gpu_context, buffer, 48), grown)
+    generation, gpu_buffer = buffer.generation, buffer.buffer
+    filled = extended(grown, records(rng, spare))
+    buffer.upload(filled, np.arange(48, 48 + spare))
+    assert buffer.buffer is gpu_buffer and buffer.generation == generation
+    np.testing.assert_array_equal(on_gpu(gpu_context, buffer, 48 + spare), filled)
+    larger = extended(filled, records(rng, 1))
+    buffer.upload(larger, np.arange(48 + spare, 49 + spare))
+    assert buffer.buffer is not gpu_buffer and buffer.generation == generation + 1
+    np.testing.assert_array_equal(on_gpu(gpu_context, buffer, 49 + spare), larger)
 
 
 def test_a_buffer_beyond_the_binding_limit_names_limit_and_adapter_value(gpu_context, rng, monkeypatch):
@@ -73,8 +81,10 @@ def test_a_buffer_beyond_the_binding_limit_names_limit_and_adapter_value(gpu_con
         match=r"'test' \(22 records of 48 B\) needs max-storage-buffer-binding-size = 1,056 but the adapter .* offers 1,024",
     ):
         TrackedBuffer(gpu_context, "test", USAGE, records(rng, 22), binding_limit=LIMIT)
-    # spare capacity never exceeds the limit: 21 rows fit exactly, their spare does not
-    buffer = TrackedBuffer(gpu_context, "test", USAGE, records(rng, 21), binding_limit=LIMIT)
+    # spare capacity never exceeds the limit: growing to 21 rows fits, their spare does not
+    data = records(rng, 20)
+    buffer = TrackedBuffer(gpu_context, "test", USAGE, data, binding_limit=LIMIT)
+    buffer.upload(extended(data, records(rng, 1)), np.arange(20, 21))
     assert buffer.capacity_bytes == 1024
 
 

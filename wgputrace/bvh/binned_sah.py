@@ -8,11 +8,12 @@ Parameters of `build_bvh`:
     max_depth      64  levels at most; a node on the last level becomes a leaf whatever its size,
                        because the GPU traversal has a fixed 64-entry stack
 
-Each level keeps the triangles of its nodes contiguous per node, nodes in order. Per-node bounds
-are `reduceat` over those ranges, per-(bin, axis, node) counts and bounds are `bincount` and
-`ufunc.at` over flat cell keys, scans over bins give every split's cost, and the chosen split
-becomes a stable partition of each node's range computed from cumulative sums. Python loops run
-over levels, axes, bins and cache-sized batches of nodes, never over single nodes or triangles.
+Each level keeps the triangles of its nodes contiguous per node, nodes in order, as one record per
+triangle (box, centroid, id), so a partition moves a triangle with a single 40-byte gather.
+Per-(bin, axis, node) counts and bounds are `bincount` and `ufunc.at` over flat cell keys, scans
+over bins give every split's cost and the children's boxes, and the chosen split becomes a stable
+partition of each node's range computed from cumulative sums. Python loops run over levels, axes,
+bins and cache-sized batches of nodes, never over single nodes or triangles.
 """
 
 from __future__ import annotations
@@ -23,15 +24,24 @@ import numpy as np
 
 from wgputrace.bvh.tree import BVH, validated_vertices
 
-AXES = 3
 # Nodes are binned and partitioned in batches of about this many triangles so that temporaries
 # stay in cache instead of being faulted in fresh from the OS at every level (measured 1.4x faster
 # on 1e6 triangles; 2^15 to 2^17 perform alike). A batch is the nodes whose ranges start in one
 # window of this size, so its last node may run past the window.
 BATCH_TRIANGLES = 1 << 16
+# One triangle while the tree is built: its box, the box's centre, and its input index.
+RECORD = np.dtype([("min", np.float32, 3), ("max", np.float32, 3), ("centroid", np.float32, 3), ("id", np.uint32)])
+# The same bytes as one opaque item: numpy gathers these with a plain copy (field by field for RECORD).
+_RAW = np.dtype((np.void, RECORD.itemsize))
 
 
-def build_bvh(vertices: np.ndarray, *, bin_count: int = 16, max_leaf_size: int = 4, max_depth: int = 64) -> BVH:
+def build_bvh(
+    vertices: np.ndarray,
+    *,
+    bin_count: int = 16,
+    max_leaf_size: int = 4,
+    max_depth: int = 64,
+) -> BVH:
     """Build a BVH over (N, 3, 3) float32 triangles (triangle, corner, xyz)."""
     started = perf_counter()
     triangles = validated_vertices(vertices)
@@ -43,12 +53,12 @@ def build_bvh(vertices: np.ndarray, *, bin_count: int = 16, max_leaf_size: int =
         if value < smallest:
             raise ValueError(f"{name} must be at least {smallest}, got {value}")
     triangle_total = len(triangles)
-    corner_min = np.minimum(np.minimum(triangles[:, 0], triangles[:, 1]), triangles[:, 2]).T
-    corner_max = np.maximum(np.maximum(triangles[:, 0], triangles[:, 1]), triangles[:, 2]).T
-    # Rows 0-2 box min, 3-5 box max, 6-8 box centroid (halves summed so huge coordinates cannot
-    # overflow): one (9, n) array, so a partition moves everything with a single gather.
-    boxes = np.concatenate([corner_min, corner_max, corner_min * 0.5 + corner_max * 0.5])
-    ids = np.arange(triangle_total)
+    records = np.empty(triangle_total, RECORD)
+    records["min"] = np.minimum(np.minimum(triangles[:, 0], triangles[:, 1]), triangles[:, 2])
+    records["max"] = np.maximum(np.maximum(triangles[:, 0], triangles[:, 1]), triangles[:, 2])
+    # halves summed, so huge coordinates cannot overflow
+    records["centroid"] = records["min"] * 0.5 + records["max"] * 0.5
+    records["id"] = np.arange(triangle_total)
 
     node_capacity = 2 * triangle_total - 1  # a binary tree whose leaves are never empty
     bounds_min = np.empty((node_capacity, 3), np.float32)
@@ -56,9 +66,11 @@ def build_bvh(vertices: np.ndarray, *, bin_count: int = 16, max_leaf_size: int =
     left_or_first = np.empty(node_capacity, np.uint32)
     triangle_count = np.empty(node_capacity, np.uint32)
     triangle_order = np.empty(triangle_total, np.uint32)
+    bounds_min[0] = records["min"].min(axis=0)
+    bounds_max[0] = records["max"].max(axis=0)
 
-    # The current level: node ids, start of each node's range in boxes/ids, its triangle count,
-    # and its first slot in triangle_order.
+    # The current level: node ids, start of each node's range in records, its triangle count,
+    # and its first slot in triangle_order. Bounds of a level's nodes are set by their parent's split.
     node = np.zeros(1, np.int64)
     start = np.zeros(1, np.int64)
     count = np.array([triangle_total], np.int64)
@@ -67,16 +79,14 @@ def build_bvh(vertices: np.ndarray, *, bin_count: int = 16, max_leaf_size: int =
     depth = 0
     while node.size:
         depth += 1
-        bounds_min[node] = np.minimum.reduceat(boxes[0:3], start, axis=1).T
-        bounds_max[node] = np.maximum.reduceat(boxes[3:6], start, axis=1).T
         is_leaf = (count <= max_leaf_size) | (depth == max_depth)
         if is_leaf.any():
             left_or_first[node[is_leaf]] = first[is_leaf]
             triangle_count[node[is_leaf]] = count[is_leaf]
             in_leaf = np.repeat(is_leaf, count)
             # A triangle's slot is its position shifted by its node's (first - start).
-            triangle_order[np.flatnonzero(in_leaf) + np.repeat(first - start, count)[in_leaf]] = ids[in_leaf]
-            boxes, ids = boxes[:, ~in_leaf], ids[~in_leaf]
+            triangle_order[np.flatnonzero(in_leaf) + np.repeat(first - start, count)[in_leaf]] = records["id"][in_leaf]
+            records = records.view(_RAW)[~in_leaf].view(RECORD)
             node, count, first = node[~is_leaf], count[~is_leaf], first[~is_leaf]
             start = np.cumsum(count) - count
         if not node.size:
@@ -85,19 +95,28 @@ def build_bvh(vertices: np.ndarray, *, bin_count: int = 16, max_leaf_size: int =
         # A split never moves a triangle out of its node's range, so every batch of nodes is
         # binned and partitioned within its own slice.
         left_count = np.empty_like(count)
+        child_min = np.empty((node.size, 2, 3), np.float32)
+        child_max = np.empty((node.size, 2, 3), np.float32)
         batch_edges = np.flatnonzero(np.diff(start // BATCH_TRIANGLES, prepend=-1, append=-1))
         for node_lo, node_hi in zip(batch_edges[:-1], batch_edges[1:], strict=True):
-            batch = slice(start[node_lo], start[node_hi - 1] + count[node_hi - 1])
-            is_left = _left_side(boxes[:, batch], count[node_lo:node_hi], bin_count)
-            source, left_count[node_lo:node_hi] = _stable_partition(is_left, count[node_lo:node_hi])
-            boxes[:, batch] = np.take(boxes[:, batch], source, axis=1)
-            ids[batch] = ids[batch][source]
+            nodes = slice(node_lo, node_hi)
+            batch = records[start[node_lo] : start[node_hi - 1] + count[node_hi - 1]]
+            is_left, child_min[nodes], child_max[nodes], exact = _split(batch, count[nodes], bin_count)
+            source, left_count[nodes] = _stable_partition(is_left, count[nodes])
+            raw = batch.view(_RAW)
+            raw[...] = raw[source]
+            if not exact:  # nodes cut by position
+                child_start = np.column_stack([start[nodes], start[nodes] + left_count[nodes]]).ravel() - start[node_lo]
+                child_min[nodes] = np.minimum.reduceat(batch["min"], child_start).reshape(-1, 2, 3)
+                child_max[nodes] = np.maximum.reduceat(batch["max"], child_start).reshape(-1, 2, 3)
 
         left_or_first[node] = node_total + 2 * np.arange(node.size)
         triangle_count[node] = 0
         node = np.arange(node_total, node_total + 2 * node.size)
         node_total += node.size
         # Children interleave (left, right) per parent, matching their ids.
+        bounds_min[node] = child_min.reshape(-1, 3)
+        bounds_max[node] = child_max.reshape(-1, 3)
         start = np.column_stack([start, start + left_count]).ravel()
         first = np.column_stack([first, first + left_count]).ravel()
         count = np.column_stack([left_count, count - left_count]).ravel()
@@ -119,25 +138,49 @@ def _stable_partition(is_left: np.ndarray, count: np.ndarray) -> tuple[np.ndarra
     keeping their order; and the left count per node."""
     start = np.cumsum(count) - count
     left_count = np.add.reduceat(is_left, start, dtype=np.int64)
+    # With L the number of left triangles before each one, a left triangle's slot is
+    # L + (start - L[start]) and a right one's i - L + (left_count + L[start]) (their ranks
+    # within the node shifted to where each side begins).
     left_before = np.cumsum(is_left) - is_left
-    left_rank = left_before - np.repeat(left_before[start], count)
-    node_start = np.repeat(start, count)
-    right_rank = np.arange(is_left.size) - node_start - left_rank
-    destination = node_start + np.where(is_left, left_rank, np.repeat(left_count, count) + right_rank)
+    at_start = left_before[start]
+    destination = np.where(
+        is_left,
+        left_before + np.repeat(start - at_start, count),
+        np.arange(is_left.size) - left_before + np.repeat(left_count + at_start, count),
+    )
     source = np.empty_like(destination)
     source[destination] = np.arange(destination.size)
     return source, left_count
 
 
-def _left_side(boxes: np.ndarray, count: np.ndarray, bin_count: int) -> np.ndarray:
-    """For every triangle of consecutive nodes, whether it goes left under its node's best binned SAH split.
+def _split(records: np.ndarray, count: np.ndarray, bin_count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """The best binned SAH split of consecutive nodes: for every triangle whether it goes left; the
+    children's boxes (node, left/right, xyz); and whether those boxes are exact (False where a node
+    could not be split by bins, so the boxes must be recomputed).
 
     A node whose centroids allow no split with both sides non-empty (all centroids coincide) is
     cut in half by position instead, so its subtree stays logarithmic in depth.
     """
-    node_count = count.size
     start = np.cumsum(count) - count
-    corner_min, corner_max, centroid = boxes[0:3], boxes[3:6], boxes[6:9]
+    best_split, best_axis, has_split, child_min, child_max, bins = _best_splits(
+        records["min"].T, records["max"].T, records["centroid"].T, count, bin_count
+    )
+    is_left = bins[np.repeat(best_axis, count), np.arange(records.size)] <= np.repeat(best_split, count)
+    if not has_split.all():
+        by_position = np.arange(records.size) - np.repeat(start, count) < np.repeat(count // 2, count)
+        is_left = np.where(np.repeat(has_split, count), is_left, by_position)
+    return is_left, child_min, child_max, bool(has_split.all())
+
+
+def _best_splits(
+    corner_min: np.ndarray, corner_max: np.ndarray, centroid: np.ndarray, count: np.ndarray, bin_count: int
+) -> tuple[np.ndarray, ...]:
+    """Binned SAH over consecutive nodes of `count` triangles, with boxes (xyz, triangle) and the
+    centroid coordinates to bin along (axes, triangle): per node the best split and its row in
+    `centroid`, whether it has one with both sides non-empty, the children's boxes (node,
+    left/right, xyz); and every triangle's bins (axes, triangle)."""
+    axes, node_count = len(centroid), count.size
+    start = np.cumsum(count) - count
     centroid_min = np.minimum.reduceat(centroid, start, axis=1)
     extent = np.maximum.reduceat(centroid, start, axis=1) - centroid_min
     # The scale is formed in float64 and capped so a tiny extent cannot overflow it to inf; a zero
@@ -153,14 +196,14 @@ def _left_side(boxes: np.ndarray, count: np.ndarray, bin_count: int) -> np.ndarr
     # is odd because node counts are often powers of two, and a power-of-two stride makes the
     # scattered updates below alias in the cache (measured twice as slow).
     stride = node_count | 1
-    cells = (bin_count, AXES, stride)
-    keys = bins * (AXES * stride)
-    keys += np.arange(AXES)[:, None] * stride
+    cells = (bin_count, axes, stride)
+    keys = bins * (axes * stride)
+    keys += np.arange(axes)[:, None] * stride
     keys += np.repeat(np.arange(node_count), count)
     population = np.bincount(keys.ravel(), minlength=np.prod(cells)).reshape(cells)
     bin_min = np.full((3, *cells), np.inf, np.float32)
     bin_max = np.full((3, *cells), -np.inf, np.float32)
-    for axis in range(AXES):
+    for axis in range(axes):
         for coordinate in range(3):
             np.minimum.at(bin_min[coordinate].reshape(-1), keys[axis], corner_min[coordinate])
             np.maximum.at(bin_max[coordinate].reshape(-1), keys[axis], corner_max[coordinate])
@@ -169,29 +212,28 @@ def _left_side(boxes: np.ndarray, count: np.ndarray, bin_count: int) -> np.ndarr
     # the right scans in place on the bins themselves, which are not needed afterwards.
     left_population = _scan_bins(np.add, population)[:-1]
     right_population = np.pad(count, (0, stride - node_count)) - left_population
-    left_area = _half_area(
-        _scan_bins(np.minimum, bin_min.copy(), axis=1)[:, :-1],
-        _scan_bins(np.maximum, bin_max.copy(), axis=1)[:, :-1],
-    )
-    right_area = _half_area(
-        _scan_bins(np.minimum, bin_min[:, ::-1], axis=1)[:, -2::-1],
-        _scan_bins(np.maximum, bin_max[:, ::-1], axis=1)[:, -2::-1],
-    )
+    left_min = _scan_bins(np.minimum, bin_min.copy(), axis=1)
+    left_max = _scan_bins(np.maximum, bin_max.copy(), axis=1)
+    # Over all bins of any axis the left scan holds the node's box: extents are divided by its
+    # largest side, so float32 products neither overflow nor underflow whatever the scene's scale.
+    node_size = np.max(left_max[:, -1, 0].astype(np.float64) - left_min[:, -1, 0], axis=0)
+    left_min, left_max = left_min[:, :-1], left_max[:, :-1]
+    right_min = _scan_bins(np.minimum, bin_min[:, ::-1], axis=1)[:, -2::-1]
+    right_max = _scan_bins(np.maximum, bin_max[:, ::-1], axis=1)[:, -2::-1]
+    with np.errstate(divide="ignore"):
+        inverse_size = np.where(node_size > 0, 1.0 / node_size, 1.0)
+    inverse_size = np.minimum(inverse_size, np.finfo(np.float32).max).astype(np.float32)
     with np.errstate(invalid="ignore"):  # an empty side has infinite area times zero triangles
-        cost = left_area * left_population
-        cost += right_area * right_population
+        cost = _quarter_area(left_min, left_max, inverse_size) * left_population.astype(np.float32)
+        cost += _quarter_area(right_min, right_max, inverse_size) * right_population.astype(np.float32)
     cost[(left_population == 0) | (right_population == 0)] = np.inf
-    cost = cost.reshape(-1, stride)
-    best = np.argmin(cost, axis=0)[:node_count]
-    best_split, best_axis = np.divmod(best, AXES)
-    has_split = np.isfinite(cost[best, np.arange(node_count)])
-
-    chosen_bin = bins[np.repeat(best_axis, count), np.arange(bins.shape[1])]
-    is_left = chosen_bin <= np.repeat(best_split, count)
-    if not has_split.all():
-        by_position = np.arange(bins.shape[1]) - np.repeat(start, count) < np.repeat(count // 2, count)
-        is_left = np.where(np.repeat(has_split, count), is_left, by_position)
-    return is_left
+    nodes = np.arange(node_count)
+    best_split, best_axis = np.divmod(np.argmin(cost.reshape(-1, stride), axis=0)[:node_count], axes)
+    has_split = np.isfinite(cost[best_split, best_axis, nodes])
+    # (xyz, node, left/right) -> (node, left/right, xyz)
+    child_min = np.stack([left_min[:, best_split, best_axis, nodes], right_min[:, best_split, best_axis, nodes]], -1)
+    child_max = np.stack([left_max[:, best_split, best_axis, nodes], right_max[:, best_split, best_axis, nodes]], -1)
+    return best_split, best_axis, has_split, child_min.transpose(1, 2, 0), child_max.transpose(1, 2, 0), bins
 
 
 def _scan_bins(combine: np.ufunc, array: np.ndarray, axis: int = 0) -> np.ndarray:
@@ -206,10 +248,11 @@ def _scan_bins(combine: np.ufunc, array: np.ndarray, axis: int = 0) -> np.ndarra
     return array
 
 
-def _half_area(bounds_min: np.ndarray, bounds_max: np.ndarray) -> np.ndarray:
-    """Half the surface area of boxes with xyz on the first axis, in float64: squares of float32
-    extents can overflow or underflow float32, which would hide the differences between splits."""
-    x, y, z = np.subtract(bounds_max, bounds_min, dtype=np.float64)
+def _quarter_area(bounds_min: np.ndarray, bounds_max: np.ndarray, inverse_size: np.ndarray) -> np.ndarray:
+    """A quarter of the surface area of boxes with xyz on the first axis and nodes on the last, their
+    extents multiplied by the node's `inverse_size`. Half extents: the difference of two halved
+    float32 coordinates cannot overflow (float32's largest finite value minus its negative would)."""
+    x, y, z = (bounds_max * np.float32(0.5) - bounds_min * np.float32(0.5)) * inverse_size
     area = x * y
     area += y * z
     area += z * x

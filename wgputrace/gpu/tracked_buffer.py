@@ -1,9 +1,10 @@
 """GPU buffers that follow a numpy array of records and upload only the rows that changed.
 
 Rows given as changed are merged into runs of consecutive rows, and each run is one
-`queue.write_buffer`. Buffers are allocated with spare capacity so that a scene growing a little
-keeps its buffer (and the bind groups that point at it); growing past the capacity reallocates,
-uploads everything, and bumps `generation` so the owner knows to rebind.
+`queue.write_buffer`. A buffer is first allocated at the size of its records; growing past the
+capacity reallocates with spare capacity, so a scene that is being extended keeps its buffer (and
+the bind groups that point at it) for its next small additions, uploads everything, and bumps
+`generation` so the owner knows to rebind.
 """
 
 from __future__ import annotations
@@ -11,12 +12,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import wgpu
 
 from .buffers import MIN_BUFFER_BYTES
 from .device import GpuContext
 
-# Headroom allocated beyond the current size, as a fraction of it: a few added shapes fit without
-# reallocating, and the bytes per triangle reported on the GPU stay within this of what is used.
+# Headroom allocated beyond the current size, as a fraction of it, once records have outgrown their
+# buffer: a few more added shapes then fit without reallocating. Not on the first allocation, so a
+# scene as loaded costs only its records (triangles: 48 rather than 60 bytes each; a million-triangle
+# mesh, bench/big_mesh.py: 67 rather than 84 scene bytes per triangle), and an edited one stays
+# within this fraction of what it uses.
 SPARE_FRACTION = 0.25
 
 
@@ -45,6 +50,11 @@ class TrackedBuffer:
     def capacity_bytes(self) -> int:
         return self.buffer.size
 
+    @property
+    def resource(self) -> wgpu.GPUBuffer:
+        """What a bind group binds: the buffer (TrackedTexels binds a texture view)."""
+        return self.buffer
+
     def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
         """Make the GPU copy equal `data`, given that only `rows` (sorted, unique) differ from the
         last upload, rows beyond the old length included; None means every row."""
@@ -69,7 +79,7 @@ class TrackedBuffer:
         self.context.require(self.binding_limit, data.nbytes, what)
         self.context.require("max-buffer-size", data.nbytes, what)
         capacity = data.nbytes
-        if self.spare:
+        if self.spare and self.buffer is not None:
             spare_rows = int(np.ceil(len(data) * SPARE_FRACTION))
             capacity = min(data.nbytes + spare_rows * data.itemsize, self.context.device.limits[self.binding_limit])
         if self.buffer is not None:
