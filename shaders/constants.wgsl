@@ -26,11 +26,6 @@ const COS_MIN: f32 = 1e-7;
 // GGX with alpha -> 0 is a delta; clamping keeps D finite in f32 (D ~ 1 / (pi alpha^2)).
 const GGX_ALPHA_MIN: f32 = 1e-4;
 
-// Russian roulette starts at this path depth and never survives with more than this probability,
-// so that paths stuck in lossless loops (total internal reflection) still end.
-const RUSSIAN_ROULETTE_DEPTH: u32 = 3u;
-const RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
-
 // Shadow rays stop this fraction short of the light point, so the light's own triangle (or a
 // neighbour sharing its edge) never counts as an occluder.
 const SHADOW_RAY_SHORTENING: f32 = 0.9999;

@@ -1,9 +1,20 @@
-// Next-event estimation's light sampler: an emissive triangle by power (alias table), a point
-// uniform on it; sample_light beside pdf_light_area, which must agree with it.
+// Next-event estimation's light sampler: a triangle by power, a point uniform in its solid angle.
+// The triangle comes from an alias table, the point from spherical_triangle.wgsl (or uniform in
+// area, for tiny or huge solid angles); sample_light beside pdf_light, which must agree with it.
 //! include "scene_bindings.wgsl"
 //! include "constants.wgsl"
+//! include "spherical_triangle.wgsl"
 
 @group(0) @binding(6) var<storage, read> lights: array<Light>;
+
+// Light triangles subtending solid angles in this range (steradians) are sampled uniformly in solid
+// angle (spherical_triangle.wgsl); outside it, uniformly in area. Below the minimum the sampler's
+// f32 trigonometry loses digits and a triangle that small looks alike from all its points, so
+// area sampling is as good; above the maximum (nearly a hemisphere, from right beside a triangle)
+// the arcs degenerate: pbrt-v4's MinSphericalSampleArea and MaxSphericalSampleArea. An override,
+// so that bench/error_breakdown.py can measure area sampling alone (a minimum above 4 pi).
+override SPHERICAL_SAMPLING_MIN_SOLID_ANGLE: f32 = 3e-4;
+const SPHERICAL_SAMPLING_MAX_SOLID_ANGLE: f32 = 6.22;
 
 // Rec. 709 luminance, the same weights as wgputrace/render/lights.py's LUMINANCE_WEIGHTS.
 const LUMINANCE_WEIGHTS: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
@@ -14,33 +25,58 @@ struct LightSample {
     normal: vec3<f32>,
     radiance: vec3<f32>,
     triangle: u32,
-    pdf_area: f32,
+    // density of the direction from the receiving point, per steradian
+    pdf: f32,
 }
 
 fn luminance(color: vec3<f32>) -> f32 {
     return dot(color, LUMINANCE_WEIGHTS);
 }
 
-// Triangles are chosen with probability area x luminance / total, points uniformly (1 / area):
-// the area density of every light point is its luminance over the total, whatever the triangle.
-fn pdf_light_area(radiance: vec3<f32>) -> f32 {
-    return luminance(radiance) / frame.light_weight_total;
+fn light_triangle_solid_angle(p: vec3<f32>, triangle: Triangle) -> f32 {
+    return spherical_triangle_area(normalize(triangle.v0 - p), normalize(triangle.v1 - p), normalize(triangle.v2 - p));
 }
 
-fn sample_light(u_select: vec2<f32>, u_point: vec2<f32>) -> LightSample {
+fn samples_solid_angle(solid_angle: f32) -> bool {
+    return solid_angle >= SPHERICAL_SAMPLING_MIN_SOLID_ANGLE && solid_angle <= SPHERICAL_SAMPLING_MAX_SOLID_ANGLE;
+}
+
+// Density per steradian, seen from `p`, with which sample_light picks the point of light triangle
+// `triangle` (radiance `radiance`) at squared distance `distance_squared` and cosine `cos_light`.
+// Triangles are chosen with probability area x luminance / total; within the triangle the point is
+// uniform in solid angle (1 / solid angle) or in area (1 / area, converted to solid angle).
+fn pdf_light(p: vec3<f32>, triangle: Triangle, radiance: vec3<f32>, distance_squared: f32, cos_light: f32) -> f32 {
+    let per_area = luminance(radiance) / frame.light_weight_total;
+    let solid_angle = light_triangle_solid_angle(p, triangle);
+    if samples_solid_angle(solid_angle) {
+        return per_area * (0.5 * length(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0))) / solid_angle;
+    }
+    return per_area * distance_squared / cos_light;
+}
+
+fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightSample {
     let slot = min(u32(u_select.x * f32(frame.light_count)), frame.light_count - 1u);
     let entry = lights[slot];
     let index = select(lights[entry.alias_index].triangle, entry.triangle, u_select.y < entry.threshold);
     let triangle = triangles[index];
-    // uniform on the triangle: sqrt warps the first coordinate so area is preserved
-    let s = sqrt(u_point.x);
-    let position = triangle.v0 * (1.0 - s) + triangle.v1 * (s * (1.0 - u_point.y)) + triangle.v2 * (s * u_point.y);
     let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
     let radiance = materials[triangle.material].color;
-    return LightSample(position, normal, radiance, index, pdf_light_area(radiance));
-}
-
-// Area density to solid-angle density, seen from a point `distance` away at cosine `cos_light`.
-fn area_to_solid_angle(pdf_area: f32, distance_squared: f32, cos_light: f32) -> f32 {
-    return pdf_area * distance_squared / cos_light;
+    let a = normalize(triangle.v0 - p);
+    let b = normalize(triangle.v1 - p);
+    let c = normalize(triangle.v2 - p);
+    let solid_angle = spherical_triangle_area(a, b, c);
+    var position: vec3<f32>;
+    if samples_solid_angle(solid_angle) {
+        let direction = sample_spherical_triangle(a, b, c, solid_angle, u_point);
+        // where the sampled direction meets the triangle's plane
+        position = p + direction * (dot(triangle.v0 - p, normal) / dot(direction, normal));
+    } else {
+        // uniform on the triangle: sqrt warps the first coordinate so area is preserved
+        let s = sqrt(u_point.x);
+        position = triangle.v0 * (1.0 - s) + triangle.v1 * (s * (1.0 - u_point.y)) + triangle.v2 * (s * u_point.y);
+    }
+    let to_light = position - p;
+    let distance_squared = dot(to_light, to_light);
+    let cos_light = abs(dot(normal, to_light)) / sqrt(distance_squared);
+    return LightSample(position, normal, radiance, index, pdf_light(p, triangle, radiance, distance_squared, cos_light));
 }

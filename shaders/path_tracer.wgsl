@@ -21,6 +21,12 @@ override INTEGRATOR: u32 = INTEGRATOR_MIS;
 // sampling made the glossy vertex 1.15x as efficient at roughness 0.005, 0.91x at 0.002.
 override GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS: f32 = 0.005;
 
+// Russian roulette starts at this path depth and never survives with more than this probability,
+// so that paths stuck in lossless loops (total internal reflection) still end. Overrides so that
+// bench/error_breakdown.py can measure other policies.
+override RUSSIAN_ROULETTE_DEPTH: u32 = 3u;
+override RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
+
 fn triangle_normal(triangle: Triangle) -> vec3<f32> {
     return normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
 }
@@ -38,7 +44,7 @@ fn samples_lights(material: Material) -> bool {
 // Light reaching the surface point `p` of `triangle` from one sampled light point, times the
 // BSDF (cosine included), over the sample's density, weighted against BSDF sampling under MIS.
 fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, material: Material, wi: vec3<f32>) -> vec3<f32> {
-    let light = sample_light(rng_next_2d(), rng_next_2d());
+    let light = sample_light(p, rng_next_2d(), rng_next_2d());
     let to_light = light.position - p;
     let distance_squared = dot(to_light, to_light);
     let distance = sqrt(distance_squared);
@@ -61,26 +67,25 @@ fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: Sh
     if occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, triangle_index) {
         return vec3<f32>(0.0);
     }
-    let pdf_light = area_to_solid_angle(light.pdf_area, distance_squared, cos_light);
     var weight = 1.0;
     if INTEGRATOR == INTEGRATOR_MIS {
-        weight = power_heuristic(pdf_light, bsdf_pdf(material, wi, wo));
+        weight = power_heuristic(light.pdf, bsdf_pdf(material, wi, wo));
     }
-    return f * light.radiance * (weight / pdf_light);
+    return f * light.radiance * (weight / light.pdf);
 }
 
 // Weight of emission found by following the path: in full where the previous vertex could not
 // sample lights (the camera, glass, near-mirrors), not at all under pure NEE (light sampling
-// counted it), and by the power heuristic under MIS.
-fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, radiance: vec3<f32>, distance: f32, cos_light: f32) -> f32 {
+// counted it), and by the power heuristic under MIS. `previous_position` is the point the light
+// sampler would have sampled from (unmoved by the ray offset, as in direct_light).
+fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, previous_position: vec3<f32>, triangle: Triangle, radiance: vec3<f32>, distance: f32, cos_light: f32) -> f32 {
     if !previous_sampled_lights {
         return 1.0;
     }
     if INTEGRATOR == INTEGRATOR_NEE {
         return 0.0;
     }
-    let pdf_light = area_to_solid_angle(pdf_light_area(radiance), distance * distance, cos_light);
-    return power_heuristic(previous_bsdf_pdf, pdf_light);
+    return power_heuristic(previous_bsdf_pdf, pdf_light(previous_position, triangle, radiance, distance * distance, cos_light));
 }
 
 // One path from the camera: emission at every vertex, direct light by the chosen integrator,
@@ -97,6 +102,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
     var skip_triangle = NO_TRIANGLE;
     var previous_sampled_lights = false;
     var previous_bsdf_pdf = 0.0;
+    var previous_position = vec3<f32>(0.0);
     var eta_scale = 1.0;
     for (var depth = 1u; ; depth++) {
         let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
@@ -109,7 +115,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         if material.kind == MATERIAL_EMITTER {
             // emitters shine from both sides and reflect nothing
             let cos_light = abs(dot(normal, ray.direction));
-            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, material.color, hit.t, cos_light);
+            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, previous_position, triangle, material.color, hit.t, cos_light);
             radiance += throughput * material.color * weight;
             break;
         }
@@ -120,6 +126,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         let wi = to_local(local, -ray.direction);
         let p = ray.origin + hit.t * ray.direction;
         previous_sampled_lights = samples_lights(material);
+        previous_position = p;
         if previous_sampled_lights {
             radiance += throughput * direct_light(p, triangle, hit.triangle, local, material, wi);
         }
