@@ -26,10 +26,9 @@ import numpy as np
 if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from bench.common import write_result  # noqa: E402
 from wgputrace import Camera, Emitter, Renderer, load_scene, make_plane, model_matrix  # noqa: E402
 from wgputrace.cli import parse_size  # noqa: E402
-from wgputrace.gpu.device import describe  # noqa: E402
 
 CELLS = 708  # 2 x 708^2 = 1,002,528 triangles
 
@@ -101,13 +100,9 @@ def main() -> None:
     uploads = renderer.update()
     refit_seconds = time.perf_counter() - start
     mirror = renderer._mirror
-    info = describe()
     result.update(
         {
-            "git_revision": git_revision(),
-            "adapter": info,
-            "environment": environment(),
-            "load_average": load_average(),
+            "scene": f"height field of {len(faces):,} triangles under a square lamp",
             "triangles_rendered": renderer.triangle_count,
             "bvh": {
                 "build_seconds": build_seconds,
@@ -119,8 +114,10 @@ def main() -> None:
             "setup_besides_bvh_seconds": setup_seconds - build_seconds,
             "gpu_bytes_per_triangle": renderer.gpu_bytes_per_triangle,
             "gpu_scene_bytes": renderer.gpu_scene_bytes,
-            "resolution": [width, height],
+            "width": width,
+            "height": height,
             "spp": args.spp,
+            "max_depth": renderer.max_depth,
             "render_seconds": render_stats.render_seconds,
             "move_mesh": {
                 "update_seconds": refit_seconds,
@@ -137,9 +134,7 @@ def main() -> None:
     )
     print(f"render {args.spp} spp at {width}x{height}: {render_stats.render_seconds:.2f} s")
     print(f"move the mesh: update {refit_seconds:.2f} s, uploads {result['move_mesh']['uploads']}")
-    path = RESULTS_DIR / f"big_mesh_{slug(info['adapter'], info['backend'])}.json"
-    write_json(path, result)
-    print(f"wrote {path}")
+    print(f"wrote {write_result('big_mesh', result)['json']}")
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
-"""What every benchmark records besides its numbers: git revision, versions, machine, result file names."""
+"""What every benchmark records besides its numbers (git revision, adapter, versions, machine load), and
+where its files go: `write_result` is the one way a benchmark writes its results."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import platform
 import re
 import subprocess
 import sys
+from collections.abc import Callable
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -77,3 +79,52 @@ def load_average() -> list[float] | None:
 def write_json(path: Path, data: dict) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(data, indent=2) + "\n")
+
+
+# What a result file must say about the picture it measured; None where one does not apply (a BVH
+# build renders nothing), so a missing key is always an oversight.
+SETTINGS_KEYS = ("scene", "width", "height", "spp", "max_depth")
+
+
+def result_stem(name: str, out: Path = RESULTS_DIR) -> Path:
+    """out/<name>_<adapter slug>: results from different adapters sit side by side."""
+    from wgputrace.gpu.device import describe
+
+    adapter = describe()
+    return out / f"{name}_{slug(adapter['adapter'], adapter['backend'])}"
+
+
+def write_result(
+    name: str,
+    data: dict,
+    *,
+    out: Path = RESULTS_DIR,
+    plot: Callable[[Path, dict], None] | None = None,
+) -> dict[str, Path]:
+    """Write `data` with the metadata every result carries as <stem>.json (stem: `result_stem`), and
+    `plot(png_path, result)` as <stem>.png where given; returns the paths by kind ("json", "png").
+
+    The metadata (benchmark name, git revision, adapter, versions, load average now) comes first in
+    the file and is what `plot` sees too, so a chart can name adapter and revision. `data` must hold
+    SETTINGS_KEYS.
+    """
+    from wgputrace.gpu.device import describe
+
+    missing = [key for key in SETTINGS_KEYS if key not in data]
+    if missing:
+        raise ValueError(f"the {name} result lacks {', '.join(missing)}: record each, None where it does not apply")
+    result = {
+        "benchmark": name,
+        "git_revision": git_revision(),
+        "adapter": describe(),
+        "environment": environment(),
+        "load_average_at_write": load_average(),
+        **data,
+    }
+    stem = result_stem(name, out)
+    paths = {"json": stem.with_suffix(".json")}
+    write_json(paths["json"], result)
+    if plot is not None:
+        paths["png"] = stem.with_suffix(".png")
+        plot(paths["png"], result)
+    return paths

@@ -28,11 +28,10 @@ import numpy as np
 if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
 from bench.throughput import agreement, sidak_critical_z  # noqa: E402
 from tests.render.reference_images import load_reference  # noqa: E402
 from wgputrace import Renderer  # noqa: E402
-from wgputrace.gpu.device import describe  # noqa: E402
 from wgputrace.scenes import scene_by_name  # noqa: E402
 
 SCENES = ("cornell", "tiny_light")
@@ -156,6 +155,20 @@ def curves(rows: list[dict]) -> dict:
     return result
 
 
+def fit_power_law(curve: dict, metric: str) -> tuple[float, float]:
+    """Slope and intercept of log `metric` against log seconds over the checkpoints from FIT_MIN_SPP on."""
+    keep = [i for i, spp in enumerate(curve["spp"]) if spp >= FIT_MIN_SPP]
+    log_seconds = np.log([curve["seconds"][i] for i in keep])
+    log_error = np.log([max(curve[metric][i], np.finfo(float).tiny) for i in keep])
+    slope, intercept = np.polyfit(log_seconds, log_error, 1)
+    return float(slope), float(intercept)
+
+
+def seconds_to_reach(slope: float, intercept: float, error: float) -> float:
+    """Where the power law log error = intercept + slope log seconds reaches `error`."""
+    return float(np.exp((np.log(error) - intercept) / slope))
+
+
 def time_to_equal_error(curves_by_name: dict) -> dict:
     """Per scene and integrator: the time it needs to reach the relative MSE that the baseline
     (BSDF sampling) reaches at its last checkpoint, over the baseline's time for it. Both times
@@ -164,20 +177,13 @@ def time_to_equal_error(curves_by_name: dict) -> dict:
     decide the ratio. For unbiased strategies relative MSE falls as 1/time, so the ratio does not
     depend on which error level is chosen."""
 
-    def fitted(curve: dict) -> tuple[float, float]:
-        keep = [i for i, spp in enumerate(curve["spp"]) if spp >= FIT_MIN_SPP]
-        log_seconds = np.log([curve["seconds"][i] for i in keep])
-        log_error = np.log([max(curve["relative_mse"][i], np.finfo(float).tiny) for i in keep])
-        slope, intercept = np.polyfit(log_seconds, log_error, 1)
-        return float(slope), float(intercept)
-
     ratios = {}
     for baseline in (c for c in curves_by_name.values() if c["integrator"] == BASELINE_INTEGRATOR):
-        base_slope, base_intercept = fitted(baseline)
+        base_slope, base_intercept = fit_power_law(baseline, "relative_mse")
         target = float(np.exp(base_intercept + base_slope * np.log(baseline["seconds"][-1])))
         for curve in (c for c in curves_by_name.values() if c["scene"] == baseline["scene"]):
-            slope, intercept = fitted(curve)
-            seconds = float(np.exp((np.log(target) - intercept) / slope))
+            slope, intercept = fit_power_law(curve, "relative_mse")
+            seconds = seconds_to_reach(slope, intercept, target)
             ratios[f"{curve['scene']}/{curve['integrator']}"] = {
                 "baseline_relative_mse": target,
                 "baseline_seconds": baseline["seconds"][-1],
@@ -250,8 +256,6 @@ def main(argv: list[str] | None = None) -> int:
     args = parse_arguments(argv)
     started = time.perf_counter()
     load_before = load_average()
-    adapter = describe()
-    stem = f"convergence_{slug(adapter['adapter'], adapter['backend'])}"
     z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.scenes) * len(args.integrators) * CHANNELS)
     rows, settings = [], {}
     for scene in args.scenes:
@@ -260,15 +264,13 @@ def main(argv: list[str] | None = None) -> int:
             rows += new_rows
     first = next(iter(settings.values()))
     result = {
-        "benchmark": "convergence",
-        "git_revision": git_revision(),
-        "adapter": adapter,
-        "environment": environment(),
         "load_average_before_after": [load_before, load_average()],
+        "scene": list(args.scenes),
         "mitsuba": first["reference"]["mitsuba"],
         "width": first["width"],
         "height": first["height"],
         "max_depth": first["max_depth"],
+        "spp": args.max_spp,  # the last checkpoint; the curves hold every one
         "max_spp": args.max_spp,
         "runs": args.runs,
         "seed": args.seed,
@@ -284,12 +286,10 @@ def main(argv: list[str] | None = None) -> int:
         "wall_seconds": time.perf_counter() - started,
     }
     result["time_to_equal_error"] = time_to_equal_error(result["curves"])
-    args.out.mkdir(parents=True, exist_ok=True)
-    csv_path, json_path, png_path = (args.out / f"{stem}{suffix}" for suffix in (".csv", ".json", ".png"))
+    paths = write_result("convergence", result, out=args.out, plot=plot)
+    csv_path = result_stem("convergence", args.out).with_suffix(".csv")
     lines = [",".join(CSV_COLUMNS)] + [",".join(str(row[column]) for column in CSV_COLUMNS) for row in rows]
     csv_path.write_text("\n".join(lines) + "\n")
-    write_json(json_path, result)
-    plot(png_path, result)
     for name, curve in result["curves"].items():
         print(
             f"{name:24s} RMSE {curve['rmse'][-1]:.4g} at {curve['spp'][-1]} spp in {curve['seconds'][-1]:.1f} s; "
@@ -301,7 +301,7 @@ def main(argv: list[str] | None = None) -> int:
             f"{name:24s} reaches {BASELINE_INTEGRATOR}'s final relative MSE in {ratio['ratio_to_baseline_time']:.3g} "
             f"of its time (fitted slope {ratio['fitted_slope_relative_mse_vs_seconds']:.2f})"
         )
-    print(f"wrote {csv_path}, {json_path.name}, {png_path.name} in {result['wall_seconds']:.0f} s")
+    print(f"wrote {csv_path}, {paths['json'].name}, {paths['png'].name} in {result['wall_seconds']:.0f} s")
     return 0
 
 

@@ -29,9 +29,8 @@ import numpy as np
 if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
 from wgputrace import Renderer, default_scene  # noqa: E402
-from wgputrace.gpu.device import describe  # noqa: E402
 from wgputrace.image_io import linear_to_srgb  # noqa: E402
 from wgputrace.render.display import (  # noqa: E402
     FILTER_ALBEDO_SIGMA,
@@ -162,7 +161,6 @@ def main(argv: list[str] | None = None) -> int:
     reference, reference_info = load_reference(None)
     height, width = reference.shape[:2]
     results, means = measure(reference, args.spp, args.repeats, args.seed)
-    adapter = describe()
     summary = {
         name: {
             str(spp): {
@@ -186,10 +184,6 @@ def main(argv: list[str] | None = None) -> int:
         for name in ("filtered", "full_filter")
     }
     result = {
-        "benchmark": "filter_psnr",
-        "git_revision": git_revision(),
-        "adapter": adapter,
-        "environment": environment(),
         "load_average_before_after": [load_before, load_average()],
         "scene": DEFAULT_SCENE,
         "width": width,
@@ -214,16 +208,13 @@ def main(argv: list[str] | None = None) -> int:
         "reference_mean_radiance": float(reference.mean(dtype=np.float64)),
         "wall_seconds": time.perf_counter() - started,
     }
-    stem = f"filter_psnr_{slug(adapter['adapter'], adapter['backend'])}"
-    args.out.mkdir(parents=True, exist_ok=True)
-    write_json(args.out / f"{stem}.json", result)
-    with open(args.out / f"{stem}.csv", "w", newline="") as file:
+    paths = write_result("filter_psnr", result, out=args.out, plot=plot)
+    with open(result_stem("filter_psnr", args.out).with_suffix(".csv"), "w", newline="") as file:
         writer = csv.writer(file)
         writer.writerow(["spp", "filter_weight", *(f"psnr_{name}_db" for name in VARIANTS), "gain_db", "repeats"])
         for spp in args.spp:
             means = [f"{summary[name][str(spp)]['mean']:.3f}" for name in VARIANTS]
             writer.writerow([spp, f"{filter_weight(spp):.3f}", *means, f"{gains[str(spp)]:.3f}", args.repeats])
-    plot(args.out / f"{stem}.png", result)
     for spp in args.spp:
         print(
             f"{spp:4d} spp  unfiltered {summary['unfiltered'][str(spp)]['mean']:6.2f} dB  "
@@ -231,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
             f"full filter {summary['full_filter'][str(spp)]['mean']:6.2f} dB  gain {gains[str(spp)]:+.2f} dB  "
             f"mean radiance x{mean_ratio['filtered'][str(spp)]:.4f}"
         )
-    print(f"reference: {reference_info['kind']}; wrote {args.out / stem}.json, .csv, .png")
+    print(f"reference: {reference_info['kind']}; wrote {paths['json']}, .csv, .png")
     return 0
 
 

@@ -23,9 +23,8 @@ import numpy as np
 if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from bench.common import RESULTS_DIR, environment, git_revision, slug, write_json  # noqa: E402
+from bench.common import RESULTS_DIR, write_result  # noqa: E402
 from wgputrace import Camera, Emitter, Glossy, Renderer, Scene, make_icosphere, make_plane  # noqa: E402
-from wgputrace.gpu.device import describe  # noqa: E402
 
 ROUGHNESSES = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5)
 THRESHOLD = "GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS"
@@ -88,7 +87,9 @@ def measure(size: int, spp: int, reference_spp: int, repeats: int) -> list[dict]
     return rows
 
 
-def plot(path: Path, rows: list[dict], title: str) -> None:
+def plot(path: Path, result: dict) -> None:
+    rows = result["rows"]
+    title = f"{result['adapter']['adapter']}, {result['width']}^2, {result['spp']} spp, {result['git_revision']}"
     import matplotlib
 
     matplotlib.use("Agg")
@@ -117,14 +118,10 @@ def main(argv: list[str] | None = None) -> int:
     rows = measure(args.size, args.spp, args.reference_spp, args.repeats)
     helping = [r["roughness"] for r in rows if r["light sampling gain"] >= 1.0]
     threshold = min(helping) if helping else None
-    device = describe()
     result = {
-        "benchmark": "glossy_light_sampling",
-        "adapter": device["adapter"],
-        "backend": device["backend"],
-        "git_revision": git_revision(),
-        "environment": environment(),
-        "resolution": [args.size, args.size],
+        "scene": "a glossy sphere under a small light, at each roughness",
+        "width": args.size,
+        "height": args.size,
         "spp": args.spp,
         "reference_spp": 2 * args.reference_spp,
         "max_depth": MAX_DEPTH,
@@ -133,12 +130,8 @@ def main(argv: list[str] | None = None) -> int:
         "smallest_roughness_where_light_sampling_helps": threshold,
         "wall_seconds": time.perf_counter() - started,
     }
-    stem = f"glossy_light_sampling_{slug(device['adapter'], device['backend'])}"
-    write_json(args.out / f"{stem}.json", result)
-    plot(
-        args.out / f"{stem}.png", rows, f"{device['adapter']}, {args.size}^2, {args.spp} spp, {result['git_revision']}"
-    )
-    print(f"light sampling helps from roughness {threshold}; wrote {args.out / stem}.json and .png")
+    paths = write_result("glossy_light_sampling", result, out=args.out, plot=plot)
+    print(f"light sampling helps from roughness {threshold}; wrote {paths['json']} and .png")
     return 0
 
 

@@ -28,10 +28,9 @@ import numpy as np
 if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from bench.common import write_result  # noqa: E402
 from wgputrace import Diffuse, Renderer, default_scene, make_icosphere, model_matrix  # noqa: E402
 from wgputrace.cli import parse_size  # noqa: E402
-from wgputrace.gpu.device import describe  # noqa: E402
 from wgputrace.render import scene_sync  # noqa: E402
 
 SEED = 20261123
@@ -125,30 +124,28 @@ def main() -> None:
     ratio = np.array([s["time_ratio"] for s in steps])
     # least squares through (1, 1): a tree as good as built renders as fast as a fresh one
     slope = float(np.dot(degradation - 1, ratio - 1) / max(np.dot(degradation - 1, degradation - 1), 1e-12))
-    info = describe()
     result = {
-        "benchmark": "refit_threshold",
-        "git_revision": git_revision(),
-        "adapter": info,
-        "environment": environment(),
-        "load_average": load_average(),
         "scene": f"default Cornell box + {SPHERES} spheres of {20 * 4**SPHERE_SUBDIVISIONS} triangles, random walk {STEP}",
         "triangles": refit.triangle_count,
-        "resolution": [width, height],
+        "width": width,
+        "height": height,
         "spp": args.spp,
+        "max_depth": refit.max_depth,
         "repeats": args.repeats,
         "steps": steps,
         "fit": {"time_ratio_minus_1_per_degradation_minus_1": slope},
         "threshold_in_use": threshold,
     }
-    name = f"refit_threshold_{slug(info['adapter'], info['backend'])}"
-    write_json(RESULTS_DIR / f"{name}.json", result)
-    chart(RESULTS_DIR / f"{name}.png", degradation, ratio, slope, threshold, result["scene"])
+    paths = write_result("refit_threshold", result, plot=chart)
     print(f"slope of (time ratio - 1) over (degradation - 1): {slope:.3f}")
-    print(f"wrote {RESULTS_DIR / name}.json and .png")
+    print(f"wrote {paths['json']} and .png")
 
 
-def chart(path: Path, degradation: np.ndarray, ratio: np.ndarray, slope: float, threshold: float, title: str) -> None:
+def chart(path: Path, result: dict) -> None:
+    degradation = np.array([step["degradation"] for step in result["steps"]])
+    ratio = np.array([step["time_ratio"] for step in result["steps"]])
+    slope = result["fit"]["time_ratio_minus_1_per_degradation_minus_1"]
+    threshold, title = result["threshold_in_use"], result["scene"]
     import matplotlib
 
     matplotlib.use("Agg")

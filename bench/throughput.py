@@ -7,18 +7,22 @@ Each acceleration gets its own renderer with the same seed, so both trace the sa
 numbers. Order of work: warm up (the first dispatch compiles the shader on lavapipe; discarded),
 validate two images per acceleration (finite, sane brightness, Cornell structure, and the two
 accelerations statistically equal), and only then time `repeats` renders of `spp` samples per
-acceleration, interleaved so that background load drifting during the run hits both alike.
+acceleration, interleaved so that background load drifting during the run hits both alike. Every
+timed render starts from the seed (Renderer.restart), so all repeats trace the same rays.
 Writes bench/results/throughput_<adapter>.json and .png.
 
 Paths/s counts camera paths (pixels x samples); a path is one sample of one pixel, up to
-`max_depth` vertices. Rays/s is not reported: the number of rays per path depends on where paths
-end (Russian roulette, escaping the box, max depth), and counting it honestly needs a ray counter
-in the shader, which the path tracer does not have yet.
+`max_depth` vertices. Rays/s: after timing, the same render is run once more through the path
+tracer with ray counters compiled in (wgputrace/render/ray_count.py; the timed kernel has none),
+and its image must equal the timed image bit for bit, which shows it traced the same paths; then
+rays/s = counted rays / median timed seconds, for camera rays (one per path) and for all rays
+(camera, extension and shadow rays).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import statistics
 import sys
@@ -32,17 +36,11 @@ if __package__ in (None, ""):
     # Run as a file: make the repository root importable, as `python -m bench.throughput` does.
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from bench.common import (  # noqa: E402
-    RESULTS_DIR,
-    environment,
-    git_revision,
-    load_average,
-    slug,
-    write_json,
-)
+from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
 from wgputrace import Renderer, default_scene  # noqa: E402
 from wgputrace.cli import parse_size  # noqa: E402
 from wgputrace.gpu.device import describe  # noqa: E402
+from wgputrace.render.ray_count import RayCounts, count_rays  # noqa: E402
 from wgputrace.scenes import DEFAULT_SCENE  # noqa: E402
 
 ACCELERATIONS = ("bvh", "flat")
@@ -63,8 +61,9 @@ CHANNELS = ("red", "green", "blue")
 MEAN_RADIANCE_BAND = (0.05, 5.0)
 
 RAYS_NOTE = (
-    "not measured: rays per path vary with where paths end (Russian roulette, escaping, max depth); "
-    "an honest count needs a ray counter in the shader (a later issue)"
+    "counted by a second run of the timed render from the same seed through the path tracer with ray "
+    "counters compiled in (its image equal to the timed image bit for bit); rays/s = counted rays / "
+    "median timed seconds. closest_hit = camera + extension rays; all rays = closest_hit + shadow"
 )
 
 
@@ -76,6 +75,8 @@ class Acceleration:
     renderer: Renderer
     run_seconds: list[float] = field(default_factory=list)
     run_cpu_seconds: list[float] = field(default_factory=list)
+    timed_image: np.ndarray | None = None  # the last timed render's, for the ray count's check
+    rays: RayCounts | None = None
 
     @property
     def median_seconds(self) -> float:
@@ -90,18 +91,42 @@ def _log(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
-def fresh_image(renderer: Renderer, spp: int) -> tuple[np.ndarray, int, float, float]:
+def fresh_image(renderer: Renderer, spp: int, *, from_seed: bool = False) -> tuple[np.ndarray, int, float, float]:
     """Forget earlier samples, render `spp`: (image, non-finite samples, wall seconds, process CPU seconds).
 
-    Only the render is timed: the clear of the accumulation buffer is waited for before the clock starts,
-    and the read-back of the image happens after it stops.
+    The random sequences continue (new, independent samples), or with `from_seed` start again at
+    the seed (the same samples as every other render from the seed). Only the render is timed: the
+    clear of the accumulation buffer is waited for before the clock starts, and the read-back of
+    the image happens after it stops.
     """
-    renderer.reset()
+    if from_seed:
+        renderer.restart()
+    else:
+        renderer.reset()
     renderer.context.finish()
     wall, cpu = time.perf_counter(), time.process_time()
     renderer.render(spp)  # returns once every dispatch has finished
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     return renderer.image(), renderer.nonfinite_samples, wall, cpu
+
+
+def counted_rays(acceleration: Acceleration, spp: int) -> RayCounts:
+    """Count the rays of the timed render: the same samples from the seed, through the counting kernel."""
+    acceleration.renderer.restart()
+    counts = count_rays(acceleration.renderer, spp)
+    if not np.array_equal(acceleration.renderer.image(), acceleration.timed_image):
+        raise SystemExit(f"{acceleration.name}: the counted render's image differs from the timed one's")
+    return counts
+
+
+def ray_rates(counts: RayCounts, seconds: float) -> dict:
+    paths = counts.pixels * counts.samples_per_pixel
+    return {
+        "camera_rays_per_second": counts.camera / seconds,
+        "rays_per_second": counts.total / seconds,
+        "rays_per_path": counts.total / paths,
+        "rays": {"camera": counts.camera, "extension": counts.extension, "shadow": counts.shadow, "all": counts.total},
+    }
 
 
 def image_checks(image: np.ndarray, nonfinite_samples: int) -> dict:
@@ -251,13 +276,16 @@ def plot(path: Path, result: dict) -> None:
             shape = f"{structure['node_count']} boxes, one per shape"
         labels.append(f"{name}\n{shape}, SAH cost {structure['sah_cost']:.0f}")
     bars = axes.bar(labels, medians, color=["#3b75af", "#aaaaaa"][: len(names)], width=0.55, zorder=2)
-    axes.bar_label(bars, labels=[f"{m:.3f} M paths/s" for m in medians], padding=3)
+    rays = [result["accelerations"][name]["rays_per_second"] / 1e6 for name in names]
+    axes.bar_label(
+        bars, labels=[f"{m:.3f} M paths/s\n{r:.3f} M rays/s" for m, r in zip(medians, rays, strict=True)], padding=3
+    )
     pixels_samples = result["width"] * result["height"] * result["spp"]
     for x, name in enumerate(names):
         runs = [pixels_samples / seconds / 1e6 for seconds in result["accelerations"][name]["run_seconds"]]
         axes.scatter([x] * len(runs), runs, color="black", s=14, zorder=3, label="single runs" if x == 0 else None)
     axes.set_ylabel(f"million paths per second (median of {result['repeats']})")
-    axes.set_ylim(0, max(medians) * 1.3)
+    axes.set_ylim(0, max(medians) * 1.5)
     axes.grid(axis="y", alpha=0.3, zorder=0)
     axes.legend(loc="upper right")
     axes.text(
@@ -289,6 +317,7 @@ def plot(path: Path, result: dict) -> None:
 
 
 def summary(result: dict, json_path: Path, png_path: Path) -> str:
+    paths_per_run = result["paths_per_run"]
     lines = [
         f"wgputrace throughput, {result['adapter']['adapter']} ({result['adapter']['backend']}), "
         f"rev {result['git_revision']}",
@@ -298,13 +327,16 @@ def summary(result: dict, json_path: Path, png_path: Path) -> str:
     for name, entry in result["accelerations"].items():
         runs = " ".join(f"{seconds:.2f}" for seconds in entry["run_seconds"])
         lines.append(
-            f"  {name:5s} {entry['paths_per_second'] / 1e6:8.4f} M paths/s  median {entry['median_seconds']:.2f} s"
-            f"  (runs {runs} s)"
+            f"  {name:5s} {entry['paths_per_second'] / 1e6:8.4f} M paths/s  {entry['rays_per_second'] / 1e6:8.4f} M rays/s"
+            f"  median {entry['median_seconds']:.2f} s  (runs {runs} s)"
         )
     lines += [
         f"  BVH / {BASELINE}: {result['bvh_over_flat']:.2f}x in paths/s "
         f"({result['bvh_over_flat_process_cpu']:.2f}x in process CPU time, which other load hardly changes)",
-        "  rays/s: not measured (needs a ray counter in the shader)",
+        f"  rays per path {result['accelerations']['bvh']['rays_per_path']:.2f} "
+        f"(camera 1, extension {result['accelerations']['bvh']['rays']['extension'] / paths_per_run:.2f}, "
+        f"shadow {result['accelerations']['bvh']['rays']['shadow'] / paths_per_run:.2f}); "
+        "camera rays/s = paths/s",
         f"  wall time {result['wall_seconds']:.0f} s; wrote {json_path} and {png_path.name}",
     ]
     return "\n".join(lines)
@@ -337,7 +369,7 @@ def main(argv: list[str] | None = None) -> int:
         for name in ACCELERATIONS
     }
     adapter = describe()
-    stem = f"throughput_{slug(adapter['adapter'], adapter['backend'])}"
+    stem = result_stem("throughput", args.out).name
     _log(f"adapter {adapter['adapter']} ({adapter['backend']}); {width}x{height}, {args.spp} spp x {args.repeats}")
 
     for name, acceleration in accelerations.items():
@@ -347,12 +379,19 @@ def main(argv: list[str] | None = None) -> int:
 
     for repeat in range(args.repeats):
         for name, acceleration in accelerations.items():
-            _, nonfinite, seconds, cpu_seconds = fresh_image(acceleration.renderer, args.spp)
+            image, nonfinite, seconds, cpu_seconds = fresh_image(acceleration.renderer, args.spp, from_seed=True)
+            if acceleration.timed_image is not None and not np.array_equal(image, acceleration.timed_image):
+                raise SystemExit(f"{name}, timed run {repeat + 1}: the image differs from the previous run's")
+            acceleration.timed_image = image
             if nonfinite:
                 raise SystemExit(f"{name}, timed run {repeat + 1}: the shader dropped {nonfinite} non-finite samples")
             acceleration.run_seconds.append(seconds)
             acceleration.run_cpu_seconds.append(cpu_seconds)
             _log(f"run {repeat + 1}/{args.repeats} {name}: {seconds:.2f} s")
+
+    for name, acceleration in accelerations.items():
+        acceleration.rays = counted_rays(acceleration, args.spp)
+        _log(f"counted {name}: {acceleration.rays.total / (width * height * args.spp):.2f} rays per path")
 
     paths = width * height * args.spp
     entries = {}
@@ -364,6 +403,7 @@ def main(argv: list[str] | None = None) -> int:
             "run_process_cpu_seconds": acceleration.run_cpu_seconds,
             "median_process_cpu_seconds": acceleration.median_cpu_seconds,
             "paths_per_second": paths / acceleration.median_seconds,
+            **ray_rates(acceleration.rays, acceleration.median_seconds),
             "structure": {
                 "kind": structure.kind,
                 "node_count": structure.node_count,
@@ -374,11 +414,7 @@ def main(argv: list[str] | None = None) -> int:
         }
     baseline = accelerations[BASELINE]
     result = {
-        "benchmark": "throughput",
-        "git_revision": git_revision(),
-        "adapter": adapter,
         "adapter_name": baseline.renderer.context.adapter_name,
-        "environment": environment(),
         "load_average_before_after": [load_before, load_average()],
         "scene": {"name": DEFAULT_SCENE, "triangles": baseline.renderer.triangle_count},
         "width": width,
@@ -401,16 +437,12 @@ def main(argv: list[str] | None = None) -> int:
         # On a CPU adapter other processes steal wall time but hardly change the CPU time a render
         # needs, so this ratio shows whether background load distorted the one above.
         "bvh_over_flat_process_cpu": baseline.median_cpu_seconds / accelerations["bvh"].median_cpu_seconds,
-        "rays_per_second": None,
-        "rays_per_second_note": RAYS_NOTE,
+        "rays": RAYS_NOTE,
         "validation": validation,
         "wall_seconds": time.perf_counter() - started,
     }
-    args.out.mkdir(parents=True, exist_ok=True)
-    json_path, png_path = args.out / f"{stem}.json", args.out / f"{stem}.png"
-    write_json(json_path, result)
-    plot(png_path, result)
-    print(summary(result, json_path, png_path))
+    paths = write_result("throughput", result, out=args.out, plot=plot)
+    print(summary(json.loads(paths["json"].read_text()), paths["json"], paths["png"]))
     return 0
 
 

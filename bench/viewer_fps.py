@@ -26,11 +26,10 @@ import numpy as np
 if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from bench.common import RESULTS_DIR, load_average, write_result  # noqa: E402
 from wgputrace.app.viewer import REST_SECONDS, Viewer, ViewerOptions  # noqa: E402
 from wgputrace.app.window import create_canvas, has_display, virtual_display  # noqa: E402
 from wgputrace.cli import parse_size  # noqa: E402
-from wgputrace.gpu.device import describe  # noqa: E402
 from wgputrace.scenes import DEFAULT_SCENE  # noqa: E402
 
 WARMUP_SECONDS = 4.0
@@ -155,14 +154,13 @@ def main(argv: list[str] | None = None) -> int:
         import glfw
 
         glfw.terminate()  # while the display is still there: glfw's exit handler would talk to it
-    adapter = describe()
     result = {
-        "benchmark": "viewer_fps",
-        "git_revision": git_revision(),
-        "adapter": adapter,
-        "environment": environment(),
         "load_average_before_after": [load_before, load_average()],
         "scene": DEFAULT_SCENE,
+        "width": [size[0] for size in args.sizes],
+        "height": [size[1] for size in args.sizes],
+        "spp": None,  # as many per frame as fit the frame time: see "sizes"
+        "max_depth": ViewerOptions.max_depth,
         "target_fps": args.fps,
         "phase_seconds": args.seconds,
         "warmup_seconds": WARMUP_SECONDS,
@@ -171,11 +169,8 @@ def main(argv: list[str] | None = None) -> int:
         "sizes": sizes,
         "wall_seconds": time.perf_counter() - started,
     }
-    stem = f"viewer_fps_{slug(adapter['adapter'], adapter['backend'])}"
-    args.out.mkdir(parents=True, exist_ok=True)
-    write_json(args.out / f"{stem}.json", result)
-    plot(args.out / f"{stem}.png", result)
-    print(f"wrote {args.out / stem}.json and .png")
+    paths = write_result("viewer_fps", result, out=args.out, plot=plot)
+    print(f"wrote {paths['json']} and .png")
     return 0
 
 

@@ -3,5 +3,6 @@
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(2) var<storage, read> nodes: array<BvhNode>;
+// Binding 2 holds the acceleration structure's nodes; each traversal file declares it in the form
+// it reads (a texture of node texels for the BVH, a storage buffer for the flat list).
 @group(0) @binding(3) var<storage, read> materials: array<Material>;

@@ -2,6 +2,12 @@
 //! include "intersect_leaf.wgsl"
 //! include "intersect_box.wgsl"
 //! include "hit_queries.wgsl"
+//! include "generated/texel_loaders.wgsl"
+
+// The nodes as texels (gpu/texels.py): on lavapipe a texture load costs a fraction of a storage
+// load: the whole path tracer ran 1.3x (Cornell box) to 1.6x (328k triangles) as fast
+// (bench/kernel_profile.py, bench/README.md).
+@group(0) @binding(2) var node_texels: texture_2d<u32>;
 
 // A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
 // leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.
@@ -12,21 +18,21 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var stack: array<u32, BVH_STACK_SIZE>;
     var stack_size = 0u;
     var node_index = 0u;
-    let root = nodes[0];
+    let root = load_BvhNode(node_texels, 0u);
     if intersect_box(ray.origin, inverse_direction, root.bounds_min, root.bounds_max, hit.t) == FLOAT_MAX {
         return hit;
     }
     loop {
         traversal_steps++;
-        let node = nodes[node_index];
+        let node = load_BvhNode(node_texels, node_index);
         if node.triangle_count > 0u {
             if intersect_leaf(sheared, node, skip_triangle, any_hit, &hit) {
                 break;
             }
         } else {
             let left = node.left_or_first;
-            let left_node = nodes[left];
-            let right_node = nodes[left + 1u];
+            let left_node = load_BvhNode(node_texels, left);
+            let right_node = load_BvhNode(node_texels, left + 1u);
             let t_left = intersect_box(ray.origin, inverse_direction, left_node.bounds_min, left_node.bounds_max, hit.t);
             let t_right = intersect_box(ray.origin, inverse_direction, right_node.bounds_min, right_node.bounds_max, hit.t);
             if t_left != FLOAT_MAX || t_right != FLOAT_MAX {

@@ -8,11 +8,15 @@ invocation per element, and returns the output array. The shipped code is what i
 from __future__ import annotations
 
 import numpy as np
+import wgpu
 
 from wgputrace.gpu.buffers import read_buffer, storage_buffer, uniform_buffer
+from wgputrace.gpu.graphics import read_texture
 from wgputrace.gpu.layout import FRAME
 from wgputrace.gpu.pipeline import compute_kernel
 from wgputrace.gpu.shader_source import shader_root
+from wgputrace.gpu.texels import TrackedTexels
+from wgputrace.render.scene_buffers import SceneRecords
 
 HARNESS_GROUP = 1
 WORKGROUP = 64
@@ -27,13 +31,13 @@ def run_kernel(
     *,
     input_types: list[str],
     output_type: str,
-    scene: dict[int, np.ndarray] | None = None,
+    scene: dict[int, np.ndarray | object] | None = None,
 ) -> np.ndarray:
     """Run `wgsl` (which defines `fn compute(i: u32) -> OUTPUT`) for i in [0, count).
 
     inputs[k] is bound read-only as `inputs_k: array<input_types[k]>` in group 1; `scene`, if
     given, fills group 0 as scene_bindings.wgsl declares it (0 = Frame record, 1 = triangles,
-    2 = nodes, 3 = materials).
+    2 = nodes, 3 = materials): arrays are uploaded, GPU resources (`node_binding`) bound as they are.
     """
     declarations = [
         f"@group({HARNESS_GROUP}) @binding({k}) var<storage, read> inputs_{k}: array<{t}>;"
@@ -69,16 +73,37 @@ def run_kernel(
     compute = encoder.begin_compute_pass()
     compute.set_pipeline(kernel.pipeline)
     if scene:
-        scene_buffers = {
-            b: (uniform_buffer(context, "frame", a) if b == 0 else storage_buffer(context, f"scene {b}", a))
-            for b, a in scene.items()
-        }
-        compute.set_bind_group(0, kernel.bind_group(context, 0, scene_buffers))
+        scene_resources = {b: _scene_resource(context, b, a) for b, a in scene.items()}
+        compute.set_bind_group(0, kernel.bind_group(context, 0, scene_resources))
     compute.set_bind_group(HARNESS_GROUP, kernel.bind_group(context, HARNESS_GROUP, buffers))
     compute.dispatch_workgroups(-(-count // WORKGROUP), 1, 1)
     compute.end()
     device.queue.submit([encoder.finish()])
     return read_buffer(context, result, output_dtype, count)
+
+
+def _scene_resource(context, binding: int, value):
+    if not isinstance(value, np.ndarray):
+        return value
+    return (
+        uniform_buffer(context, "frame", value) if binding == 0 else storage_buffer(context, f"scene {binding}", value)
+    )
+
+
+def node_binding(context, records: SceneRecords) -> np.ndarray | wgpu.GPUTextureView:
+    """Binding 2 as the traversal `records` were built for reads it: the BVH's nodes as texels
+    (traverse_bvh.wgsl), the flat list's boxes as a storage buffer (traverse_flat.wgsl)."""
+    if records.acceleration.kind == "bvh":
+        return TrackedTexels(context, "nodes", records.nodes).resource
+    return records.nodes
+
+
+def read_binding(context, resource, dtype: np.dtype, count: int) -> np.ndarray:
+    """The first `count` records of a bound buffer or texel texture (gpu/texels.py)."""
+    if isinstance(resource, wgpu.GPUBuffer):
+        return read_buffer(context, resource, dtype, count)
+    texels = read_texture(context, resource.texture, np.uint32, 4)
+    return np.frombuffer(texels.tobytes(), dtype)[:count].copy()
 
 
 def frame_record(node_count: int = 0) -> np.ndarray:
@@ -87,4 +112,4 @@ def frame_record(node_count: int = 0) -> np.ndarray:
     return record
 
 
-__all__ = ["run_kernel", "frame_record", "shader_root"]
+__all__ = ["run_kernel", "frame_record", "node_binding", "read_binding", "shader_root"]

@@ -1,4 +1,5 @@
-"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY), `wgputrace info` and `wgputrace view` (the window)."""
+"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY), `wgputrace info`, `wgputrace view` (the window)
+and `wgputrace bench` (the benchmark suite, from a source checkout)."""
 
 from __future__ import annotations
 
@@ -61,6 +62,8 @@ def _parser() -> argparse.ArgumentParser:
     from .app import add_arguments  # the viewer's arguments; its window code loads only when it runs
 
     add_arguments(commands.add_parser("view", help="open the interactive viewer (a window; see README)"))
+    # listed for --help only: main() hands everything after "bench" to the suite's own parser
+    commands.add_parser("bench", help="run the benchmark suite, `python -m bench` (from a source checkout)")
     return parser
 
 
@@ -68,7 +71,6 @@ def _render(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from .gpu.device import gpu
-    from .gpu.tracked_buffer import SPARE_FRACTION
     from .render import Renderer
 
     load_start = time.perf_counter()
@@ -97,7 +99,7 @@ def _render(args: argparse.Namespace) -> int:
     )
     print(
         f"gpu memory       {renderer.gpu_bytes_per_triangle:.1f} B per triangle (triangles, BVH nodes, materials, "
-        f"lights; {SPARE_FRACTION:.0%} spare capacity included)"
+        f"lights; as allocated, spare capacity included)"
     )
     print(
         f"acceleration     {args.accel}: {acceleration.node_count:,} nodes, depth {acceleration.depth}, "
@@ -114,6 +116,22 @@ def _render(args: argparse.Namespace) -> int:
     return 0
 
 
+def _bench(arguments: list[str]) -> int:
+    """`python -m bench ARGUMENTS` in the checkout this package was imported from."""
+    checkout = Path(__file__).resolve().parent.parent
+    if not (checkout / "bench" / "__main__.py").is_file():
+        print(
+            f"wgputrace: error: no benchmarks beside this installation ({checkout}): they live in the source "
+            "checkout, not in the wheel; clone the repository and run `python -m bench` (or `wgputrace bench`) there",
+            file=sys.stderr,
+        )
+        return 2
+    sys.path.insert(0, str(checkout))
+    from bench.__main__ import main as bench_main
+
+    return bench_main(arguments)
+
+
 def _info() -> int:
     from .gpu.device import describe
 
@@ -122,6 +140,9 @@ def _info() -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["bench"]:
+        return _bench(argv[1:])
     args = _parser().parse_args(argv)
     try:
         if args.command == "view":

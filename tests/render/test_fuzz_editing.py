@@ -20,8 +20,8 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, precondition, rule
 
 from tests.fuzzing import fuzz_settings, time_limit
+from tests.harness import read_binding
 from wgputrace import Camera, Emitter, Glass, Renderer, Shape, default_scene
-from wgputrace.gpu.buffers import read_buffer
 from wgputrace.render.scene_sync import SceneMirror
 from wgputrace.scene import DegenerateTrianglesWarning, MaterialError, SceneError
 
@@ -60,7 +60,7 @@ def documented_errors():
 
 
 def gpu_rows(renderer: Renderer, binding: int, array: np.ndarray) -> np.ndarray:
-    return read_buffer(renderer.context, renderer.bindings[binding], array.dtype, len(array))
+    return read_binding(renderer.context, renderer.bindings[binding], array.dtype, len(array))
 
 
 def sorted_records(records: np.ndarray) -> np.ndarray:

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from tests.bvh.test_refit import bounds_from_scratch
+from tests.harness import read_binding
 from wgputrace import Camera, Diffuse, Emitter, Glass, Renderer, Scene, default_scene, make_box, make_icosphere
 from wgputrace import model_matrix as place
-from wgputrace.gpu.buffers import read_buffer
 from wgputrace.gpu.device import DeviceLimitError
 from wgputrace.gpu.layout import BVH_NODE, FRAME, MATERIAL, TRIANGLE
 from wgputrace.gpu.tracked_buffer import SPARE_FRACTION, UploadCount
@@ -93,7 +93,7 @@ def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell)
     np.testing.assert_array_equal(nodes["bounds_min"], expected_min)
     np.testing.assert_array_equal(nodes["bounds_max"], expected_max)
     np.testing.assert_array_equal(
-        read_buffer(renderer.context, renderer.bindings[2], BVH_NODE.dtype, len(nodes)), nodes
+        read_binding(renderer.context, renderer.bindings[2], BVH_NODE.dtype, len(nodes)), nodes
     )
     np.testing.assert_array_equal(image, fresh_image(scene))
 
@@ -188,9 +188,9 @@ def test_gpu_bytes_per_triangle_counts_every_scene_buffer(cornell):
     sizes = renderer.gpu_scene_bytes
     assert set(sizes) == {"triangles", "bvh nodes", "materials", "lights"}
     triangles = renderer.triangle_count
-    assert sizes["triangles"] == (triangles + int(np.ceil(triangles * SPARE_FRACTION))) * TRIANGLE.size
+    assert sizes["triangles"] == triangles * TRIANGLE.size  # no spare before the scene grows
     assert renderer.gpu_bytes_per_triangle == sum(sizes.values()) / triangles
-    # triangle and node records, each with the spare capacity, are most of it
+    # triangle and node records, the nodes' texture with its spare capacity, are most of it
     nodes = len(renderer.records.nodes)
     used = triangles * TRIANGLE.size + nodes * BVH_NODE.size
     assert used / triangles < renderer.gpu_bytes_per_triangle < (1 + SPARE_FRACTION) * used / triangles + 1

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import run_kernel
+from tests.harness import node_binding, run_kernel
 from tests.shaders.reference import (
     EDGE_MARGIN,
     FLOAT_MAX,
@@ -348,7 +348,7 @@ def leave_surface(
         len(points),
         input_types=["vec4<f32>", "vec4<f32>", "u32"],
         output_type="vec4<f32>",
-        scene={1: records.triangles, 2: records.nodes},
+        scene={1: records.triangles, 2: node_binding(context, records)},
     )
     return out
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import frame_record, run_kernel
+from tests.harness import frame_record, node_binding, run_kernel
 from tests.shaders.reference import (
     as_vec4,
     brute_force_closest_hit,
@@ -48,7 +48,7 @@ def closest_hit(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(t, triangle) per ray from the shipped closest_hit of the traversal `records` were built for."""
     kind = records.acceleration.kind
-    scene = {1: records.triangles, 2: records.nodes}
+    scene = {1: records.triangles, 2: node_binding(context, records)}
     if kind == "flat":  # only the flat list reads the node count from the frame
         scene[0] = frame_record(len(records.nodes))
     out = run_kernel(

@@ -9,7 +9,7 @@ import numpy as np
 import wgpu
 
 from .device import GpuContext
-from .pipeline import GENERATED_STRUCTS, ShaderCompileError, generated_structs
+from .pipeline import GENERATED_STRUCTS, ShaderCompileError, binding_resource, generated_structs
 from .shader_source import ShaderSource, load_shader
 
 # copy_texture_to_buffer writes rows at a multiple of this many bytes.
@@ -56,11 +56,7 @@ def render_kernel(
 
 def bind_group(context: GpuContext, pipeline, group: int, resources: dict[int, object]) -> wgpu.GPUBindGroup:
     """Bind buffers (whole) and texture views of `resources` (binding -> resource) to `group`."""
-    entries = []
-    for binding, resource in resources.items():
-        if isinstance(resource, wgpu.GPUBuffer):
-            resource = {"buffer": resource, "offset": 0, "size": resource.size}
-        entries.append({"binding": binding, "resource": resource})
+    entries = [{"binding": binding, "resource": binding_resource(r)} for binding, r in resources.items()]
     return context.device.create_bind_group(layout=pipeline.get_bind_group_layout(group), entries=entries)
 
 

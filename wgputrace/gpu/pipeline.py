@@ -11,7 +11,9 @@ from ..scene.materials import MaterialKind
 from .device import GpuContext
 from .layout import ALL_STRUCTS
 from .material_dispatch import GENERATED_MATERIALS, material_dispatch
+from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from .shader_source import ShaderSource, load_shader
+from .texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
 
 GENERATED_STRUCTS = "generated/structs.wgsl"
 
@@ -45,13 +47,19 @@ class ComputeKernel:
     source: ShaderSource
     workgroup_size: tuple[int, int]
 
-    def bind_group(self, context: GpuContext, group: int, buffers: dict[int, wgpu.GPUBuffer]) -> wgpu.GPUBindGroup:
+    def bind_group(self, context: GpuContext, group: int, resources: dict[int, object]) -> wgpu.GPUBindGroup:
+        """Bind buffers (whole) and texture views (binding -> resource) to `group`."""
         return context.device.create_bind_group(
             layout=self.pipeline.get_bind_group_layout(group),
-            entries=[
-                {"binding": b, "resource": {"buffer": buf, "offset": 0, "size": buf.size}} for b, buf in buffers.items()
-            ],
+            entries=[{"binding": b, "resource": binding_resource(r)} for b, r in resources.items()],
         )
+
+
+def binding_resource(resource: object) -> object:
+    """What a bind group entry takes for a buffer (all of it) or a texture view (itself)."""
+    if isinstance(resource, wgpu.GPUBuffer):
+        return {"buffer": resource, "offset": 0, "size": resource.size}
+    return resource
 
 
 def compute_kernel(
@@ -67,9 +75,16 @@ def compute_kernel(
     """Compile `entry` (a file under shaders/ with `fn main`, or the function `entry_point`) into a
     compute pipeline.
 
-    `generated` adds or replaces virtual files; by default the material dispatch covers every kind.
+    `generated` adds or replaces virtual files; by default the material dispatch covers every kind
+    and rays are not counted.
     """
-    files = {GENERATED_STRUCTS: generated_structs(), GENERATED_MATERIALS: material_dispatch(), **(generated or {})}
+    files = {
+        GENERATED_STRUCTS: generated_structs(),
+        GENERATED_MATERIALS: material_dispatch(),
+        GENERATED_RAY_COUNT: ray_count_hook(counting=False),
+        GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),
+        **(generated or {}),
+    }
     source = load_shader(entry, files)
     try:
         module = context.device.create_shader_module(label=label or entry, code=source.text)

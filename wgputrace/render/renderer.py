@@ -21,6 +21,8 @@ from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.pipeline import INTEGRATORS, ComputeKernel, compute_kernel, dispatch_size
+from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
+from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..scene import Camera, MaterialKind, Scene
 from .lights import LightTable
@@ -48,25 +50,32 @@ def path_tracer_kernel(
     *,
     rows: bool = False,
     material_kinds: frozenset[MaterialKind] = ALL_KINDS,
+    count_rays: bool = False,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
     (for measurements such as bench/glossy_light_sampling.py). `rows` compiles the entry point
     that renders a band of rows (path_tracer_rows.wgsl, for the viewer). `material_kinds` limits
-    the BSDF code compiled in to those kinds (gpu/material_dispatch.py)."""
+    the BSDF code compiled in to those kinds (gpu/material_dispatch.py). `count_rays` compiles the
+    ray counters in (gpu/ray_count.py; render/ray_count.py runs them)."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
     kinds = shaded_kinds(material_kinds)
-    key = (id(context.device), acceleration, integrator, tuple(sorted(overrides.items())), rows, kinds)
+    key = (id(context.device), acceleration, integrator, tuple(sorted(overrides.items())), rows, kinds, count_rays)
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         _kernels[key] = compute_kernel(
             context,
             "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
-            generated={"acceleration.wgsl": traversal, GENERATED_MATERIALS: material_dispatch(kinds)},
+            generated={
+                "acceleration.wgsl": traversal,
+                GENERATED_MATERIALS: material_dispatch(kinds),
+                GENERATED_RAY_COUNT: ray_count_hook(count_rays),
+            },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
-            label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''})",
+            label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
+            f"{', counting rays' if count_rays else ''})",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -151,7 +160,11 @@ class Renderer:
         limit = "max-storage-buffer-binding-size"
         self._scene_buffers = {
             TRIANGLES: TrackedBuffer(self.context, "triangles", storage, self._mirror.triangles, binding_limit=limit),
-            NODES: TrackedBuffer(self.context, "bvh nodes", storage, self._mirror.nodes, binding_limit=limit),
+            # the BVH's nodes as texels (gpu/texels.py: faster loads on lavapipe); the flat list's
+            # boxes in a buffer, as traverse_flat.wgsl reads them
+            NODES: TrackedTexels(self.context, "bvh nodes", self._mirror.nodes)
+            if accel == "bvh"
+            else TrackedBuffer(self.context, "bvh nodes", storage, self._mirror.nodes, binding_limit=limit),
             MATERIALS: TrackedBuffer(self.context, "materials", storage, self._mirror.materials, binding_limit=limit),
             LIGHTS: TrackedBuffer(self.context, "lights", storage, self._mirror.lights.entries, binding_limit=limit),
         }
@@ -185,6 +198,13 @@ class Renderer:
     def gpu_scene_bytes(self) -> dict[str, int]:
         """Bytes allocated on the GPU for the scene, by buffer (capacity, spare rows included)."""
         return {buffer.label: buffer.capacity_bytes for buffer in self._scene_buffers.values()}
+
+    @property
+    def gpu_image_bytes(self) -> dict[str, int]:
+        """Bytes allocated on the GPU for the image, by buffer: they grow with the pixels, not the
+        scene (the frame uniform is a fixed 80 bytes)."""
+        buffers = (self._frame.buffer, self._rng, self._rng_at_seed, self._accumulation)
+        return {buffer.label: buffer.size for buffer in buffers}
 
     @property
     def gpu_bytes_per_triangle(self) -> float:
@@ -222,26 +242,34 @@ class Renderer:
         if new_pipeline or generations != [buffer.generation for buffer in self._scene_buffers.values()]:
             self._bind()
         if changes or frame_changed:
-            self._restart()
+            self.restart()
         return self.upload_stats
 
     def _bind(self) -> None:
         buffers = {1: TRIANGLES, 2: NODES, 3: MATERIALS, 6: LIGHTS}
         self._bindings = {
             0: self._frame.buffer,
-            **{binding: self._scene_buffers[name].buffer for binding, name in buffers.items()},
+            **{binding: self._scene_buffers[name].resource for binding, name in buffers.items()},
             4: self._rng,
             5: self._accumulation,
         }
         self._bind_group = self.kernel.bind_group(self.context, 0, self._bindings)
 
-    def _restart(self) -> None:
-        """Forget all samples and put every pixel's random sequence back at the seed, on the GPU."""
+    def restart(self) -> None:
+        """Forget all samples and put every pixel's random sequence back at the seed, on the GPU: the
+        samples that follow repeat the first ones bit for bit."""
         encoder = self._device.create_command_encoder()
         encoder.clear_buffer(self._accumulation)
         encoder.copy_buffer_to_buffer(self._rng_at_seed, 0, self._rng, 0, self._rng.size)
         self._device.queue.submit([encoder.finish()])
         self.stats = RenderStats()
+
+    def kernel_variant(self, **options) -> ComputeKernel:
+        """This renderer's path tracer (acceleration, integrator, overrides, material kinds) compiled
+        with other `path_tracer_kernel` options, e.g. count_rays=True."""
+        return path_tracer_kernel(
+            self.context, self.accel, self.integrator, self._shader_overrides, material_kinds=self._kinds, **options
+        )
 
     @property
     def samples_per_pixel(self) -> int:
@@ -249,8 +277,9 @@ class Renderer:
 
     @property
     def bindings(self) -> dict:
-        """The GPU buffers of bind group 0 by binding (scene_bindings.wgsl, path_tracer.wgsl), for
-        kernels that read the scene or the accumulation where it lies (the viewer's)."""
+        """The GPU buffers of bind group 0 by binding (scene_bindings.wgsl, path_tracer.wgsl; the
+        BVH's nodes are a texture view), for kernels that read the scene or the accumulation where
+        it lies (the viewer's)."""
         return dict(self._bindings)
 
     def set_camera(self, camera: Camera) -> None:

@@ -1,0 +1,235 @@
+"""The benchmark suite: issue 8's benchmarks on the current adapter, and a summary of every target.
+
+    python -m bench                       (about 12 minutes on lavapipe, 2 cores)
+    python -m bench --quick               (about 3 minutes: smaller images, fewer repeats and counts)
+    python -m bench --gpu                 (on a GPU: more samples per timed run, which lasts milliseconds there)
+    python -m bench --only scaling bvh_build
+    wgputrace bench [same options]        (from a checkout: bench/ is not in the wheel)
+
+Each benchmark validates its output before timing it and writes its own JSON (and chart) to
+bench/results/; the suite adds bench/results/suite_<adapter>.json with the summary table: every
+target with its measured value and whether it was met. A benchmark that fails (its validation, or
+an error) is recorded as failed and the suite goes on; the exit status is 1 if any failed.
+versus_mitsuba is skipped, with the reason recorded, where mitsuba is not importable.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import json
+import sys
+import time
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+if __package__ in (None, ""):
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from bench.common import RESULTS_DIR, SETTINGS_KEYS, load_average, result_stem, write_result  # noqa: E402
+
+
+@dataclass(frozen=True)
+class Target:
+    """One row of the summary: what was measured, against what, and whether it held (None: no target)."""
+
+    benchmark: str
+    quantity: str
+    measured: str
+    target: str = "-"
+    met: bool | None = None
+
+
+def throughput_targets(result: dict) -> list[Target]:
+    setting = f"{result['scene']['name']} {result['width']}x{result['height']}"
+    rows = []
+    for name, entry in result["accelerations"].items():
+        rows += [
+            Target(
+                "throughput", f"{name} paths/s = camera rays/s ({setting})", f"{entry['paths_per_second'] / 1e6:.4f} M"
+            ),
+            Target("throughput", f"{name} rays/s, all rays ({setting})", f"{entry['rays_per_second'] / 1e6:.4f} M"),
+        ]
+    rows.append(Target("throughput", "rays per path (bvh)", f"{result['accelerations']['bvh']['rays_per_path']:.2f}"))
+    rows.append(Target("throughput", "BVH / flat, paths/s", f"{result['bvh_over_flat']:.2f}x"))
+    return rows
+
+
+def scaling_targets(result: dict) -> list[Target]:
+    ratio = result["time_ratio"]
+    low, high = ratio["counts"]
+    measured = "not measured (count missing)" if ratio["ratio"] is None else f"{ratio['ratio']:.2f}x"
+    memory = result["bytes_per_triangle_at_largest"]
+    return [
+        Target(
+            "scaling",
+            f"time per sample, {high:,} / {low:,} triangles (bvh)",
+            measured,
+            f"<= {ratio['target']:g}x",
+            ratio["met"],
+        ),
+        Target(
+            "scaling",
+            f"GPU bytes per triangle at {memory['triangles']:,} triangles (allocated; used)",
+            f"{memory['allocated']:.1f}; {memory['used']:.1f}",
+            f"<= {result['bytes_per_triangle_target']:g}",
+            memory["met"],
+        ),
+    ]
+
+
+def bvh_build_targets(result: dict) -> list[Target]:
+    target = result["target"]
+    measured = target["measured_seconds"]
+    return [
+        Target(
+            "bvh_build",
+            f"build time, {target['triangles']:,} triangles",
+            "not measured (count missing)" if measured is None else f"{measured:.2f} s",
+            f"< {target['seconds']:g} s",
+            target["met"],
+        ),
+        Target("bvh_build", "SAH cost at the largest count", f"{result['points'][-1]['sah_cost']:.1f}"),
+    ]
+
+
+def versus_mitsuba_targets(result: dict) -> list[Target]:
+    paths = result["throughput"]["paths_per_second_ratio"]
+    time = result["convergence"]["time_to_equal_rmse"]["ratio"]
+    return [
+        Target("versus_mitsuba", "paths/s, ours / Mitsuba (512x512)", f"{paths:.3g}", ">= 1", paths >= 1),
+        Target("versus_mitsuba", "time to equal RMSE, ours / Mitsuba (128x128)", f"{time:.3g}", "<= 1", time <= 1),
+    ]
+
+
+def mitsuba_missing() -> str | None:
+    return None if importlib.util.find_spec("mitsuba") else "mitsuba is not importable (pip install mitsuba)"
+
+
+@dataclass(frozen=True)
+class Benchmark:
+    name: str  # the module bench.<name>, which has main(argv) and files its result under this name
+    quick: tuple[str, ...]  # its arguments under --quick
+    gpu: tuple[str, ...]  # its arguments under --gpu: more work per timed run, which a GPU ends in milliseconds
+    targets: Callable[[dict], list[Target]]
+    skip_reason: Callable[[], str | None] = lambda: None
+
+
+BENCHMARKS = (
+    Benchmark(
+        "throughput",
+        ("--size", "256x256", "--spp", "1", "--repeats", "2"),
+        ("--spp", "256", "--repeats", "5"),
+        throughput_targets,
+    ),
+    Benchmark(
+        "scaling",
+        (
+            "--triangles",
+            "10",
+            "1000",
+            "1000000",
+            "--size",
+            "64x64",
+            "--spp",
+            "1",
+            "--repeats",
+            "2",
+            "--flat-budget",
+            "10",
+        ),
+        ("--size", "512x512", "--spp", "64", "--repeats", "5"),
+        scaling_targets,
+    ),
+    Benchmark("bvh_build", ("--triangles", "10", "1000", "1000000", "--repeats", "1"), (), bvh_build_targets),
+    Benchmark(
+        "versus_mitsuba",
+        ("--spp", "1", "--repeats", "1", "--max-spp", "16"),
+        (),
+        versus_mitsuba_targets,
+        skip_reason=mitsuba_missing,
+    ),
+)
+
+
+def run(benchmark: Benchmark, preset: str | None, out: Path) -> dict:
+    """Run one benchmark; its outcome ("ok", "skipped", "failed"), seconds, result file and targets."""
+    reason = benchmark.skip_reason()
+    if reason:
+        return {"outcome": "skipped", "reason": reason, "targets": []}
+    argv = [*(benchmark.quick if preset == "quick" else benchmark.gpu if preset == "gpu" else ()), "--out", str(out)]
+    path = result_stem(benchmark.name, out).with_suffix(".json")
+    started = time.time()
+    try:
+        status = importlib.import_module(f"bench.{benchmark.name}").main(argv)
+    except SystemExit as stop:  # validation failures and argument errors end a benchmark this way
+        status = stop.code
+    except Exception:  # the suite goes on; the failure is recorded with its traceback
+        return {"outcome": "failed", "reason": traceback.format_exc(), "seconds": time.time() - started, "targets": []}
+    seconds = time.time() - started
+    if status not in (0, None):
+        return {"outcome": "failed", "reason": f"exit status {status}", "seconds": seconds, "targets": []}
+    if not path.exists() or path.stat().st_mtime < started:
+        # versus_mitsuba, for one, files a skip under another name
+        return {"outcome": "skipped", "reason": f"wrote no {path.name}", "seconds": seconds, "targets": []}
+    result = json.loads(path.read_text())
+    return {
+        "outcome": "ok",
+        "git_revision": result["git_revision"],
+        "created_utc": result["environment"]["created_utc"],
+        "seconds": seconds,
+        "result_file": str(path),
+        "settings": {key: result.get(key) for key in SETTINGS_KEYS},
+        "targets": [vars(target) for target in benchmark.targets(result)],
+    }
+
+
+def table(runs: dict[str, dict]) -> str:
+    rows = [("benchmark", "quantity", "measured", "target", "met")]
+    for name, entry in runs.items():
+        if entry["outcome"] != "ok":
+            rows.append((name, entry["outcome"], entry["reason"].strip().splitlines()[-1], "", ""))
+        for target in entry["targets"]:
+            met = {True: "yes", False: "NO", None: ""}[target["met"]]
+            rows.append((target["benchmark"], target["quantity"], target["measured"], target["target"], met))
+    widths = [max(len(row[column]) for row in rows) for column in range(5)]
+    return "\n".join("  ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)) for row in rows)
+
+
+def main(argv: list[str] | None = None) -> int:
+    names = [benchmark.name for benchmark in BENCHMARKS]
+    parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__.splitlines()[0])
+    parser.add_argument("--only", nargs="+", choices=names, metavar="NAME", help=f"run only these: {', '.join(names)}")
+    presets = parser.add_mutually_exclusive_group()
+    presets.add_argument("--quick", action="store_true", help="smaller settings: about 3 minutes on lavapipe")
+    presets.add_argument("--gpu", action="store_true", help="more samples per timed run, for a GPU")
+    parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
+    args = parser.parse_args(argv)
+    started, load_before = time.perf_counter(), load_average()
+    # --only updates its benchmarks' rows and keeps the others' from earlier runs (each row says when)
+    previous = result_stem("suite", args.out).with_suffix(".json")
+    runs = json.loads(previous.read_text())["benchmarks"] if args.only and previous.exists() else {}
+    for benchmark in BENCHMARKS:
+        if args.only and benchmark.name not in args.only:
+            continue
+        print(f"== {benchmark.name}", file=sys.stderr, flush=True)
+        preset = "quick" if args.quick else "gpu" if args.gpu else None
+        runs[benchmark.name] = {**run(benchmark, preset, args.out), "preset": preset}
+    summary = {
+        # each benchmark records its own; see "benchmarks"
+        **dict.fromkeys(SETTINGS_KEYS),
+        "load_average_before_after": [load_before, load_average()],
+        "benchmarks": runs,
+        "wall_seconds": time.perf_counter() - started,
+    }
+    written = write_result("suite", summary, out=args.out)
+    print(table(runs))
+    print(f"suite: {summary['wall_seconds']:.0f} s; wrote {written['json']}")
+    return 1 if any(entry["outcome"] == "failed" for entry in runs.values()) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

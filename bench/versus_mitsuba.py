@@ -1,0 +1,524 @@
+"""Side by side with Mitsuba 3 in one process: paths/s on the Cornell box at 512x512, and the time
+each renderer needs to reach the same RMSE against the reference at 128x128.
+
+    python bench/versus_mitsuba.py                  (or: python -m bench.versus_mitsuba)
+    python bench/versus_mitsuba.py --spp 4 --repeats 3 --max-spp 256 --runs 1
+
+Mitsuba runs its `llvm_ad_rgb` variant (drjit's LLVM backend: needs libLLVM >= 16, Debian's
+libllvm19) with its `path` integrator on the scene wgputrace/reference/mitsuba_scene.py builds
+from ours; ours runs Renderer (MIS) on whatever adapter wgpu picks. Same scene, resolution,
+samples per pixel and max depth (the reference's). Without mitsuba or LLVM >= 16 this skips,
+printing why and recording it in bench/results/versus_mitsuba_skipped_<adapter>.json.
+
+Compilation, apart: each renderer's first render minus its second at 8x8 pixels, 1 spp (the first
+dispatch compiles the WGSL on lavapipe; Mitsuba's first render traces and JIT-compiles its
+kernels), with drjit's kernel history (kernels compiled, LLVM time). Both compile caches (drjit's,
+Mesa's) point at an empty temporary folder when this process has not started drjit or the GPU
+before, so the first render compiles for real. Then, per part and renderer, a warm-up render at
+the timed size and spp (discarded); validation: VALIDATION_BATCHES independent images, averaged
+down to the reference's 128x128 where larger (exact for a box filter), Welch-tested per block and
+channel against the reference as tests/render does; then the timed renders. Mitsuba's seeds start at MITSUBA_SEED_START, far from the reference's seeds
+(0 .. passes - 1), and every render takes a new one; its kernel does not depend on seed, spp or
+size (drjit passes them in), which the kernel history confirms: timed renders compile nothing.
+
+Paths/s: `repeats` renders of `spp` samples per pixel at 512x512, interleaved (ours, Mitsuba, ours,
+...) so that drifting background load hits both; a fresh image each time, the median counts.
+
+Error against time: ours renders progressively (checkpoints at 1, 2, 4, ... max-spp samples per
+pixel, render time summed); Mitsuba renders each checkpoint as one fresh render at that spp (its
+usual use, and its fastest). Errors as bench/convergence.py measures them (RMSE with the
+reference's variance subtracted); power laws fitted to RMSE against time give each renderer's
+time to reach a common RMSE, the larger of the two final (fitted) RMSEs, so neither curve is
+extrapolated.
+
+Both renderers share the machine's cores: llvmpipe runs LP_NUM_THREADS threads (default: one per
+core), drjit its own pool of drjit.thread_count(); both counts are recorded. Writes
+bench/results/versus_mitsuba_<adapter>.json and .png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import itertools
+import os
+import statistics
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+
+if __package__ in (None, ""):
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
+from bench.convergence import FIT_MIN_SPP, checkpoints, curves, errors, fit_power_law, seconds_to_reach  # noqa: E402
+from bench.throughput import fresh_image  # noqa: E402
+from tests.render.image_statistics import Estimate, compare_blocks  # noqa: E402
+from tests.render.reference_images import STORAGE_RTOL, Reference, load_reference  # noqa: E402
+from tests.stats import sidak  # noqa: E402
+from wgputrace import Renderer  # noqa: E402
+from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, libllvm_path, load_mitsuba, mitsuba_scene  # noqa: E402
+from wgputrace.scenes import scene_by_name  # noqa: E402
+
+NAME = "versus_mitsuba"
+SCENE = "cornell"
+OURS, MITSUBA = "wgputrace", "mitsuba"
+THROUGHPUT_SIZE = 512
+CONVERGENCE_SIZE = 128  # the reference's: errors are measured pixel by pixel against it
+COMPILE_PROBE_SIZE = 8
+# Far above any reference seed (0 .. passes - 1): reusing one would correlate our comparison's
+# error with the reference's.
+MITSUBA_SEED_START = 1_000_000
+VALIDATION_BATCHES = 8
+# Samples per pixel of each validation batch, per image size: about 2 million paths per renderer
+# and size, the sample count tests/render/test_references.py tests the Cornell box with.
+VALIDATION_SPP = {THROUGHPUT_SIZE: 1, CONVERGENCE_SIZE: 16}
+# Block sizes (at the reference's resolution) and family-wise level, as tests/render/test_references.py.
+VALIDATION_BLOCKS = (8, CONVERGENCE_SIZE)
+VALIDATION_SIGNIFICANCE = 1e-3
+CHANNELS = 3
+
+
+def _log(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def skip_reason() -> str | None:
+    """Why this benchmark cannot run here, or None."""
+    # found, not imported: importing starts drjit, which then no longer reads DRJIT_CACHE_DIR
+    if importlib.util.find_spec("mitsuba") is None:
+        return "mitsuba is not installed: pip install -e '.[reference]'"
+    if libllvm_path() is None:
+        return "Mitsuba's llvm_ad_rgb needs LLVM >= 16: install Debian's libllvm19 or set DRJIT_LIBLLVM_PATH"
+    return None
+
+
+@dataclass
+class MitsubaSide:
+    """Mitsuba, its scenes by size, and a seed that changes with every render."""
+
+    mi: ModuleType
+    dr: ModuleType
+    scenes: dict[int, object] = field(default_factory=dict)
+    seeds: itertools.count = field(default_factory=lambda: itertools.count(MITSUBA_SEED_START))
+    kernels: list[dict] = field(default_factory=list)  # drjit's history since the last kernel_report()
+
+    def scene(self, size: int, max_depth: int):
+        if size not in self.scenes:
+            self.scenes[size] = mitsuba_scene(self.mi, scene_by_name(SCENE), size, size, max_depth)
+        return self.scenes[size]
+
+    def render(self, size: int, max_depth: int, spp: int) -> tuple[np.ndarray, float, float]:
+        """A fresh image with a new seed: (image, wall seconds, process CPU seconds), evaluation included."""
+        scene = self.scene(size, max_depth)
+        self.dr.sync_thread()
+        wall, cpu = time.perf_counter(), time.process_time()
+        image = self.mi.render(scene, spp=spp, seed=next(self.seeds))
+        self.dr.eval(image)  # drjit is lazy: the kernel runs here
+        self.dr.sync_thread()
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        self.kernels += [entry for entry in self.dr.kernel_history() if entry["type"] == self.dr.KernelType.JIT]
+        return np.asarray(image, dtype=np.float32), wall, cpu
+
+    def kernel_report(self) -> dict:
+        """The JIT kernels launched since the last report: compiled, loaded from disk, or reused from memory."""
+        kernels, self.kernels = self.kernels, []
+        compiled = [k for k in kernels if not k["cache_hit"]]
+        return {
+            "launches": len(kernels),
+            "compiled": len(compiled),
+            "loaded_from_disk_cache": sum(1 for k in kernels if k["cache_hit"] and k["cache_disk"]),
+            "reused_from_memory": sum(1 for k in kernels if k["cache_hit"] and not k["cache_disk"]),
+            "codegen_ms": sum(k["codegen_time"] for k in kernels),
+            "llvm_backend_ms": sum(k["backend_time"] for k in kernels),
+        }
+
+
+def empty_compile_caches(folder: Path) -> dict:
+    """Point drjit's kernel cache and Mesa's shader cache at empty folders, so that both warm-ups
+    compile for real; each library reads its setting when it starts, so this holds only for those
+    not started yet in this process (the result says which)."""
+    from wgputrace.gpu import device
+
+    empty = {}
+    if "drjit" not in sys.modules:
+        os.environ["DRJIT_CACHE_DIR"] = str(folder / "drjit")
+        empty[MITSUBA] = True
+    if device._context is None:
+        os.environ["MESA_SHADER_CACHE_DIR"] = str(folder / "mesa")
+        empty[OURS] = True
+    return {name: empty.get(name, False) for name in (OURS, MITSUBA)}
+
+
+def validate(label: str, batches: list[np.ndarray], reference: Reference, per_test: float) -> dict:
+    """`batches` (independent images) against the reference, per block and channel; exits on failure."""
+    estimate = Estimate.from_batches(np.stack(batches))
+    factor = estimate.mean.shape[0] // reference.estimate.mean.shape[0]
+    if factor > 1:
+        estimate = estimate.downsampled(factor)
+    failures = []
+    if not all(np.isfinite(batch).all() for batch in batches):
+        failures.append("NaN or infinite image values")
+    worst = 1.0
+    for block in VALIDATION_BLOCKS:
+        reference_blocks = Estimate(reference.estimate.mean, np.zeros_like(reference.estimate.mean), np.inf)
+        tolerance = STORAGE_RTOL * np.abs(reference_blocks.blocks(block)[0])
+        comparison = compare_blocks(estimate, reference.estimate, block, tolerance)
+        failing = comparison.p_value < per_test
+        worst = min(worst, float(comparison.p_value.min()))
+        if failing.any():
+            z = comparison.z[failing]
+            failures.append(
+                f"{int(failing.sum())} of {failing.size} {block}x{block}-block tests reject the reference's "
+                f"expectation at p < {per_test:.3g} (z from {z.min():.2f} to {z.max():.2f})"
+            )
+    if failures:
+        raise SystemExit(f"{label}: validation failed, nothing timed: {'; '.join(failures)}")
+    _log(f"validated {label}: smallest p-value {worst:.3g} (limit {per_test:.3g})")
+    return {"batches": len(batches), "smallest_p_value": worst, "per_test_significance": per_test}
+
+
+def measure_compile(mitsuba: MitsubaSide, args: argparse.Namespace) -> dict:
+    """Each renderer's first render minus its second, at COMPILE_PROBE_SIZE and 1 spp: the shader
+    compile (or JIT trace and compile) and first-use set-up, with so little rendering in either
+    that background load hardly moves the difference. Both compiled kernels serve every size."""
+    size, depth = COMPILE_PROBE_SIZE, args.max_depth
+    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    first, second = fresh_image(ours, 1)[2], fresh_image(ours, 1)[2]
+    result = {OURS: {"first_render_seconds": first, "second_render_seconds": second, "compile_seconds": first - second}}
+    first = mitsuba.render(size, depth, 1)[1]
+    kernels = mitsuba.kernel_report()
+    second = mitsuba.render(size, depth, 1)[1]
+    mitsuba.kernel_report()
+    result[MITSUBA] = {
+        "first_render_seconds": first,
+        "second_render_seconds": second,
+        "compile_seconds": first - second,
+        "kernels": kernels,
+    }
+    _log(
+        f"compile: ours {result[OURS]['compile_seconds']:.2f} s, Mitsuba {result[MITSUBA]['compile_seconds']:.2f} s {kernels}"
+    )
+    return result
+
+
+def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float) -> dict:
+    size, depth = THROUGHPUT_SIZE, args.max_depth
+    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    first = {OURS: fresh_image(ours, args.spp)[2], MITSUBA: mitsuba.render(size, depth, args.spp)[1]}
+    warmup_kernels = mitsuba.kernel_report()
+    _log(f"warm-up {size}x{size}: ours {first[OURS]:.2f} s, Mitsuba {first[MITSUBA]:.2f} s")
+    spp = VALIDATION_SPP[size]
+    validation = {
+        OURS: validate(
+            f"ours {size}x{size}",
+            [fresh_image(ours, spp)[0] for _ in range(VALIDATION_BATCHES)],
+            reference,
+            per_test,
+        ),
+        MITSUBA: validate(
+            f"Mitsuba {size}x{size}",
+            [mitsuba.render(size, depth, spp)[0] for _ in range(VALIDATION_BATCHES)],
+            reference,
+            per_test,
+        ),
+    }
+    mitsuba.kernel_report()
+    wall = {OURS: [], MITSUBA: []}
+    cpu = {OURS: [], MITSUBA: []}
+    for repeat in range(args.repeats):
+        _, nonfinite, seconds, cpu_seconds = fresh_image(ours, args.spp)
+        if nonfinite:
+            raise SystemExit(f"ours, timed run {repeat + 1}: the shader dropped {nonfinite} non-finite samples")
+        wall[OURS].append(seconds)
+        cpu[OURS].append(cpu_seconds)
+        image, seconds, cpu_seconds = mitsuba.render(size, depth, args.spp)
+        if not np.isfinite(image).all():
+            raise SystemExit(f"Mitsuba, timed run {repeat + 1}: NaN or infinite image values")
+        wall[MITSUBA].append(seconds)
+        cpu[MITSUBA].append(cpu_seconds)
+        _log(f"run {repeat + 1}/{args.repeats}: ours {wall[OURS][-1]:.2f} s, Mitsuba {seconds:.2f} s")
+    paths = size * size * args.spp
+    renderers = {}
+    for name in (OURS, MITSUBA):
+        median = statistics.median(wall[name])
+        renderers[name] = {
+            "run_seconds": wall[name],
+            "run_process_cpu_seconds": cpu[name],
+            "median_seconds": median,
+            "paths_per_second": paths / median,
+            "warmup_seconds": first[name],
+            "validation": validation[name],
+        }
+    renderers[MITSUBA]["warmup_kernels"] = warmup_kernels
+    renderers[MITSUBA]["timed_kernels"] = timed = mitsuba.kernel_report()
+    if timed["compiled"]:
+        raise SystemExit(f"Mitsuba compiled {timed['compiled']} kernels during timed renders: the warm-up missed them")
+    return {
+        "width": size,
+        "height": size,
+        "spp": args.spp,
+        "repeats": args.repeats,
+        "paths_per_run": paths,
+        "renderers": renderers,
+        "paths_per_second_ratio": renderers[OURS]["paths_per_second"] / renderers[MITSUBA]["paths_per_second"],
+        "process_cpu_ratio": statistics.median(cpu[MITSUBA]) / statistics.median(cpu[OURS]),
+    }
+
+
+def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float):
+    size, depth = CONVERGENCE_SIZE, args.max_depth
+    mean, variance = reference.estimate.mean, reference.estimate.variance
+    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    fresh_image(ours, 1)  # warm-up (the pipeline for this size), discarded
+    mitsuba.render(size, depth, 1)
+    warmup_kernels = mitsuba.kernel_report()
+    spp = VALIDATION_SPP[size]
+    validation = {
+        OURS: validate(
+            f"ours {size}x{size}", [fresh_image(ours, spp)[0] for _ in range(VALIDATION_BATCHES)], reference, per_test
+        ),
+        MITSUBA: validate(
+            f"Mitsuba {size}x{size}",
+            [mitsuba.render(size, depth, spp)[0] for _ in range(VALIDATION_BATCHES)],
+            reference,
+            per_test,
+        ),
+    }
+    mitsuba.kernel_report()
+    rows = []
+    for run in range(args.runs):
+        ours.reset()
+        ours.context.finish()
+        seconds = cpu_seconds = 0.0
+        for checkpoint in checkpoints(args.max_spp):
+            wall, cpu = time.perf_counter(), time.process_time()
+            ours.render(checkpoint - ours.samples_per_pixel)
+            seconds += time.perf_counter() - wall
+            cpu_seconds += time.process_time() - cpu
+            if ours.nonfinite_samples:
+                raise SystemExit(f"ours, run {run + 1}: {ours.nonfinite_samples} non-finite samples")
+            row = {"scene": SCENE, "integrator": OURS, "run": run + 1, "spp": checkpoint}
+            rows.append(row | {"seconds": seconds, "cpu_seconds": cpu_seconds} | errors(ours.image(), mean, variance))
+            image, wall, cpu = mitsuba.render(size, depth, checkpoint)
+            if not np.isfinite(image).all():
+                raise SystemExit(f"Mitsuba, run {run + 1}, {checkpoint} spp: NaN or infinite image values")
+            row = {"scene": SCENE, "integrator": MITSUBA, "run": run + 1, "spp": checkpoint}
+            rows.append(row | {"seconds": wall, "cpu_seconds": cpu} | errors(image, mean, variance))
+        _log(
+            f"run {run + 1}/{args.runs}: RMSE at {args.max_spp} spp ours {rows[-2]['rmse']:.4g}, Mitsuba {rows[-1]['rmse']:.4g}"
+        )
+    timed = mitsuba.kernel_report()
+    if timed["compiled"]:
+        raise SystemExit(f"Mitsuba compiled {timed['compiled']} kernels during timed renders: the warm-up missed them")
+    # curves() groups by scene and "integrator": here that column names the renderer
+    by_renderer = {curve["integrator"]: curve for curve in curves(rows).values()}
+    # the same in process CPU time (both renderers' worker threads run in this process), which
+    # other load on the shared cores hardly changes
+    by_renderer_cpu = {
+        curve["integrator"]: curve for curve in curves([row | {"seconds": row["cpu_seconds"]} for row in rows]).values()
+    }
+    return {
+        "width": size,
+        "height": size,
+        "max_spp": args.max_spp,
+        "runs": args.runs,
+        "timing": "ours: Renderer.render summed over the progressive checkpoints; Mitsuba: one fresh render "
+        "per checkpoint at that spp; image read-backs not timed",
+        "validation": validation,
+        "warmup_kernels": warmup_kernels,
+        "timed_kernels": timed,
+        "curves": by_renderer,
+        "time_to_equal_rmse": time_to_equal_rmse(by_renderer[OURS], by_renderer[MITSUBA]),
+        "process_cpu_time_to_equal_rmse": time_to_equal_rmse(by_renderer_cpu[OURS], by_renderer_cpu[MITSUBA]),
+        "rows": rows,
+    }
+
+
+def time_to_equal_rmse(ours: dict, theirs: dict) -> dict:
+    """Times for both curves to reach a common RMSE, from power laws fitted to RMSE against time
+    (bench/convergence.py's fit); the level is the larger of the two fitted final RMSEs, which both
+    curves reach inside their measured time range."""
+    fits = {OURS: fit_power_law(ours, "rmse"), MITSUBA: fit_power_law(theirs, "rmse")}
+    final = {
+        name: float(np.exp(intercept + slope * np.log(curve["seconds"][-1])))
+        for (name, (slope, intercept)), curve in zip(fits.items(), (ours, theirs), strict=True)
+    }
+    level = max(final.values())
+    seconds = {name: seconds_to_reach(slope, intercept, level) for name, (slope, intercept) in fits.items()}
+    return {
+        "rmse": level,
+        "seconds": seconds,
+        "fitted_slope_rmse_vs_seconds": {name: fit[0] for name, fit in fits.items()},
+        "fitted_final_rmse": final,
+        "ratio": seconds[OURS] / seconds[MITSUBA],
+    }
+
+
+def plot(path: Path, result: dict) -> None:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(12.0, 5.0))
+    FigureCanvasAgg(figure)
+    error_axes, bar_axes = figure.subplots(1, 2, gridspec_kw={"width_ratios": [1.4, 1.0]})
+    colors = {OURS: "#3b75af", MITSUBA: "#c4452c"}
+    convergence = result["convergence"]
+    equal = convergence["time_to_equal_rmse"]
+    for name, curve in convergence["curves"].items():
+        error_axes.loglog(curve["seconds"], curve["rmse"], "o", markersize=4, color=colors[name], label=name)
+        slope, intercept = fit_power_law(curve, "rmse")
+        fitted = [s for s, spp in zip(curve["seconds"], curve["spp"], strict=True) if spp >= FIT_MIN_SPP]
+        error_axes.loglog(fitted, np.exp(intercept + slope * np.log(fitted)), "-", color=colors[name], alpha=0.6)
+        error_axes.axvline(equal["seconds"][name], color=colors[name], linestyle=":", linewidth=1)
+    error_axes.axhline(
+        equal["rmse"], color="grey", linestyle="--", linewidth=1, label=f"common RMSE {equal['rmse']:.3g}"
+    )
+    error_axes.set_xlabel("render time (s)")
+    error_axes.set_ylabel("RMSE against the reference (its variance subtracted)")
+    error_axes.set_title(
+        f"{convergence['width']}x{convergence['height']}, 1..{convergence['max_spp']} spp: "
+        f"time to equal RMSE ours / Mitsuba = {equal['ratio']:.2f} "
+        f"(process CPU {convergence['process_cpu_time_to_equal_rmse']['ratio']:.2f})",
+        fontsize=10,
+    )
+    error_axes.grid(which="both", alpha=0.3)
+    error_axes.legend(fontsize=8)
+    throughput = result["throughput"]
+    names = list(throughput["renderers"])
+    medians = [throughput["renderers"][name]["paths_per_second"] / 1e6 for name in names]
+    bars = bar_axes.bar(names, medians, color=[colors[name] for name in names], width=0.5, zorder=2)
+    bar_axes.bar_label(bars, labels=[f"{m:.3f} M paths/s" for m in medians], padding=3)
+    for x, name in enumerate(names):
+        runs = [throughput["paths_per_run"] / s / 1e6 for s in throughput["renderers"][name]["run_seconds"]]
+        bar_axes.scatter([x] * len(runs), runs, color="black", s=12, zorder=3)
+    bar_axes.set_ylim(0, max(medians) * 1.25)
+    bar_axes.set_ylabel(f"million paths per second (median of {throughput['repeats']}, dots: runs)")
+    bar_axes.set_title(
+        f"{throughput['width']}x{throughput['height']}, {throughput['spp']} spp: "
+        f"ours / Mitsuba = {throughput['paths_per_second_ratio']:.3f} (process CPU {throughput['process_cpu_ratio']:.3f})",
+        fontsize=10,
+    )
+    bar_axes.grid(axis="y", alpha=0.3, zorder=0)
+    threads = result["threads"]
+    figure.suptitle(
+        f"wgputrace on {result['adapter']['adapter']} ({result['adapter']['backend']}) vs Mitsuba "
+        f"{result['mitsuba']} {result['variant']} (path), {result['scene']}, max depth {result['max_depth']}, "
+        f"rev {result['git_revision']}\nthreads: llvmpipe {threads['llvmpipe']}, drjit {threads['drjit']}, "
+        f"{threads['cpu_count']} cores; load average {result['load_average_before_after']}",
+        fontsize=9,
+    )
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+
+
+def parse_arguments(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--spp", type=int, default=4, help="samples per pixel per timed 512x512 render (default 4)")
+    parser.add_argument("--repeats", type=int, default=3, help="timed 512x512 renders per renderer (default 3)")
+    parser.add_argument("--max-spp", type=int, default=256, help="last convergence checkpoint, a power of two")
+    parser.add_argument("--runs", type=int, default=1, help="convergence runs per renderer (default 1)")
+    parser.add_argument("--seed", type=int, default=1, help="our renderer's seed")
+    parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
+    args = parser.parse_args(argv)
+    if args.max_spp < FIT_MIN_SPP * 4 or args.max_spp & (args.max_spp - 1):
+        parser.error(f"--max-spp must be a power of two >= {FIT_MIN_SPP * 4}, got {args.max_spp}")
+    if min(args.spp, args.repeats, args.runs) < 1:
+        parser.error(f"--spp, --repeats and --runs must be at least 1, got {args.spp}, {args.repeats}, {args.runs}")
+    return args
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_arguments(argv)
+    reference = load_reference(SCENE)
+    if (reference.metadata["width"], reference.metadata["height"]) != (CONVERGENCE_SIZE, CONVERGENCE_SIZE):
+        raise SystemExit(
+            f"the {SCENE} reference is {reference.metadata['width']}x{reference.metadata['height']}, "
+            f"this benchmark measures errors at {CONVERGENCE_SIZE}x{CONVERGENCE_SIZE}"
+        )
+    args.max_depth = reference.metadata["max_depth"]
+    settings = {"scene": SCENE, "width": THROUGHPUT_SIZE, "height": THROUGHPUT_SIZE, "spp": args.spp}
+    settings["max_depth"] = args.max_depth
+    reason = skip_reason()
+    if reason:
+        write_result(f"{NAME}_skipped", {**settings, "skipped": reason}, out=args.out)
+        print(f"{NAME} skipped: {reason} (recorded in {result_stem(f'{NAME}_skipped', args.out)}.json)")
+        return 0
+    started = time.perf_counter()
+    load_before = load_average()
+    # before anything starts the GPU device or drjit
+    caches = tempfile.TemporaryDirectory(prefix="versus-mitsuba-caches-")
+    empty_caches = empty_compile_caches(Path(caches.name))
+    import drjit
+
+    mitsuba = MitsubaSide(load_mitsuba(LLVM_VARIANT), drjit)
+    drjit.set_flag(drjit.JitFlag.KernelHistory, True)
+    # Sidak over both parts, both renderers, every block size and channel
+    tests = 2 * 2 * CHANNELS * sum((CONVERGENCE_SIZE // block) ** 2 for block in VALIDATION_BLOCKS)
+    per_test = sidak(VALIDATION_SIGNIFICANCE, tests)
+    compile_times = measure_compile(mitsuba, args)
+    throughput = measure_throughput(mitsuba, reference, args, per_test)
+    convergence = measure_convergence(mitsuba, reference, args, per_test)
+    # Mitsuba compiles a few size-dependent kernels (film, reductions) at each new image size
+    warmups = (compile_times[MITSUBA]["kernels"], throughput["renderers"][MITSUBA]["warmup_kernels"])
+    compile_times[MITSUBA]["llvm_ms_all_warmups"] = sum(
+        kernels["codegen_ms"] + kernels["llvm_backend_ms"] for kernels in (*warmups, convergence["warmup_kernels"])
+    )
+    result = {
+        **settings,
+        "integrators": {OURS: "mis", MITSUBA: "path"},
+        "mitsuba": mitsuba.mi.__version__,
+        "drjit": drjit.__version__,
+        "variant": LLVM_VARIANT,
+        "libllvm": libllvm_path(),
+        "reference": reference.metadata,
+        "mitsuba_seed_start": MITSUBA_SEED_START,
+        "threads": {
+            # llvmpipe's default is one thread per core
+            "llvmpipe": int(os.environ.get("LP_NUM_THREADS") or os.cpu_count()),
+            "drjit": drjit.thread_count(),
+            "cpu_count": os.cpu_count(),
+        },
+        "load_average_before_after": [load_before, load_average()],
+        "compile_caches_empty_at_start": empty_caches,
+        "validation": {
+            "test": "Welch t-test per block and channel against the reference (tests/render/image_statistics.py)",
+            "batches": VALIDATION_BATCHES,
+            "spp_per_batch": VALIDATION_SPP,
+            "blocks": VALIDATION_BLOCKS,
+            "significance_family_wise": VALIDATION_SIGNIFICANCE,
+            "sidak_tests": tests,
+        },
+        "compile": compile_times,
+        "throughput": throughput,
+        "convergence": convergence,
+        "wall_seconds": time.perf_counter() - started,
+    }
+    caches.cleanup()
+    write_result(NAME, result, out=args.out, plot=plot)
+    # a skip recorded earlier no longer holds
+    result_stem(f"{NAME}_skipped", args.out).with_suffix(".json").unlink(missing_ok=True)
+    equal = convergence["time_to_equal_rmse"]
+    print(
+        f"paths/s at {THROUGHPUT_SIZE}x{THROUGHPUT_SIZE}, {args.spp} spp: ours "
+        f"{throughput['renderers'][OURS]['paths_per_second'] / 1e6:.4f} M, Mitsuba "
+        f"{throughput['renderers'][MITSUBA]['paths_per_second'] / 1e6:.4f} M, ratio {throughput['paths_per_second_ratio']:.3f} "
+        f"(process CPU {throughput['process_cpu_ratio']:.3f})\n"
+        f"time to RMSE {equal['rmse']:.4g} at {convergence['width']}x{convergence['height']}: ours "
+        f"{equal['seconds'][OURS]:.2f} s, Mitsuba {equal['seconds'][MITSUBA]:.2f} s, ratio {equal['ratio']:.3f} "
+        f"(process CPU {convergence['process_cpu_time_to_equal_rmse']['ratio']:.3f})\n"
+        f"compile apart: ours {compile_times[OURS]['compile_seconds']:.2f} s, Mitsuba "
+        f"{compile_times[MITSUBA]['compile_seconds']:.2f} s ({compile_times[MITSUBA]['kernels']['compiled']} kernels; "
+        f"{compile_times[MITSUBA]['llvm_ms_all_warmups'] / 1e3:.2f} s of trace and LLVM compile over all sizes)\n"
+        f"wrote {result_stem(NAME, args.out)}.json and .png in {result['wall_seconds']:.0f} s"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,38 @@
+"""bench/common.py's write_result: every result file carries the same metadata and the picture's settings."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from bench.common import SETTINGS_KEYS, write_result
+
+pytestmark = pytest.mark.gpu  # the adapter's description comes from the device
+
+SETTINGS = {"scene": "cornell", "width": 8, "height": 4, "spp": 2, "max_depth": 9}
+METADATA_KEYS = ("benchmark", "git_revision", "adapter", "environment", "load_average_at_write")
+
+
+def test_a_result_carries_metadata_and_settings(gpu_context, tmp_path):
+    plotted = {}
+
+    def plot(path, result):
+        plotted.update(result)
+        path.write_bytes(b"png")
+
+    paths = write_result("example", {**SETTINGS, "value": 1.5}, out=tmp_path, plot=plot)
+    written = json.loads(paths["json"].read_text())
+    assert all(key in written for key in METADATA_KEYS)
+    assert written["benchmark"] == "example" and written["value"] == 1.5
+    assert {key: written[key] for key in SETTINGS_KEYS} == SETTINGS
+    assert written["adapter"]["adapter"] and written["environment"]["wgpu"]
+    # the file is named by benchmark and adapter, and the chart sees what the file holds
+    assert paths["json"].name.startswith("example_") and paths["png"].with_suffix(".json") == paths["json"]
+    assert plotted == written
+
+
+def test_a_result_without_its_settings_is_refused(gpu_context, tmp_path):
+    with pytest.raises(ValueError, match="lacks spp, max_depth"):
+        write_result("example", {"scene": "cornell", "width": 8, "height": 4}, out=tmp_path)
+    assert not list(tmp_path.iterdir())

@@ -1,0 +1,75 @@
+"""Count the rays a render traces: the renderer's own path tracer with ray counters compiled in.
+
+Renders are deterministic (same seed, same adapter, same arguments: the same image bit for bit),
+so counting the samples a timed render took, from the same random state, counts exactly that
+render's rays; the timed kernel itself never carries a counter (gpu/ray_count.py). The counted
+samples go into the renderer's accumulation like any others, so the caller can check that the
+counted image equals the timed one bit for bit: the proof that the count belongs to those paths.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..gpu.buffers import read_buffer, storage_buffer
+from ..gpu.pipeline import dispatch_size
+from ..gpu.ray_count import RAY_COUNT_GROUP, RAY_KINDS
+from .renderer import Renderer
+
+
+@dataclass(frozen=True)
+class RayCounts:
+    """Rays traced by `samples_per_pixel` samples of every pixel."""
+
+    pixels: int
+    samples_per_pixel: int
+    closest_hit: int  # camera rays and extension rays: every ray that looks for the nearest surface
+    shadow: int  # light samples' occlusion tests
+
+    @property
+    def camera(self) -> int:
+        """One camera ray starts every path."""
+        return self.pixels * self.samples_per_pixel
+
+    @property
+    def extension(self) -> int:
+        """Rays that continue a path after a bounce."""
+        return self.closest_hit - self.camera
+
+    @property
+    def total(self) -> int:
+        return self.closest_hit + self.shadow
+
+
+def count_rays(renderer: Renderer, spp: int) -> RayCounts:
+    """Add `spp` samples per pixel to `renderer` as `render(spp)` would, counting their rays.
+
+    Counters are read back after every sample, so 32-bit atomics cannot wrap within a run.
+    """
+    if spp < 1:
+        raise ValueError(f"spp must be >= 1, got {spp}")
+    renderer.update()
+    context, device = renderer.context, renderer.context.device
+    kernel = renderer.kernel_variant(count_rays=True)
+    zeros = np.zeros(len(RAY_KINDS), np.uint32)
+    counter = storage_buffer(context, "ray counts", zeros, read_back=True)
+    scene_group = kernel.bind_group(context, 0, renderer.bindings)
+    counter_group = kernel.bind_group(context, RAY_COUNT_GROUP, {0: counter})
+    groups = dispatch_size(renderer.width, renderer.height, kernel.workgroup_size)
+    totals = np.zeros(len(RAY_KINDS), np.uint64)
+    for _ in range(spp):
+        device.queue.write_buffer(counter, 0, zeros)
+        encoder = device.create_command_encoder()
+        compute = encoder.begin_compute_pass()
+        compute.set_pipeline(kernel.pipeline)
+        compute.set_bind_group(0, scene_group)
+        compute.set_bind_group(RAY_COUNT_GROUP, counter_group)
+        compute.dispatch_workgroups(*groups)
+        compute.end()
+        device.queue.submit([encoder.finish()])
+        totals += read_buffer(context, counter, np.uint32, len(RAY_KINDS))
+    renderer.stats.samples_per_pixel += spp
+    counts = dict(zip(RAY_KINDS, (int(total) for total in totals), strict=True))
+    return RayCounts(renderer.width * renderer.height, spp, **counts)
