@@ -1,11 +1,13 @@
 // Watertight ray/triangle intersection (Woop, Benthin, Wald 2013).
 //! include "ray.wgsl"
+//! include "difference_of_products.wgsl"
 //
 // The ray is turned into a shear that maps its direction onto +z; a triangle is hit when the 2D
 // edge functions of its sheared corners share a sign. Shared edges are evaluated identically from
-// both sides, so no ray slips between two triangles. Zero-area triangles and rays in a triangle's
-// plane give a zero determinant and never hit. No division by a direction component other than the
-// largest one, so axis-parallel rays need no special case.
+// both sides, and each edge function's sign is exact whatever the compiler contracts
+// (difference_of_products.wgsl), so no ray slips between two triangles. Zero-area triangles and
+// rays in a triangle's plane give a zero determinant and never hit. No division by a direction
+// component other than the largest one, so axis-parallel rays need no special case.
 
 struct ShearedRay {
     origin: vec3<f32>,
@@ -56,9 +58,9 @@ fn intersect_triangle(ray: ShearedRay, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f3
     let by = dot(ray.row_y, b);
     let cx = dot(ray.row_x, c);
     let cy = dot(ray.row_y, c);
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
+    let u = difference_of_products(cx, by, cy, bx);
+    let v = difference_of_products(ax, cy, ay, cx);
+    let w = difference_of_products(bx, ay, by, ax);
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return FLOAT_MAX;
     }
