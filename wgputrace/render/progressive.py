@@ -16,7 +16,7 @@ import numpy as np
 
 from ..gpu.buffers import uniform_buffer
 from ..scene import Camera
-from .renderer import Renderer, path_tracer_kernel
+from .renderer import Renderer
 
 # The path tracer's workgroup is 8x8: bands are whole rows of workgroups.
 BAND_ROWS_STEP = 8
@@ -35,10 +35,8 @@ class BandedRenderer:
         self.renderer = renderer
         self.context = renderer.context
         self.full_size = (renderer.width, renderer.height)
-        # the renderer's own material kinds: the same BSDF code, compiled once more with this entry point
-        self.kernel = path_tracer_kernel(
-            self.context, renderer.accel, renderer.integrator, rows=True, material_kinds=renderer._kinds
-        )
+        # the renderer's own path tracer (material kinds, overrides), compiled once more with this entry point
+        self.kernel = renderer.kernel_variant(rows=True)
         self._band = uniform_buffer(self.context, "band first row", np.zeros(1, np.uint32))
         self._scene_group = self.kernel.bind_group(self.context, 0, renderer.bindings)
         self._band_group = self.kernel.bind_group(self.context, 1, {0: self._band})
