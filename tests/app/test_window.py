@@ -32,7 +32,7 @@ Z_LIMIT = z_limit(sidak(SIGNIFICANCE, BLOCKS * BLOCKS * CHANNELS))
 # Screenshots taken for comparisons have at least this many samples per pixel. The block z-test
 # assumes normal block means; at 2 spp the rare bright paths (caustic, lamp reflections) skew the
 # differences (viewer minus a 16-spp render) that a negative z-score beyond the bound came up in
-# one CI run (-4.4 against 4.26 at 04a023a; not in five runs since). The skew of a mean falls as
+# one CI run (-4.4 against 4.26 at 04a023a; not in three local runs since). The skew of a mean falls as
 # 1/sqrt(samples): at 8 spp it is half that at 2.
 MIN_SPP = 8.0
 DRAG_PIXELS = 40
