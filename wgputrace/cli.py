@@ -117,12 +117,15 @@ def _render(args: argparse.Namespace) -> int:
 
 
 def _bench(arguments: list[str]) -> int:
-    """`python -m bench ARGUMENTS` in the checkout this package was imported from."""
-    checkout = Path(__file__).resolve().parent.parent
-    if not (checkout / "bench" / "__main__.py").is_file():
+    """`python -m bench ARGUMENTS` in a source checkout: the working directory's, else the one this
+    package was imported from (an editable install)."""
+    candidates = (Path.cwd(), Path(__file__).resolve().parent.parent)
+    checkout = next((path for path in candidates if (path / "bench" / "__main__.py").is_file()), None)
+    if checkout is None:
         print(
-            f"wgputrace: error: no benchmarks beside this installation ({checkout}): they live in the source "
-            "checkout, not in the wheel; clone the repository and run `python -m bench` (or `wgputrace bench`) there",
+            "wgputrace: error: the benchmarks live in the source checkout, not in the wheel, and neither the "
+            f"working directory nor {candidates[1]} holds bench/__main__.py: run `wgputrace bench` (or "
+            "`python -m bench`) in a clone of the repository",
             file=sys.stderr,
         )
         return 2

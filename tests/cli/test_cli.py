@@ -5,15 +5,20 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from wgputrace import load_image
 
+REPO_ROOT = Path(__file__).resolve().parents[2]
 
-def run_cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "wgputrace", *args], capture_output=True, text=True, timeout=300)
+
+def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "wgputrace", *args], capture_output=True, text=True, timeout=300, cwd=cwd
+    )
 
 
 @pytest.mark.parametrize("suffix", [".png", ".exr", ".npy"])
@@ -49,3 +54,10 @@ def test_info_prints_adapter_and_limits():
     info = json.loads(result.stdout)
     assert info["adapter"] and info["backend"]
     assert "max-storage-buffer-binding-size" in info["limits"]
+
+
+def test_bench_runs_the_suite_of_the_checkout_it_is_started_in():
+    # --help: the suite's own parser answers, so `wgputrace bench` reached bench/__main__.py
+    result = run_cli("bench", "--help", cwd=REPO_ROOT)
+    assert result.returncode == 0, result.stderr
+    assert "python -m bench" in result.stdout and "--only" in result.stdout
