@@ -22,7 +22,7 @@ import wgpu
 
 from .device import GpuContext
 from .layout import BVH_NODE, GpuStruct
-from .tracked_buffer import SPARE_FRACTION, UploadCount, merged_runs
+from .tracked_buffer import SPARE_FRACTION, UploadCount, contiguous_records, merged_runs
 
 GENERATED_TEXEL_LOADERS = "generated/texel_loaders.wgsl"
 # The structs the renderer keeps in texels; the others stay in storage buffers. Triangle corners as
@@ -105,11 +105,7 @@ class TrackedTexels:
     def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
         """Make the texture equal `data`, given that only `rows` (sorted, unique) differ from the
         last upload, rows beyond the old length included; None means every row."""
-        data = np.ascontiguousarray(data)
-        if data.dtype != self.dtype:
-            raise ValueError(
-                f"texture {self.label!r} holds records of {self.dtype.itemsize} B, got {data.dtype.itemsize} B: {data.dtype}"
-            )
+        data = contiguous_records(data, self.dtype, f"texture {self.label!r}")
         if len(data) > self.capacity_records:
             self._allocate(data)
             return

@@ -58,12 +58,7 @@ class TrackedBuffer:
     def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
         """Make the GPU copy equal `data`, given that only `rows` (sorted, unique) differ from the
         last upload, rows beyond the old length included; None means every row."""
-        data = np.ascontiguousarray(data)
-        if data.dtype != self.dtype:
-            # np.concatenate of padded structured records silently packs them (numpy 2)
-            raise ValueError(
-                f"buffer {self.label!r} holds records of {self.dtype.itemsize} B, got {data.dtype.itemsize} B: {data.dtype}"
-            )
+        data = contiguous_records(data, self.dtype, f"buffer {self.label!r}")
         if data.nbytes > self.buffer.size:
             self._allocate(data)
             return
@@ -97,6 +92,15 @@ class TrackedBuffer:
         self.context.device.queue.write_buffer(self.buffer, offset, data)
         self.uploads.bytes += data.nbytes
         self.uploads.calls += 1
+
+
+def contiguous_records(data: np.ndarray, dtype: np.dtype, holder: str) -> np.ndarray:
+    """`data` as a contiguous array, refused unless its records are `dtype` (what `holder` holds)."""
+    data = np.ascontiguousarray(data)
+    if data.dtype != dtype:
+        # np.concatenate of padded structured records silently packs them (numpy 2)
+        raise ValueError(f"{holder} holds records of {dtype.itemsize} B, got {data.dtype.itemsize} B: {data.dtype}")
+    return data
 
 
 def merged_runs(rows: np.ndarray) -> list[tuple[int, int]]:
