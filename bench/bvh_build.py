@@ -6,7 +6,8 @@
 The triangles are bench/scaling.py's height field (the same sheet that is rendered there), built
 by `wgputrace.bvh.build_bvh` with its default parameters. Each count: one build validated first
 (triangle_order a permutation, leaves covering every triangle exactly once, the root box equal to
-the mesh's bounds), then `repeats` timed builds; the median counts. SAH cost is the tree's own
+the mesh's bounds), then `repeats` timed builds with the default worker count (every CPU) and as
+many with one worker, alternating; the medians count. SAH cost is the tree's own
 `BVH.sah_cost()` (traversal and intersection cost 1). The build runs on the CPU in numpy, so it
 does not depend on the adapter, but results are filed by adapter like every benchmark's.
 
@@ -30,6 +31,7 @@ if __package__ in (None, ""):
 from bench.common import RESULTS_DIR, load_average, write_result  # noqa: E402
 from bench.scaling import TRIANGLE_COUNTS, sheet_scene  # noqa: E402
 from wgputrace.bvh import BVH, build_bvh  # noqa: E402
+from wgputrace.bvh.forked_subtrees import available_workers  # noqa: E402
 
 TARGET_TRIANGLES = 1_000_000
 TARGET_SECONDS = 2.0
@@ -62,16 +64,20 @@ def measure(triangles: int, repeats: int) -> dict:
     failures = validation_failures(bvh, vertices)
     if failures:
         raise SystemExit(f"{len(vertices)} triangles: the BVH is not valid, nothing timed: {failures}")
-    seconds = []
+    # The default (every CPU) and one worker alternate, so both see the same load.
+    seconds, one_worker_seconds = [], []
     for _ in range(repeats):
-        started = time.perf_counter()
-        build_bvh(vertices)
-        seconds.append(time.perf_counter() - started)
+        for workers, times in ((None, seconds), (1, one_worker_seconds)):
+            started = time.perf_counter()
+            build_bvh(vertices, workers=workers)
+            times.append(time.perf_counter() - started)
     return {
         "triangles_requested": triangles,  # the sheet's cells are square: the count comes out near it
         "triangles": len(vertices),
         "median_seconds": statistics.median(seconds),
         "run_seconds": seconds,
+        "one_worker_median_seconds": statistics.median(one_worker_seconds),
+        "one_worker_run_seconds": one_worker_seconds,
         "sah_cost": bvh.sah_cost(),
         "node_count": bvh.node_count,
         "depth": bvh.depth,
@@ -86,7 +92,8 @@ def plot(path: Path, result: dict) -> None:
     FigureCanvasAgg(figure)
     timing, cost = figure.subplots(1, 2)
     x = [p["triangles"] for p in result["points"]]
-    timing.loglog(x, [p["median_seconds"] for p in result["points"]], "o-", label="median build")
+    timing.loglog(x, [p["median_seconds"] for p in result["points"]], "o-", label=f"{result['workers']} workers")
+    timing.loglog(x, [p["one_worker_median_seconds"] for p in result["points"]], "s--", label="1 worker")
     timing.axhline(result["target"]["seconds"], color="grey", linestyle=":", label=f"target {TARGET_SECONDS:g} s")
     timing.set_xlabel("triangles")
     timing.set_ylabel(f"seconds (median of {result['repeats']})")
@@ -120,7 +127,11 @@ def main(argv: list[str] | None = None) -> int:
     for triangles in sorted(set(args.triangles)):
         points.append(measure(triangles, args.repeats))
         p = points[-1]
-        print(f"{p['triangles']:>9,} triangles: {p['median_seconds']:.3f} s, SAH cost {p['sah_cost']:.1f}", flush=True)
+        print(
+            f"{p['triangles']:>9,} triangles: {p['median_seconds']:.3f} s ({p['one_worker_median_seconds']:.3f} s "
+            f"with 1 worker), SAH cost {p['sah_cost']:.1f}",
+            flush=True,
+        )
     at_target = [p for p in points if p["triangles_requested"] == TARGET_TRIANGLES]
     measured = at_target[0]["median_seconds"] if at_target else None
     result = {
@@ -131,7 +142,8 @@ def main(argv: list[str] | None = None) -> int:
         "spp": None,
         "max_depth": None,
         "repeats": args.repeats,
-        "builder": "wgputrace.bvh.build_bvh, default parameters",
+        "builder": "wgputrace.bvh.build_bvh, default parameters; also workers=1, alternating",
+        "workers": available_workers(),
         "points": points,
         "target": {
             "triangles": at_target[0]["triangles"] if at_target else TARGET_TRIANGLES,

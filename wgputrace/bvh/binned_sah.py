@@ -7,21 +7,33 @@ Parameters of `build_bvh`:
                        per-leaf loop stays short (only max_depth can make a larger leaf)
     max_depth      64  levels at most; a node on the last level becomes a leaf whatever its size,
                        because the GPU traversal has a fixed 64-entry stack
+    workers      None  processes growing subtrees side by side (forked_subtrees.py); None: every
+                       CPU this process may use (Linux; elsewhere 1). The tree does not depend on it
 
 Each level keeps the triangles of its nodes contiguous per node, nodes in order, as one record per
 triangle (box, centroid, id), so a partition moves a triangle with a single 40-byte gather.
 Per-(bin, axis, node) counts and bounds are `bincount` and `ufunc.at` over flat cell keys, scans
 over bins give every split's cost and the children's boxes, and the chosen split becomes a stable
 partition of each node's range computed from cumulative sums. Python loops run over levels, axes,
-bins and cache-sized batches of nodes, never over single nodes or triangles.
+bins and cache-sized batches of nodes, never over single nodes or triangles. Once a level's nodes
+fall into groups of about equal size, each group's subtrees grow in a worker process of their own.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from time import perf_counter
 
 import numpy as np
 
+from wgputrace.bvh.forked_subtrees import (
+    FORK_MIN_TRIANGLES,
+    available_workers,
+    balanced_groups,
+    grow_groups,
+    shared_empty,
+)
+from wgputrace.bvh.levels import breadth_first_levels
 from wgputrace.bvh.tree import BVH, validated_vertices
 
 # Nodes are binned and partitioned in batches of about this many triangles so that temporaries
@@ -33,6 +45,8 @@ BATCH_TRIANGLES = 1 << 16
 RECORD = np.dtype([("min", np.float32, 3), ("max", np.float32, 3), ("centroid", np.float32, 3), ("id", np.uint32)])
 # The same bytes as one opaque item: numpy gathers these with a plain copy (field by field for RECORD).
 _RAW = np.dtype((np.void, RECORD.itemsize))
+# The BVH fields kept per node.
+NODE_FIELDS = ("bounds_min", "bounds_max", "left_or_first", "triangle_count")
 
 
 def build_bvh(
@@ -41,14 +55,17 @@ def build_bvh(
     bin_count: int = 16,
     max_leaf_size: int = 4,
     max_depth: int = 64,
+    workers: int | None = None,
 ) -> BVH:
     """Build a BVH over (N, 3, 3) float32 triangles (triangle, corner, xyz)."""
     started = perf_counter()
     triangles = validated_vertices(vertices)
+    workers = available_workers() if workers is None else workers
     for name, value, smallest in (
         ("bin_count", bin_count, 2),
         ("max_leaf_size", max_leaf_size, 1),
         ("max_depth", max_depth, 1),
+        ("workers", workers, 1),
     ):
         if value < smallest:
             raise ValueError(f"{name} must be at least {smallest}, got {value}")
@@ -60,77 +77,153 @@ def build_bvh(
     records["centroid"] = records["min"] * 0.5 + records["max"] * 0.5
     records["id"] = np.arange(triangle_total)
 
-    node_capacity = 2 * triangle_total - 1  # a binary tree whose leaves are never empty
-    bounds_min = np.empty((node_capacity, 3), np.float32)
-    bounds_max = np.empty((node_capacity, 3), np.float32)
-    left_or_first = np.empty(node_capacity, np.uint32)
-    triangle_count = np.empty(node_capacity, np.uint32)
-    triangle_order = np.empty(triangle_total, np.uint32)
-    bounds_min[0] = records["min"].min(axis=0)
-    bounds_max[0] = records["max"].max(axis=0)
+    forking = workers > 1 and triangle_total >= FORK_MIN_TRIANGLES
+    # A binary tree whose leaves are never empty has at most 2N - 1 nodes; forked groups number
+    # their nodes in ranges of their own, which take at most 2N more.
+    tree = _NodeArrays(2 * triangle_total - 1 + (2 * triangle_total if forking else 0), triangle_total, forking)
+    tree.bounds_min[0] = records["min"].min(axis=0)
+    tree.bounds_max[0] = records["max"].max(axis=0)
+    grower = _LevelGrower(tree, bin_count, max_leaf_size, max_depth)
+    # the root level, one node over every triangle
+    level = _Level(
+        np.zeros(1, np.int64), np.zeros(1, np.int64), np.array([triangle_total], np.int64), np.zeros(1, np.int64)
+    )
+    next_id, depth, edges = 1, 0, None
+    while level.node.size and edges is None:
+        records, level, next_id, depth = grower.grow(records, level, next_id, depth, levels=1)
+        edges = balanced_groups(level.count, workers) if forking else None
+    if edges is None:
+        nodes = tree.first_nodes(next_id)  # numbered breadth first already
+    else:
+        # Group g takes ids from its own base on: 2 per triangle of the groups before it.
+        triangles_before = np.concatenate([[0], np.cumsum(np.add.reduceat(level.count, edges[:-1]))])
+        bases = next_id + 2 * triangles_before
 
-    # The current level: node ids, start of each node's range in records, its triangle count,
-    # and its first slot in triangle_order. Bounds of a level's nodes are set by their parent's split.
-    node = np.zeros(1, np.int64)
-    start = np.zeros(1, np.int64)
-    count = np.array([triangle_total], np.int64)
-    first = np.zeros(1, np.int64)
-    node_total = 1
-    depth = 0
-    while node.size:
-        depth += 1
-        is_leaf = (count <= max_leaf_size) | (depth == max_depth)
-        if is_leaf.any():
-            left_or_first[node[is_leaf]] = first[is_leaf]
-            triangle_count[node[is_leaf]] = count[is_leaf]
-            in_leaf = np.repeat(is_leaf, count)
-            # A triangle's slot is its position shifted by its node's (first - start).
-            triangle_order[np.flatnonzero(in_leaf) + np.repeat(first - start, count)[in_leaf]] = records["id"][in_leaf]
-            records = records.view(_RAW)[~in_leaf].view(RECORD)
-            node, count, first = node[~is_leaf], count[~is_leaf], first[~is_leaf]
-            start = np.cumsum(count) - count
-        if not node.size:
-            break
+        def grow_group(group: int) -> int:
+            nodes = slice(edges[group], edges[group + 1])
+            part = _Level(level.node[nodes], level.start[nodes], level.count[nodes], level.first[nodes])
+            lo, hi = part.start[0], part.start[-1] + part.count[-1]
+            part.start -= lo
+            return grower.grow(records[lo:hi], part, int(bases[group]), depth)[3]
 
-        # A split never moves a triangle out of its node's range, so every batch of nodes is
-        # binned and partitioned within its own slice.
-        left_count = np.empty_like(count)
-        child_min = np.empty((node.size, 2, 3), np.float32)
-        child_max = np.empty((node.size, 2, 3), np.float32)
-        batch_edges = np.flatnonzero(np.diff(start // BATCH_TRIANGLES, prepend=-1, append=-1))
-        for node_lo, node_hi in zip(batch_edges[:-1], batch_edges[1:], strict=True):
-            nodes = slice(node_lo, node_hi)
-            batch = records[start[node_lo] : start[node_hi - 1] + count[node_hi - 1]]
-            is_left, child_min[nodes], child_max[nodes], exact = _split(batch, count[nodes], bin_count)
-            source, left_count[nodes] = _stable_partition(is_left, count[nodes])
-            raw = batch.view(_RAW)
-            raw[...] = raw[source]
-            if not exact:  # nodes cut by position
-                child_start = np.column_stack([start[nodes], start[nodes] + left_count[nodes]]).ravel() - start[node_lo]
-                child_min[nodes] = np.minimum.reduceat(batch["min"], child_start).reshape(-1, 2, 3)
-                child_max[nodes] = np.maximum.reduceat(batch["max"], child_start).reshape(-1, 2, 3)
-
-        left_or_first[node] = node_total + 2 * np.arange(node.size)
-        triangle_count[node] = 0
-        node = np.arange(node_total, node_total + 2 * node.size)
-        node_total += node.size
-        # Children interleave (left, right) per parent, matching their ids.
-        bounds_min[node] = child_min.reshape(-1, 3)
-        bounds_max[node] = child_max.reshape(-1, 3)
-        start = np.column_stack([start, start + left_count]).ravel()
-        first = np.column_stack([first, first + left_count]).ravel()
-        count = np.column_stack([left_count, count - left_count]).ravel()
+        depth = max(grow_groups(len(edges) - 1, grow_group))
+        nodes = tree.renumbered(np.concatenate(breadth_first_levels(tree.left_or_first, tree.triangle_count)))
 
     return BVH(
-        bounds_min=bounds_min[:node_total].copy(),
-        bounds_max=bounds_max[:node_total].copy(),
-        left_or_first=left_or_first[:node_total].copy(),
-        triangle_count=triangle_count[:node_total].copy(),
-        triangle_order=triangle_order,
+        **nodes,
+        triangle_order=np.array(tree.triangle_order),  # a copy: no shared memory outlives the build
         depth=depth,
         build_seconds=perf_counter() - started,
         kind="bvh",
     )
+
+
+@dataclass
+class _Level:
+    """The nodes of one tree level, in order: their ids, the start of each one's range in the
+    level's records, its triangle count, and its first slot in triangle_order. Their bounds are
+    already set, by their parent's split."""
+
+    node: np.ndarray
+    start: np.ndarray
+    count: np.ndarray
+    first: np.ndarray
+
+
+class _NodeArrays:
+    """The tree as it is built: node fields by id and triangle_order, in shared memory where
+    forked workers write them."""
+
+    def __init__(self, node_capacity: int, triangle_total: int, shared: bool) -> None:
+        empty = shared_empty if shared else np.empty
+        self.bounds_min = empty((node_capacity, 3), np.float32)
+        self.bounds_max = empty((node_capacity, 3), np.float32)
+        self.left_or_first = empty((node_capacity,), np.uint32)
+        self.triangle_count = empty((node_capacity,), np.uint32)
+        self.triangle_order = empty((triangle_total,), np.uint32)
+
+    def first_nodes(self, node_total: int) -> dict[str, np.ndarray]:
+        """Copies of the node fields of ids [0, node_total)."""
+        return {name: getattr(self, name)[:node_total].copy() for name in NODE_FIELDS}
+
+    def renumbered(self, order: np.ndarray) -> dict[str, np.ndarray]:
+        """The node fields of the nodes `order` lists, node order[k] becoming node k (children's
+        ids follow)."""
+        nodes = {name: getattr(self, name)[order] for name in NODE_FIELDS}
+        new_id = np.empty(len(self.triangle_count), np.uint32)
+        new_id[order] = np.arange(order.size)
+        interior = nodes["triangle_count"] == 0
+        nodes["left_or_first"][interior] = new_id[nodes["left_or_first"][interior]]
+        return nodes
+
+
+class _LevelGrower:
+    """Grows the tree level by level under one set of build parameters."""
+
+    def __init__(self, tree: _NodeArrays, bin_count: int, max_leaf_size: int, max_depth: int) -> None:
+        self.tree, self.bin_count, self.max_leaf_size, self.max_depth = tree, bin_count, max_leaf_size, max_depth
+
+    def grow(
+        self, records: np.ndarray, level: _Level, next_id: int, depth: int, levels: int | None = None
+    ) -> tuple[np.ndarray, _Level, int, int]:
+        """Turn `level`'s small nodes into leaves and split the others, for `levels` levels (None:
+        until none is left), numbering children from `next_id` on. `records` holds the level's
+        triangles, each node's range contiguous. Returns the records, level, next free id and
+        depth reached (levels from the root; a single leaf has depth 1)."""
+        tree = self.tree
+        grown = 0
+        while level.node.size and grown != levels:
+            grown += 1
+            depth += 1
+            node, start, count, first = level.node, level.start, level.count, level.first
+            is_leaf = (count <= self.max_leaf_size) | (depth == self.max_depth)
+            if is_leaf.any():
+                tree.left_or_first[node[is_leaf]] = first[is_leaf]
+                tree.triangle_count[node[is_leaf]] = count[is_leaf]
+                in_leaf = np.repeat(is_leaf, count)
+                # A triangle's slot is its position shifted by its node's (first - start).
+                slots = np.flatnonzero(in_leaf) + np.repeat(first - start, count)[in_leaf]
+                tree.triangle_order[slots] = records["id"][in_leaf]
+                records = records.view(_RAW)[~in_leaf].view(RECORD)
+                node, count, first = node[~is_leaf], count[~is_leaf], first[~is_leaf]
+                start = np.cumsum(count) - count
+            if not node.size:
+                level = _Level(node, start, count, first)
+                break
+
+            # A split never moves a triangle out of its node's range, so every batch of nodes is
+            # binned and partitioned within its own slice.
+            left_count = np.empty_like(count)
+            child_min = np.empty((node.size, 2, 3), np.float32)
+            child_max = np.empty((node.size, 2, 3), np.float32)
+            batch_edges = np.flatnonzero(np.diff(start // BATCH_TRIANGLES, prepend=-1, append=-1))
+            for node_lo, node_hi in zip(batch_edges[:-1], batch_edges[1:], strict=True):
+                nodes = slice(node_lo, node_hi)
+                batch = records[start[node_lo] : start[node_hi - 1] + count[node_hi - 1]]
+                is_left, child_min[nodes], child_max[nodes], exact = _split(batch, count[nodes], self.bin_count)
+                source, left_count[nodes] = _stable_partition(is_left, count[nodes])
+                raw = batch.view(_RAW)
+                raw[...] = raw[source]
+                if not exact:  # nodes cut by position
+                    child_start = np.column_stack([start[nodes], start[nodes] + left_count[nodes]]).ravel()
+                    child_start -= start[node_lo]
+                    child_min[nodes] = np.minimum.reduceat(batch["min"], child_start).reshape(-1, 2, 3)
+                    child_max[nodes] = np.maximum.reduceat(batch["max"], child_start).reshape(-1, 2, 3)
+
+            tree.left_or_first[node] = next_id + 2 * np.arange(node.size)
+            tree.triangle_count[node] = 0
+            children = np.arange(next_id, next_id + 2 * node.size)
+            next_id += children.size
+            # Children interleave (left, right) per parent, matching their ids.
+            tree.bounds_min[children] = child_min.reshape(-1, 3)
+            tree.bounds_max[children] = child_max.reshape(-1, 3)
+            level = _Level(
+                children,
+                np.column_stack([start, start + left_count]).ravel(),
+                np.column_stack([left_count, count - left_count]).ravel(),
+                np.column_stack([first, first + left_count]).ravel(),
+            )
+        return records, level, next_id, depth
 
 
 def _stable_partition(is_left: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

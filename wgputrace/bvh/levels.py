@@ -9,20 +9,24 @@ import numpy as np
 _EDGES = np.array([(k, k | (1 << axis)) for axis in range(3) for k in range(8) if not k & (1 << axis)])
 
 
-def node_levels(left_or_first: np.ndarray, triangle_count: np.ndarray) -> np.ndarray:
-    """Depth of every node below the root (root: 0), for the canonical layout (interior node i:
-    triangle_count 0, children left_or_first[i] and left_or_first[i] + 1)."""
-    levels = np.full(len(left_or_first), -1, dtype=np.int64)
-    if len(levels) == 0:
-        return levels
-    current = np.array([0])
-    depth = 0
-    while len(current):
-        levels[current] = depth
+def breadth_first_levels(left_or_first: np.ndarray, triangle_count: np.ndarray) -> list[np.ndarray]:
+    """Node ids of each level of the canonical layout (interior node i: triangle_count 0, children
+    left_or_first[i] and left_or_first[i] + 1), from the root's level down; each interior node's
+    children together, in their parents' order. This is the order build_bvh numbers nodes in."""
+    levels = []
+    current = np.zeros(min(len(left_or_first), 1), np.int64)
+    while current.size:
+        levels.append(current)
         interior = current[triangle_count[current] == 0]
-        left = left_or_first[interior].astype(np.int64)
-        current = np.concatenate([left, left + 1])
-        depth += 1
+        current = (left_or_first[interior].astype(np.int64)[:, None] + np.arange(2)).ravel()
+    return levels
+
+
+def node_levels(left_or_first: np.ndarray, triangle_count: np.ndarray) -> np.ndarray:
+    """Depth of every node below the root (root: 0), for the canonical layout."""
+    levels = np.full(len(left_or_first), -1, dtype=np.int64)
+    for depth, nodes in enumerate(breadth_first_levels(left_or_first, triangle_count)):
+        levels[nodes] = depth
     if np.any(levels < 0):
         raise ValueError(f"node {int(np.flatnonzero(levels < 0)[0])} is not reachable from the root")
     return levels
