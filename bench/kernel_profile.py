@@ -64,7 +64,8 @@ SCENES = {"cornell": default_scene, "big_sphere": big_sphere_scene}
 @dataclass
 class Variant:
     """The shipped kernel with `files` replaced (name -> file under kernel_variants/), another
-    workgroup or renderer setting, and binding 2 (the nodes) holding `nodes`."""
+    workgroup or renderer setting, binding 1 holding the triangles as `triangles` and binding 2 the
+    nodes as `nodes`."""
 
     name: str
     files: dict[str, str] = field(default_factory=dict)
@@ -74,13 +75,13 @@ class Variant:
     # "texels" (shipped), "buffer" (before texels), "uniform" (scenes whose nodes fit 64 KiB) or
     # "paired" (paired_nodes.py)
     nodes: str = "texels"
-    triangle_texels: bool = False  # also binds the triangles as texels, at binding 8
+    triangles: str = "texels"  # "texels" (shipped) or "buffer" (before texels)
     same_arithmetic: bool = True  # whether its image must equal the shipped kernel's bit for bit
     what: str = ""
 
 
 VARIANTS = [
-    Variant("shipped", what="the shipped megakernel (MIS, max depth 9; nodes as texels)"),
+    Variant("shipped", what="the shipped megakernel (MIS, max depth 9; nodes and triangles as texels)"),
     Variant("primary_only", max_depth=1, same_arithmetic=False, what="camera rays' closest hit only (max depth 1)"),
     Variant("direct_only", max_depth=2, same_arithmetic=False, what="max depth 2: primary, shadow ray, one BSDF ray"),
     Variant("no_shadow_rays", integrator="bsdf", same_arithmetic=False, what="BSDF sampling alone: no shadow rays"),
@@ -97,10 +98,10 @@ VARIANTS = [
         what="nodes in a uniform buffer, the array sized for the scene (a specialization for small scenes)",
     ),
     Variant(
-        "triangle_texels",
-        files={"intersect_leaf.wgsl": "triangle_texels_intersect_leaf.wgsl"},
-        triangle_texels=True,
-        what="the triangles' corners from texels too",
+        "storage_triangles",
+        files={"scene_bindings.wgsl": "storage_triangles_scene_bindings.wgsl"},
+        triangles="buffer",
+        what="triangles in a storage buffer (the kernel before triangle texels)",
     ),
     Variant(
         "paired_nodes",
@@ -115,18 +116,23 @@ VARIANTS = [
 
 
 def scene_resources(context, records) -> dict:
-    """What variants bind besides the renderer's buffers: the nodes three ways, the triangles as texels."""
+    """What variants bind: the nodes four ways (uniform: None unless they fit one), the triangles two."""
     fields = paired_fields(records.acceleration)
     paired = PAIRED_NODE.zeros(len(fields["a_ref"]))
     for name, values in fields.items():
         paired[name] = values
     fits_uniform = records.nodes.nbytes <= context.device.limits["max-uniform-buffer-binding-size"]
     return {
-        "uniform": uniform_buffer(context, "nodes", records.nodes) if fits_uniform else None,
-        "texels": TrackedTexels(context, "nodes", records.nodes).resource,
-        "buffer": storage_buffer(context, "nodes", records.nodes),
-        "paired": TrackedTexels(context, "paired nodes", paired).resource,
-        "triangle_texels": TrackedTexels(context, "triangles", records.triangles).resource,
+        "nodes": {
+            "uniform": uniform_buffer(context, "nodes", records.nodes) if fits_uniform else None,
+            "texels": TrackedTexels(context, "nodes", records.nodes).resource,
+            "buffer": storage_buffer(context, "nodes", records.nodes),
+            "paired": TrackedTexels(context, "paired nodes", paired).resource,
+        },
+        "triangles": {
+            "texels": TrackedTexels(context, "triangles", records.triangles).resource,
+            "buffer": storage_buffer(context, "triangles", records.triangles),
+        },
     }
 
 
@@ -164,9 +170,8 @@ class Run:
         self.accumulation = storage_buffer(
             context, "accumulation", ACCUMULATED_PIXEL.zeros(width * height), read_back=True
         )
-        bindings = {**renderer.bindings, 2: resources[variant.nodes], 4: self.rng, 5: self.accumulation}
-        if variant.triangle_texels:
-            bindings[8] = resources["triangle_texels"]
+        triangles, nodes = resources["triangles"][variant.triangles], resources["nodes"][variant.nodes]
+        bindings = {**renderer.bindings, 1: triangles, 2: nodes, 4: self.rng, 5: self.accumulation}
         self.bind_group = self.kernel.bind_group(context, 0, bindings)
         self.groups = dispatch_size(width, height, variant.workgroup)
         self.timestamps = "timestamp-query" in context.device.features
@@ -221,7 +226,7 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
             )
     records = renderers[(MAX_DEPTH, "mis")].records
     resources = scene_resources(renderers[(MAX_DEPTH, "mis")].context, records)
-    skipped = [v.name for v in variants if resources[v.nodes] is None]
+    skipped = [v.name for v in variants if resources["nodes"][v.nodes] is None]
     if skipped:
         print(f"{name}: skipped {', '.join(skipped)}: the nodes do not fit a uniform buffer", flush=True)
     variants = [v for v in variants if v.name not in skipped]

@@ -19,7 +19,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // depth 0 marks "nothing hit": the filter never mixes such pixels with surfaces
     var guide = Guide(vec3<f32>(0.0, 0.0, 1.0), 0.0, vec3<f32>(0.0), 0u);
     if hit.triangle != NO_TRIANGLE {
-        let triangle = triangles[hit.triangle];
+        let triangle = scene_triangle(hit.triangle);
         let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
         // the side facing the camera: both sides of a triangle look alike to the eye
         guide.normal = select(normal, -normal, dot(normal, ray.direction) > 0.0);

@@ -9,7 +9,7 @@ fn intersect_leaf(sheared: ShearedRay, node: BvhNode, skip_triangle: u32, any_hi
         if i == skip_triangle {
             continue;
         }
-        let triangle = triangles[i];
+        let triangle = scene_triangle(i);
         let t = intersect_triangle(sheared, triangle.v0, triangle.v1, triangle.v2, (*hit).t);
         if t < (*hit).t {
             *hit = Hit(t, i);

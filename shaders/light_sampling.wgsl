@@ -58,7 +58,7 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
     let slot = min(u32(u_select.x * f32(frame.light_count)), frame.light_count - 1u);
     let entry = lights[slot];
     let index = select(lights[entry.alias_index].triangle, entry.triangle, u_select.y < entry.threshold);
-    let triangle = triangles[index];
+    let triangle = scene_triangle(index);
     let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
     let radiance = materials[triangle.material].color;
     let a = normalize(triangle.v0 - p);

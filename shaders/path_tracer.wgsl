@@ -109,7 +109,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         if hit.triangle == NO_TRIANGLE {
             break;
         }
-        let triangle = triangles[hit.triangle];
+        let triangle = scene_triangle(hit.triangle);
         let material = materials[triangle.material];
         let normal = triangle_normal(triangle);
         if material.kind == MATERIAL_EMITTER {

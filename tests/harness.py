@@ -19,6 +19,8 @@ from wgputrace.gpu.texels import TrackedTexels
 from wgputrace.render.scene_buffers import SceneRecords
 
 HARNESS_GROUP = 1
+# bindings of group 0 that are not storage buffers (scene_bindings.wgsl)
+FRAME_BINDING, TRIANGLE_BINDING = 0, 1
 WORKGROUP = 64
 
 
@@ -37,7 +39,8 @@ def run_kernel(
 
     inputs[k] is bound read-only as `inputs_k: array<input_types[k]>` in group 1; `scene`, if
     given, fills group 0 as scene_bindings.wgsl declares it (0 = Frame record, 1 = triangles,
-    2 = nodes, 3 = materials): arrays are uploaded, GPU resources (`node_binding`) bound as they are.
+    2 = nodes, 3 = materials): arrays are uploaded (the triangles as texels), GPU resources
+    (`node_binding`) bound as they are.
     """
     declarations = [
         f"@group({HARNESS_GROUP}) @binding({k}) var<storage, read> inputs_{k}: array<{t}>;"
@@ -85,9 +88,11 @@ def run_kernel(
 def _scene_resource(context, binding: int, value):
     if not isinstance(value, np.ndarray):
         return value
-    return (
-        uniform_buffer(context, "frame", value) if binding == 0 else storage_buffer(context, f"scene {binding}", value)
-    )
+    if binding == FRAME_BINDING:
+        return uniform_buffer(context, "frame", value)
+    if binding == TRIANGLE_BINDING:
+        return TrackedTexels(context, "triangles", value).resource
+    return storage_buffer(context, f"scene {binding}", value)
 
 
 def node_binding(context, records: SceneRecords) -> np.ndarray | wgpu.GPUTextureView:
@@ -103,7 +108,8 @@ def read_binding(context, resource, dtype: np.dtype, count: int) -> np.ndarray:
     if isinstance(resource, wgpu.GPUBuffer):
         return read_buffer(context, resource, dtype, count)
     texels = read_texture(context, resource.texture, np.uint32, 4)
-    return np.frombuffer(texels.tobytes(), dtype)[:count].copy()
+    # a texture of 3-texel records need not hold a whole number of them: cut before viewing
+    return np.frombuffer(texels.tobytes()[: count * dtype.itemsize], dtype).copy()
 
 
 def frame_record(node_count: int = 0) -> np.ndarray:

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from tests.harness import read_binding, run_kernel
+from wgputrace.gpu import texels as texels_module
 from wgputrace.gpu.layout import BVH_NODE, MATERIAL, TRIANGLE, GpuStruct
 from wgputrace.gpu.texels import MAX_TEXEL_ROW, TEXEL_BYTES, TrackedTexels, texel_loader, texture_shape
 from wgputrace.gpu.tracked_buffer import SPARE_FRACTION
@@ -91,6 +92,17 @@ def test_growth_past_the_capacity_reallocates_with_everything(gpu_context, rng):
     grown = random_records(rng, BVH_NODE, texels.capacity_records + 1)
     texels.upload(grown, np.arange(100, len(grown)))
     assert texels.generation == 2 and texels.capacity_records >= len(grown) * (1 + SPARE_FRACTION)
+    np.testing.assert_array_equal(read_binding(gpu_context, texels.resource, BVH_NODE.dtype, len(grown)), grown)
+
+
+def test_growth_near_the_texture_size_limit_keeps_only_the_spare_that_fits(gpu_context, rng, monkeypatch):
+    # rows of 4 texels, at most 30 of them: 60 two-texel nodes fit, 50 grown by the usual spare would not
+    monkeypatch.setattr(texels_module, "MAX_TEXEL_ROW", 4)
+    monkeypatch.setitem(gpu_context.device.limits, "max-texture-dimension-2d", 30)
+    texels = TrackedTexels(gpu_context, "nodes", random_records(rng, BVH_NODE, 16))
+    grown = random_records(rng, BVH_NODE, 50)
+    texels.upload(grown)
+    assert texels.capacity_records == 60 and texels.texture.size[1] == 30
     np.testing.assert_array_equal(read_binding(gpu_context, texels.resource, BVH_NODE.dtype, len(grown)), grown)
 
 

@@ -62,7 +62,7 @@ LEAVE_SURFACE_KERNEL = """
 //! include "traverse_bvh.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let k = inputs_2[i];
-    let triangle = triangles[k];
+    let triangle = scene_triangle(k);
     let p = inputs_0[i].xyz;
     let direction = inputs_1[i].xyz;
     let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));

@@ -17,7 +17,9 @@ from tests.shaders.reference import (
     unit_vectors,
 )
 from wgputrace import Diffuse, Scene, Shape, default_scene
+from wgputrace.gpu.layout import TRIANGLE
 from wgputrace.gpu.pipeline import NO_TRIANGLE
+from wgputrace.gpu.texels import texels_per_record, texture_shape
 from wgputrace.render.scene_buffers import ACCELERATIONS, SceneRecords, scene_records
 
 pytestmark = pytest.mark.gpu
@@ -148,6 +150,10 @@ def test_every_triangle_is_reachable(gpu_context, rng, acceleration):
     shape_of = (cells[:, 0] * SOUP_SHAPES // GRID).astype(int)
     records = soup_records(triangles, shape_of, acceleration)
 
+    # The triangles' texture (gpu/texels.py) has many rows, and with 3 texels a triangle some straddle
+    # two: a triangle read from the wrong texel would not be the one its ray is aimed at.
+    width, height = texture_shape(len(records.triangles) * texels_per_record(TRIANGLE))
+    assert height > 1 and width % texels_per_record(TRIANGLE)
     placed = record_corners(records.triangles).astype(np.float64)
     normal = triangle_normals(placed)
     centroid = placed.mean(axis=1)

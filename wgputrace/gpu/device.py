@@ -21,6 +21,8 @@ LIMITS_WE_USE = (
     "max-compute-workgroups-per-dimension",
     "max-compute-invocations-per-workgroup",
     "max-storage-buffers-per-shader-stage",
+    # texture rows: how many triangles and BVH nodes fit (gpu/texels.py)
+    "max-texture-dimension-2d",
 )
 
 

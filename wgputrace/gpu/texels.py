@@ -3,7 +3,8 @@
 On lavapipe a texture load costs a fraction of a storage-buffer load (shared/LAVAPIPE.md: 251
 against 49 million random vec4 loads/s from 1 MiB), and the BVH's nodes read from a texture made
 the path tracer 1.3 (Cornell box) to 1.6 (328k triangles) times as fast (bench/README.md,
-`python bench/kernel_profile.py`).
+`python bench/kernel_profile.py`). The triangles followed: traversal, shading and light sampling
+all read them from texels, and no storage buffer holds them.
 
 A record of S bytes (gpu.layout pads every struct to a multiple of 16) is S / 16 consecutive
 texels holding the bytes of its storage-buffer layout; texel t lies at column t % width and row
@@ -21,14 +22,16 @@ import numpy as np
 import wgpu
 
 from .device import GpuContext
-from .layout import BVH_NODE, GpuStruct
+from .layout import BVH_NODE, TRIANGLE, GpuStruct
 from .tracked_buffer import SPARE_FRACTION, UploadCount, contiguous_records, merged_runs
 
 GENERATED_TEXEL_LOADERS = "generated/texel_loaders.wgsl"
-# The structs the renderer keeps in texels; the others stay in storage buffers. Triangle corners as
-# texels sped traversal up 1.08-1.19x on the Cornell box and not at all at 328k triangles
-# (bench/README.md); shading and light sampling read the triangle buffer too, so it is not copied.
-TEXEL_STRUCTS = (BVH_NODE,)
+# The structs the renderer keeps in texels; the others stay in storage buffers (materials and the
+# light table are read once per path vertex, not once per leaf visited). Texture size, not the
+# storage binding cap, limits how many triangles fit: MAX_TEXEL_ROW x max-texture-dimension-2d
+# texels, 3 per triangle (22.4 million at lavapipe's 16384 rows, against 2.8 million in its
+# 128 MiB storage binding).
+TEXEL_STRUCTS = (BVH_NODE, TRIANGLE)
 TEXEL_BYTES = 16
 # Widest texture row, in texels (64 KiB): 8192 rows of it (WebGPU's default height limit) hold 2^25
 # texels. Narrower data gets a width near the square root of its texel count, so at most one
@@ -50,6 +53,15 @@ def texture_shape(texel_count: int) -> tuple[int, int]:
     count = max(texel_count, 1)
     width = min(MAX_TEXEL_ROW, 1 << (int(np.sqrt(count)).bit_length() - 1))
     return width, -(-count // width)
+
+
+def require_texels(context: GpuContext, label: str, record_count: int, dtype: np.dtype) -> tuple[int, int]:
+    """The (width, height) of a texture of `record_count` records, or a DeviceLimitError naming the
+    texture, its records and the adapter's height limit."""
+    width, height = texture_shape(record_count * texels_per_record(dtype))
+    what = f"texture {label!r} ({record_count:,} records of {dtype.itemsize} B, {width} texels a row)"
+    context.require("max-texture-dimension-2d", height, what)
+    return width, height
 
 
 def texel_loader(struct: GpuStruct) -> str:
@@ -116,9 +128,11 @@ class TrackedTexels:
     def _allocate(self, data: np.ndarray) -> None:
         regrowth = self.spare and self.texture is not None
         records = len(data) + (int(np.ceil(len(data) * SPARE_FRACTION)) if regrowth else 0)
-        width, height = texture_shape(records * self.texels_per_record)
-        what = f"texture {self.label!r} ({len(data):,} records of {data.itemsize} B, {width} texels a row)"
-        self.context.require("max-texture-dimension-2d", height, what)
+        # Spare only as far as the tallest texture allowed: records that fit must not be refused
+        # for want of room for the next additions.
+        tallest = MAX_TEXEL_ROW * self.context.device.limits["max-texture-dimension-2d"] // self.texels_per_record
+        records = max(len(data), min(records, tallest))
+        width, height = require_texels(self.context, self.label, records, self.dtype)
         if self.texture is not None:
             self.texture.destroy()
         self.texture = self.context.device.create_texture(

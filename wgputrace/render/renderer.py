@@ -22,7 +22,7 @@ from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.pipeline import INTEGRATORS, ComputeKernel, compute_kernel, dispatch_size
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
-from ..gpu.texels import TrackedTexels
+from ..gpu.texels import TrackedTexels, require_texels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..scene import Camera, MaterialKind, Scene
 from .lights import LightTable
@@ -113,11 +113,7 @@ class Renderer:
         self.context = gpu()
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before the BVH build, which takes seconds for millions of triangles
-        self.context.require(
-            "max-storage-buffer-binding-size",
-            scene.triangle_count * TRIANGLE.size,
-            f"the scene's {scene.triangle_count:,} triangles ({TRIANGLE.size} B each)",
-        )
+        require_texels(self.context, "triangles", scene.triangle_count, TRIANGLE.dtype)
         self._mirror = SceneMirror(scene, accel)
         self.accel = accel
         loop_limit = self.context.loop_iteration_limit
@@ -159,9 +155,9 @@ class Renderer:
         storage = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST | wgpu.BufferUsage.COPY_SRC
         limit = "max-storage-buffer-binding-size"
         self._scene_buffers = {
-            TRIANGLES: TrackedBuffer(self.context, "triangles", storage, self._mirror.triangles, binding_limit=limit),
-            # the BVH's nodes as texels (gpu/texels.py: faster loads on lavapipe); the flat list's
-            # boxes in a buffer, as traverse_flat.wgsl reads them
+            # triangles and the BVH's nodes as texels (gpu/texels.py: faster loads on lavapipe); the
+            # flat list's boxes in a buffer, as traverse_flat.wgsl reads them
+            TRIANGLES: TrackedTexels(self.context, "triangles", self._mirror.triangles),
             NODES: TrackedTexels(self.context, "bvh nodes", self._mirror.nodes)
             if accel == "bvh"
             else TrackedBuffer(self.context, "bvh nodes", storage, self._mirror.nodes, binding_limit=limit),
@@ -278,7 +274,7 @@ class Renderer:
     @property
     def bindings(self) -> dict:
         """The GPU buffers of bind group 0 by binding (scene_bindings.wgsl, path_tracer.wgsl; the
-        BVH's nodes are a texture view), for kernels that read the scene or the accumulation where
+        triangles and the BVH's nodes are texture views), for kernels that read the scene or the accumulation where
         it lies (the viewer's)."""
         return dict(self._bindings)
 
