@@ -10,7 +10,8 @@ Each benchmark validates its output before timing it and writes its own JSON (an
 bench/results/; the suite adds bench/results/suite_<adapter>.json with the summary table: every
 target with its measured value and whether it was met. A benchmark that fails (its validation, or
 an error) is recorded as failed and the suite goes on; the exit status is 1 if any failed.
-versus_mitsuba is skipped, with the reason recorded, where mitsuba is not importable.
+versus_mitsuba and traversal_ceiling are skipped, with the reason recorded, where mitsuba is not
+importable.
 """
 
 from __future__ import annotations
@@ -105,6 +106,34 @@ def versus_mitsuba_targets(result: dict) -> list[Target]:
     ]
 
 
+def traversal_ceiling_targets(result: dict) -> list[Target]:
+    ratios = result["ratios"]
+    ceiling = ratios["ceiling_over_mitsuba_path"]
+    free = ratios["ceiling_free_shadow_rays_over_mitsuba_path"]
+    return [
+        Target(
+            "traversal_ceiling",
+            "camera rays/s, ours (max depth 1) / Embree ray_intersect",
+            f"{ratios['camera_rays_ours_over_embree_ray_intersect']:.3g}",
+        ),
+        # the paths/s target above cannot be met while even this bound falls short of it
+        Target(
+            "traversal_ceiling",
+            "ceiling paths/s (ours' camera rays/s / rays per path) / Mitsuba",
+            f"{ceiling:.3g}",
+            ">= 1",
+            ceiling >= 1,
+        ),
+        Target(
+            "traversal_ceiling",
+            "the same ceiling with shadow rays free / Mitsuba",
+            f"{free:.3g}",
+            ">= 1",
+            free >= 1,
+        ),
+    ]
+
+
 def mitsuba_missing() -> str | None:
     return None if importlib.util.find_spec("mitsuba") else "mitsuba is not importable (pip install mitsuba)"
 
@@ -150,6 +179,13 @@ BENCHMARKS = (
         ("--spp", "1", "--repeats", "1", "--max-spp", "16"),
         (),
         versus_mitsuba_targets,
+        skip_reason=mitsuba_missing,
+    ),
+    Benchmark(
+        "traversal_ceiling",
+        ("--spp", "1", "--primary-spp", "4", "--repeats", "2"),
+        ("--spp", "64", "--primary-spp", "256", "--repeats", "5"),
+        traversal_ceiling_targets,
         skip_reason=mitsuba_missing,
     ),
 )
