@@ -83,8 +83,8 @@ def validate(renderer: Renderer, reference_mean: np.ndarray, z_critical: float) 
     failures = []
     if not np.isfinite(image).all():
         failures.append(f"{np.count_nonzero(~np.isfinite(image))} image values are NaN or infinite")
-    if renderer.nonfinite_samples:
-        failures.append(f"the shader dropped {renderer.nonfinite_samples} non-finite samples")
+    if renderer.dropped_samples:
+        failures.append(f"the shader dropped {renderer.dropped_samples} samples (non-finite or cut short)")
     check = agreement(image, reference_mean.astype(np.float32), z_critical)
     failures += check["failures"]
     renderer.reset()
@@ -112,8 +112,10 @@ def measure(scene: str, integrator: str, args: argparse.Namespace, z_critical: f
             renderer.render(spp - renderer.samples_per_pixel)
             cpu_seconds += time.process_time() - cpu_start
             image = renderer.image()
-            if renderer.nonfinite_samples:
-                raise SystemExit(f"{scene}/{integrator} run {run + 1}: {renderer.nonfinite_samples} non-finite samples")
+            if renderer.dropped_samples:
+                raise SystemExit(
+                    f"{scene}/{integrator} run {run + 1}: {renderer.dropped_samples} dropped samples (non-finite or cut short)"
+                )
             row = {"scene": scene, "integrator": integrator, "run": run + 1, "seed": seed, "spp": spp}
             row["seconds"], row["cpu_seconds"] = renderer.stats.render_seconds, cpu_seconds
             rows.append(row | errors(image, reference_mean, reference_variance))

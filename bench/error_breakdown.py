@@ -190,8 +190,8 @@ def ours(variant: Variant, width: int, height: int, max_depth: int, seed: int) -
     def render(batch: int, spp: int) -> np.ndarray:
         renderer.render(spp)
         image = renderer.image().astype(np.float64)
-        if renderer.nonfinite_samples:
-            raise SystemExit(f"{variant}: {renderer.nonfinite_samples} non-finite samples")
+        if renderer.dropped_samples:
+            raise SystemExit(f"{variant}: {renderer.dropped_samples} dropped samples (non-finite or cut short)")
         renderer.reset()
         return image
 

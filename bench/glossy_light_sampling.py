@@ -48,8 +48,8 @@ def render_timed(scene: Scene, size: int, spp: int, threshold: float, seed: int)
     renderer.reset()
     stats = renderer.render(spp)
     image = renderer.image()
-    if not np.all(np.isfinite(image)) or renderer.nonfinite_samples:
-        raise RuntimeError(f"non-finite samples at threshold {threshold}")
+    if not np.all(np.isfinite(image)) or renderer.dropped_samples:
+        raise RuntimeError(f"dropped samples (non-finite or cut short) at threshold {threshold}")
     return image, stats.render_seconds
 
 

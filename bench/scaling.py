@@ -105,7 +105,7 @@ def image_failures(image: np.ndarray, nonfinite: int) -> list[str]:
     if not np.isfinite(image).all():
         failures.append(f"{np.count_nonzero(~np.isfinite(image))} image values are NaN or infinite")
     if nonfinite:
-        failures.append(f"the shader dropped {nonfinite} non-finite samples")
+        failures.append(f"the shader dropped {nonfinite} samples (non-finite or cut short)")
     mean = float(np.mean(image, dtype=np.float64))
     low, high = MEAN_RADIANCE_BAND
     if not low <= mean <= high:

@@ -92,7 +92,7 @@ def _log(message: str) -> None:
 
 
 def fresh_image(renderer: Renderer, spp: int, *, from_seed: bool = False) -> tuple[np.ndarray, int, float, float]:
-    """Forget earlier samples, render `spp`: (image, non-finite samples, wall seconds, process CPU seconds).
+    """Forget earlier samples, render `spp`: (image, dropped samples, wall seconds, process CPU seconds).
 
     The random sequences continue (new, independent samples), or with `from_seed` start again at
     the seed (the same samples as every other render from the seed). Only the render is timed: the
@@ -107,7 +107,7 @@ def fresh_image(renderer: Renderer, spp: int, *, from_seed: bool = False) -> tup
     wall, cpu = time.perf_counter(), time.process_time()
     renderer.render(spp)  # returns once every dispatch has finished
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-    return renderer.image(), renderer.nonfinite_samples, wall, cpu
+    return renderer.image(), renderer.dropped_samples, wall, cpu
 
 
 def counted_rays(acceleration: Acceleration, spp: int) -> RayCounts:
@@ -143,7 +143,7 @@ def image_checks(image: np.ndarray, nonfinite_samples: int) -> dict:
     if not finite:
         failures.append(f"{np.count_nonzero(~np.isfinite(image))} image values are NaN or infinite")
     if nonfinite_samples:
-        failures.append(f"the shader dropped {nonfinite_samples} non-finite samples")
+        failures.append(f"the shader dropped {nonfinite_samples} samples (non-finite or cut short)")
     low, high = MEAN_RADIANCE_BAND
     if not low <= mean <= high:
         failures.append(f"mean radiance {mean:.4g} is outside the sane band [{low}, {high}]")
@@ -384,7 +384,9 @@ def main(argv: list[str] | None = None) -> int:
                 raise SystemExit(f"{name}, timed run {repeat + 1}: the image differs from the previous run's")
             acceleration.timed_image = image
             if nonfinite:
-                raise SystemExit(f"{name}, timed run {repeat + 1}: the shader dropped {nonfinite} non-finite samples")
+                raise SystemExit(
+                    f"{name}, timed run {repeat + 1}: the shader dropped {nonfinite} samples (non-finite or cut short)"
+                )
             acceleration.run_seconds.append(seconds)
             acceleration.run_cpu_seconds.append(cpu_seconds)
             _log(f"run {repeat + 1}/{args.repeats} {name}: {seconds:.2f} s")

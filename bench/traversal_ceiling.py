@@ -243,7 +243,7 @@ def validate_traversal(renderer: Renderer, embree: Embree, origins: np.ndarray, 
 
 
 def validate_images(pairs: dict[str, tuple[np.ndarray, int, np.ndarray]]) -> dict:
-    """Each (ours, ours' non-finite samples, Mitsuba's) pair: finite, same expected mean radiance."""
+    """Each (ours, ours' dropped samples, Mitsuba's) pair: finite, same expected mean radiance."""
     z_critical = sidak_critical_z(AGREEMENT_SIGNIFICANCE, AGREEMENT_TESTS)
     checks = {"significance_family_wise": AGREEMENT_SIGNIFICANCE, "z_critical": z_critical}
     failures = []
@@ -252,7 +252,9 @@ def validate_images(pairs: dict[str, tuple[np.ndarray, int, np.ndarray]]) -> dic
         check["ours_mean_radiance"] = float(ours.mean(dtype=np.float64))
         check["mitsuba_mean_radiance"] = float(theirs.mean(dtype=np.float64))
         if nonfinite or not np.isfinite(ours).all():
-            check["failures"].append(f"ours: {nonfinite} non-finite samples dropped or non-finite pixels")
+            check["failures"].append(
+                f"ours: {nonfinite} samples dropped (non-finite or cut short) or non-finite pixels"
+            )
         if not np.isfinite(theirs).all():
             check["failures"].append("Mitsuba: NaN or infinite pixels")
         failures += [f"{name}: {text}" for text in check["failures"]]
@@ -312,7 +314,7 @@ def measure(args: argparse.Namespace, mitsuba: MitsubaSide, mitsuba_primary: Mit
         if nonfinite or (
             full_acceleration.timed_image is not None and not np.array_equal(image, full_acceleration.timed_image)
         ):
-            raise SystemExit(f"{OURS_FULL}: non-finite samples ({nonfinite}) or an image unlike the previous run's")
+            raise SystemExit(f"{OURS_FULL}: dropped samples ({nonfinite}) or an image unlike the previous run's")
         full_acceleration.timed_image = image
         return wall, cpu
 

@@ -234,7 +234,9 @@ def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argpars
     for repeat in range(args.repeats):
         _, nonfinite, seconds, cpu_seconds = fresh_image(ours, args.spp)
         if nonfinite:
-            raise SystemExit(f"ours, timed run {repeat + 1}: the shader dropped {nonfinite} non-finite samples")
+            raise SystemExit(
+                f"ours, timed run {repeat + 1}: the shader dropped {nonfinite} samples (non-finite or cut short)"
+            )
         wall[OURS].append(seconds)
         cpu[OURS].append(cpu_seconds)
         image, seconds, cpu_seconds = mitsuba.render(size, depth, args.spp)
@@ -301,8 +303,10 @@ def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argpar
             ours.render(checkpoint - ours.samples_per_pixel)
             seconds += time.perf_counter() - wall
             cpu_seconds += time.process_time() - cpu
-            if ours.nonfinite_samples:
-                raise SystemExit(f"ours, run {run + 1}: {ours.nonfinite_samples} non-finite samples")
+            if ours.dropped_samples:
+                raise SystemExit(
+                    f"ours, run {run + 1}: {ours.dropped_samples} dropped samples (non-finite or cut short)"
+                )
             row = {"scene": SCENE, "integrator": OURS, "run": run + 1, "spp": checkpoint}
             rows.append(row | {"seconds": seconds, "cpu_seconds": cpu_seconds} | errors(ours.image(), mean, variance))
             image, wall, cpu = mitsuba.render(size, depth, checkpoint)

@@ -6,6 +6,7 @@
 //! include "light_sampling.wgsl"
 //! include "mis.wgsl"
 //! include "accumulate.wgsl"
+//! include "loop_budget.wgsl"
 
 @group(0) @binding(4) var<storage, read_write> rng_states: array<vec4<u32>>;
 @group(0) @binding(5) var<storage, read_write> accumulation: array<AccumulatedPixel>;
@@ -161,7 +162,11 @@ fn render_pixel(xy: vec2<u32>) {
     let pixel = xy.y * frame.width + xy.x;
     rng_state = rng_states[pixel];
     let radiance = trace_path(camera_ray(xy, rng_next_2d()));
-    accumulation[pixel] = accumulate_sample(accumulation[pixel], radiance);
+    if loop_budget_spent(frame.width) {
+        accumulation[pixel] = drop_cut_short_sample(accumulation[pixel]);
+    } else {
+        accumulation[pixel] = accumulate_sample(accumulation[pixel], radiance);
+    }
     rng_states[pixel] = rng_state;
 }
 

@@ -112,6 +112,11 @@ def _render(args: argparse.Namespace) -> int:
     )
     if renderer.nonfinite_samples:
         print(f"non-finite       {renderer.nonfinite_samples} samples were NaN or infinite and counted as zero")
+    if renderer.cut_short_samples:
+        print(
+            f"cut short        {renderer.cut_short_samples} samples ran out of the driver's loop budget "
+            "and were counted as zero"
+        )
     print(f"wrote            {path}")
     return 0
 

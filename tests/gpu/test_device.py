@@ -27,9 +27,10 @@ def test_describe_reports_adapter_and_limits(gpu_context):
     assert info["limits"]["max-storage-buffer-binding-size"] > 0
 
 
-def test_flat_list_beyond_llvmpipe_loop_limit_is_refused(gpu_context):
-    """llvmpipe silently ends loops after 65,535 iterations: a flat list with more triangles
-    would miss geometry, so the renderer refuses it with a message naming the limit."""
+def test_flat_list_beyond_llvmpipe_loop_budget_per_path_is_refused(gpu_context):
+    """llvmpipe silently ends loops once an invocation ran 65,535 iterations of all its loops
+    together: a flat list whose paths (two rays per vertex, every triangle tested by each) could
+    pass that would miss geometry, so the renderer refuses it with a message naming the limit."""
     import numpy as np
 
     from wgputrace import Diffuse, Renderer, Scene, Shape
@@ -37,7 +38,9 @@ def test_flat_list_beyond_llvmpipe_loop_limit_is_refused(gpu_context):
     limit = gpu_context.loop_iteration_limit
     if limit is None:
         pytest.skip("this adapter has no loop iteration limit (only llvmpipe does)")
-    corners = np.random.default_rng(1).uniform(-1, 1, (limit + 1, 3, 3)).astype(np.float32)
-    scene = Scene([Shape("soup", corners, Diffuse("grey"))])
-    with pytest.raises(DeviceLimitError, match=f"ends shader loops after {limit:,} iterations"):
-        Renderer(scene, 8, 8, accel="flat")
+    max_depth = 3
+    allowed = limit // (2 * max_depth)
+    corners = np.random.default_rng(1).uniform(-1, 1, (allowed + 1, 3, 3)).astype(np.float32)
+    with pytest.raises(DeviceLimitError, match=f"per path of max depth 3, .* ends shader loops after {limit:,}"):
+        Renderer(Scene([Shape("soup", corners, Diffuse("grey"))]), 8, 8, accel="flat", max_depth=max_depth)
+    Renderer(Scene([Shape("soup", corners[:allowed], Diffuse("grey"))]), 8, 8, accel="flat", max_depth=max_depth)

@@ -25,7 +25,7 @@ RELATIVE_TOLERANCE = 1e-6
 NON_FINITE_PIXELS = 8
 NON_FINITE_PER_PIXEL = 5
 
-# lavapipe (Mesa's llvmpipe) stops every loop after 65,535 iterations per invocation (nested loops
+# lavapipe (Mesa's llvmpipe) stops all loops after 65,535 iterations per invocation together (nested loops
 # included), so each iteration takes this many consecutive samples in straight-line code.
 SAMPLES_PER_ITERATION = 4
 SUM_KERNEL = """

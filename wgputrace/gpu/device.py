@@ -28,8 +28,10 @@ LIMITS_WE_USE = (
 
 _FENCE_BYTES = 4
 
-# llvmpipe (Mesa's CPU driver) stops any loop after this many iterations per invocation, without
-# an error; measured here with Mesa 22.3.
+# llvmpipe (Mesa's CPU driver) gives an invocation one budget of this many loop iterations, shared
+# by all its loops (nested or one after another) and by the 8 invocations it runs in lockstep, and
+# silently ends every loop once it is spent; measured here with Mesa 22.3
+# (tests/shaders/test_loop_budget.py). shaders/loop_budget.wgsl tells a shader when it happened.
 LLVMPIPE_LOOP_ITERATION_LIMIT = 65_535
 
 
@@ -56,7 +58,8 @@ class GpuContext:
 
     @property
     def loop_iteration_limit(self) -> int | None:
-        """Iterations after which the driver silently ends a shader loop (nested loops share it)."""
+        """Loop iterations after which the driver silently ends an invocation's loops (all of them
+        together); None where there is no such budget."""
         return LLVMPIPE_LOOP_ITERATION_LIMIT if "llvmpipe" in self.adapter.info["device"] else None
 
     def require(self, limit: str, needed: int, what: str) -> None:

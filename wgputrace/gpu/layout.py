@@ -112,7 +112,8 @@ FRAME = GpuStruct(
 ACCUMULATED_PIXEL = GpuStruct(
     "AccumulatedPixel",
     (("sum", "vec4<f32>"), ("compensation", "vec4<f32>")),
-    "Kahan-compensated sum of a pixel's samples; sum.w counts its non-finite samples.",
+    "Kahan-compensated sum of a pixel's samples; sum.w counts its non-finite samples, compensation.w "
+    "those the driver's loop budget may have cut short (both dropped).",
 )
 
 LIGHT = GpuStruct(

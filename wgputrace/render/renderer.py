@@ -117,11 +117,14 @@ class Renderer:
         self._mirror = SceneMirror(scene, accel)
         self.accel = accel
         loop_limit = self.context.loop_iteration_limit
-        if accel == "flat" and loop_limit is not None and self.triangle_count > loop_limit:
-            # the flat list tests every triangle of every box a ray enters, in one loop
+        # The flat list tests every triangle for each of a path's rays (a camera or extension ray
+        # and a shadow ray per vertex), and the driver's loop budget covers the whole path.
+        flat_iterations = 2 * max_depth * self.triangle_count
+        if accel == "flat" and loop_limit is not None and flat_iterations > loop_limit:
             raise DeviceLimitError(
-                f"--accel flat tests up to {self.triangle_count:,} triangles per ray, but {self.context.adapter_name} "
-                f"ends shader loops after {loop_limit:,} iterations; use the BVH"
+                f"--accel flat tests up to {self.triangle_count:,} triangles per ray, {flat_iterations:,} per path of "
+                f"max depth {max_depth}, but {self.context.adapter_name} ends shader loops after {loop_limit:,} "
+                "iterations per invocation; use the BVH"
             )
         self.stats = RenderStats()
         pixels = width * height
@@ -340,6 +343,18 @@ class Renderer:
     def nonfinite_samples(self) -> int:
         """How many samples were NaN or infinite (each was dropped and counted as zero)."""
         return int(self._accumulated()["sum"][:, 3].astype(np.float64).sum())
+
+    @property
+    def cut_short_samples(self) -> int:
+        """How many samples the driver's loop budget may have cut short (llvmpipe's 65,535 loop
+        iterations per invocation, shaders/loop_budget.wgsl); each was dropped and counted as zero."""
+        return int(self._accumulated()["compensation"][:, 3].astype(np.float64).sum())
+
+    @property
+    def dropped_samples(self) -> int:
+        """Samples that added nothing to the image: non-finite or cut short."""
+        pixels = self._accumulated()
+        return int(pixels["sum"][:, 3].astype(np.float64).sum() + pixels["compensation"][:, 3].astype(np.float64).sum())
 
     def reset(self) -> None:
         """Forget all samples (the random sequence continues, so new samples are independent)."""
