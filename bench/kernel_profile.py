@@ -7,7 +7,9 @@ Every variant is the shipped megakernel with some shader files replaced (bench/k
 another workgroup size, or another renderer setting, bound to the same scene and seeded alike.
 Order of work: compile and warm up every variant (lavapipe compiles at the first dispatch), check
 each one's image after CHECK_SPP samples against the shipped kernel's (bit for bit where the
-arithmetic is the same: a layout or workgroup change must not alter a single sample), then time
+arithmetic is the same: a layout or workgroup change must not alter a single sample; in mean
+radiance, by a paired z-test, where only the order of the work differs, as in a traversal that
+resolves exact ties of hit distances its own way), then time
 `repeats` rounds, each one dispatch of every variant in turn (the order rotating from round to
 round). Speed-ups are medians of ratios taken within a round, because other jobs on a shared CPU
 change the load between rounds. Times are GPU timestamps around each dispatch where the adapter
@@ -32,6 +34,8 @@ if __package__ in (None, ""):
 
 from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
 from bench.kernel_variants.paired_nodes import PAIRED_NODE, paired_fields  # noqa: E402
+from bench.kernel_variants.wide_nodes import wide_records, wide_traversal_wgsl  # noqa: E402
+from bench.throughput import CHANNELS, agreement, sidak_critical_z  # noqa: E402
 from wgputrace import Renderer, default_scene, make_icosphere  # noqa: E402
 from wgputrace.cli import parse_size  # noqa: E402
 from wgputrace.gpu.buffers import read_buffer, storage_buffer, uniform_buffer  # noqa: E402
@@ -50,6 +54,9 @@ CHECK_SPP = 2
 # 20 * 4**7 = 327,680 triangles: a mesh big enough that nodes and triangles leave the CPU caches.
 BIG_SPHERE_ITERATIONS = 7
 SHIPPED_WORKGROUP = (8, 8)
+# Family-wise false-alarm rate of the mean radiance tests of variants that compute the same image
+# by other arithmetic (Sidak-corrected over those variants, scenes and channels).
+AGREEMENT_SIGNIFICANCE = 1e-3
 
 
 def big_sphere_scene():
@@ -72,11 +79,16 @@ class Variant:
     workgroup: tuple[int, int] = SHIPPED_WORKGROUP
     max_depth: int = MAX_DEPTH
     integrator: str = "mis"
-    # "texels" (shipped), "buffer" (before texels), "uniform" (scenes whose nodes fit 64 KiB) or
-    # "paired" (paired_nodes.py)
+    # "texels" (shipped), "buffer" (before texels), "uniform" (scenes whose nodes fit 64 KiB),
+    # "paired" (paired_nodes.py) or "wide" (wide_nodes.py)
     nodes: str = "texels"
     triangles: str = "texels"  # "texels" (shipped) or "buffer" (before texels)
     same_arithmetic: bool = True  # whether its image must equal the shipped kernel's bit for bit
+    # Whether it computes the shipped kernel's image by other arithmetic (a traversal visiting
+    # nodes in another order resolves exact ties of hit distances its own way): then its mean
+    # radiance must agree with the shipped kernel's (paired z-test, bench/throughput.py).
+    same_image: bool = False
+    sources: dict[str, str] = field(default_factory=dict)  # files replaced by generated text
     what: str = ""
 
 
@@ -109,6 +121,30 @@ VARIANTS = [
         nodes="paired",
         what="both children's boxes in one record (kernel_variants/paired_nodes.py), as texels",
     ),
+    Variant(
+        "wide_nodes",
+        sources={"acceleration.wgsl": wide_traversal_wgsl("sorted")},
+        nodes="wide",
+        same_arithmetic=False,
+        same_image=True,
+        what="4-wide BVH (kernel_variants/wide_nodes.py), children sorted nearest first, as texels",
+    ),
+    Variant(
+        "wide_nodes_nearest",
+        sources={"acceleration.wgsl": wide_traversal_wgsl("nearest")},
+        nodes="wide",
+        same_arithmetic=False,
+        same_image=True,
+        what="4-wide BVH, only the nearest child first (the others unsorted), as texels",
+    ),
+    Variant(
+        "wide_primary_only",
+        sources={"acceleration.wgsl": wide_traversal_wgsl("sorted")},
+        nodes="wide",
+        max_depth=1,
+        same_arithmetic=False,
+        what="camera rays' closest hit only (max depth 1) through the 4-wide BVH: compare with primary_only",
+    ),
     Variant("workgroup_16x16", workgroup=(16, 16), what="workgroup 16x16"),
     Variant("workgroup_64x1", workgroup=(64, 1), what="workgroup 64x1"),
     Variant("workgroup_4x4", workgroup=(4, 4), what="workgroup 4x4"),
@@ -116,7 +152,7 @@ VARIANTS = [
 
 
 def scene_resources(context, records) -> dict:
-    """What variants bind: the nodes four ways (uniform: None unless they fit one), the triangles two."""
+    """What variants bind: the nodes five ways (uniform: None unless they fit one), the triangles two."""
     fields = paired_fields(records.acceleration)
     paired = PAIRED_NODE.zeros(len(fields["a_ref"]))
     for name, values in fields.items():
@@ -128,6 +164,7 @@ def scene_resources(context, records) -> dict:
             "texels": TrackedTexels(context, "nodes", records.nodes).resource,
             "buffer": storage_buffer(context, "nodes", records.nodes),
             "paired": TrackedTexels(context, "paired nodes", paired).resource,
+            "wide": TrackedTexels(context, "wide nodes", wide_records(records.acceleration)).resource,
         },
         "triangles": {
             "texels": TrackedTexels(context, "triangles", records.triangles).resource,
@@ -148,6 +185,7 @@ class Run:
             name: (VARIANTS_DIR / file).read_text().replace("__NODE_COUNT__", node_count)
             for name, file in variant.files.items()
         }
+        generated.update(variant.sources)
         generated.setdefault("acceleration.wgsl", '//! include "traverse_bvh.wgsl"\n')
         generated[GENERATED_MATERIALS] = material_dispatch(
             shaded_kinds(frozenset(m.kind for m in renderer.scene.materials))
@@ -215,7 +253,7 @@ class Run:
         return pixels["sum"][:, :3].reshape(self.height, self.width, 3)
 
 
-def profile_scene(name: str, width: int, height: int, repeats: int, variants: list[Variant]) -> dict:
+def profile_scene(name: str, width: int, height: int, repeats: int, variants: list[Variant], z_critical: float) -> dict:
     scene = SCENES[name]()
     renderers = {}
     for variant in variants:
@@ -242,6 +280,11 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
         if run.variant.same_arithmetic and not identical:
             differing = int(np.count_nonzero((image != reference).any(axis=-1)))
             raise RuntimeError(f"{name}: variant {run.variant.name} changed {differing} pixels; it must change none")
+        if run.variant.same_image:
+            check = agreement(image, reference, z_critical)
+            checks[run.variant.name]["agreement"] = check
+            if check["failures"]:
+                raise RuntimeError(f"{name}: variant {run.variant.name}'s image: " + "; ".join(check["failures"]))
     seconds = {run.variant.name: [] for run in runs}
     for round_index in range(repeats):
         shift = round_index % len(runs)
@@ -262,7 +305,7 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
             **checks[run.variant.name],
         }
         print(
-            f"{name:10s} {run.variant.name:16s} {median * 1e3:8.1f} ms/spp {width * height / median / 1e6:7.3f} Mpaths/s"
+            f"{name:10s} {run.variant.name:18s} {median * 1e3:8.1f} ms/spp {width * height / median / 1e6:7.3f} Mpaths/s"
             f"  speed x{speedup:5.2f}  bit-identical {checks[run.variant.name]['bit_identical']}",
             flush=True,
         )
@@ -279,8 +322,10 @@ def main() -> None:
     args = parser.parse_args()
     width, height = args.size
     variants = [v for v in VARIANTS if v.name == "shipped" or v.name in args.variants]
+    tests = len(args.scenes) * sum(v.same_image for v in variants) * len(CHANNELS)
+    z_critical = sidak_critical_z(AGREEMENT_SIGNIFICANCE, max(tests, 1))
     load_before = load_average()
-    results = {name: profile_scene(name, width, height, args.repeats, variants) for name in args.scenes}
+    results = {name: profile_scene(name, width, height, args.repeats, variants, z_critical) for name in args.scenes}
     device = describe()
     timestamps = "timestamp-query" in gpu().device.features
     data = {
@@ -293,6 +338,12 @@ def main() -> None:
         "seed": SEED,
         "max_depth": MAX_DEPTH,
         "timing": "gpu timestamps" if timestamps else "wall time",
+        "agreement": {
+            "test": "paired z-test on per-pixel differences of the image mean, per channel (same_image variants)",
+            "significance_family_wise": AGREEMENT_SIGNIFICANCE,
+            "sidak_tests": tests,
+            "z_critical": z_critical,
+        },
         "load_average_before": load_before,
         "load_average_after": load_average(),
         "scenes": results,

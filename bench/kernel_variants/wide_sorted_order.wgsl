@@ -1,0 +1,9 @@
+// Experiment (wide_traverse_bvh.wgsl): a node's four children sorted nearest first (a sorting network).
+
+fn order_children(c0: ptr<function, vec2<u32>>, c1: ptr<function, vec2<u32>>, c2: ptr<function, vec2<u32>>, c3: ptr<function, vec2<u32>>) {
+    order_pair(c0, c1);
+    order_pair(c2, c3);
+    order_pair(c0, c2);
+    order_pair(c1, c3);
+    order_pair(c1, c2);
+}
