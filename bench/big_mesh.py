@@ -107,6 +107,7 @@ def main() -> None:
             "bvh": {
                 "build_seconds": build_seconds,
                 "nodes": renderer.records.acceleration.node_count,
+                "wide_records": len(renderer.records.nodes),  # what the GPU holds (bvh/wide.py)
                 "depth": renderer.records.acceleration.depth,
                 "sah_cost": mirror.refitter.built_cost,
             },
@@ -129,7 +130,8 @@ def main() -> None:
         }
     )
     print(
-        f"renderer setup {setup_seconds:.2f} s (BVH build {build_seconds:.2f} s, {result['bvh']['nodes']:,} nodes), "
+        f"renderer setup {setup_seconds:.2f} s (BVH build {build_seconds:.2f} s, {result['bvh']['nodes']:,} nodes, "
+        f"{result['bvh']['wide_records']:,} 4-wide records), "
         f"{renderer.gpu_bytes_per_triangle:.1f} GPU bytes per triangle"
     )
     print(f"render {args.spp} spp at {width}x{height}: {render_stats.render_seconds:.2f} s")

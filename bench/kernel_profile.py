@@ -2,6 +2,7 @@
 
     python bench/kernel_profile.py                       (Cornell box and a 328k-triangle sphere)
     python bench/kernel_profile.py --size 128x128 --repeats 5 --variants storage_nodes
+    python bench/kernel_profile.py --variants binary_nodes    (the 4-wide BVH against the binary one)
 
 Every variant is the shipped megakernel with some shader files replaced (bench/kernel_variants/),
 another workgroup size, or another renderer setting, bound to the same scene and seeded alike.
@@ -33,8 +34,8 @@ if __package__ in (None, ""):
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from bench.common import RESULTS_DIR, environment, git_revision, load_average, slug, write_json  # noqa: E402
+from bench.kernel_variants.binary_nodes import binary_traversal_wgsl  # noqa: E402
 from bench.kernel_variants.paired_nodes import PAIRED_NODE, paired_fields  # noqa: E402
-from bench.kernel_variants.wide_nodes import wide_records, wide_traversal_wgsl  # noqa: E402
 from bench.throughput import CHANNELS, agreement, sidak_critical_z  # noqa: E402
 from wgputrace import Renderer, default_scene, make_icosphere  # noqa: E402
 from wgputrace.cli import parse_size  # noqa: E402
@@ -42,10 +43,18 @@ from wgputrace.gpu.buffers import read_buffer, storage_buffer, uniform_buffer  #
 from wgputrace.gpu.device import describe, gpu  # noqa: E402
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL  # noqa: E402
 from wgputrace.gpu.material_dispatch import GENERATED_MATERIALS, material_dispatch, shaded_kinds  # noqa: E402
-from wgputrace.gpu.pipeline import INTEGRATORS, compute_kernel, dispatch_size  # noqa: E402
+from wgputrace.gpu.pipeline import (  # noqa: E402
+    BVH_STACK_SIZE,
+    GENERATED_STRUCTS,
+    INTEGRATORS,
+    compute_kernel,
+    dispatch_size,
+    generated_structs,
+)
 from wgputrace.gpu.shader_source import shader_root  # noqa: E402
 from wgputrace.gpu.texels import TrackedTexels  # noqa: E402
 from wgputrace.render.rng_seed import pixel_rng_states  # noqa: E402
+from wgputrace.render.scene_buffers import node_records  # noqa: E402
 
 VARIANTS_DIR = Path(__file__).resolve().parent / "kernel_variants"
 SEED = 1
@@ -57,6 +66,15 @@ SHIPPED_WORKGROUP = (8, 8)
 # Family-wise false-alarm rate of the mean radiance tests of variants that compute the same image
 # by other arithmetic (Sidak-corrected over those variants, scenes and channels).
 AGREEMENT_SIGNIFICANCE = 1e-3
+
+
+def stack_size_structs(entries: int) -> str:
+    """The generated structs file with another traversal stack size: what the stack's size costs."""
+    shipped = f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;"
+    text = generated_structs()
+    if shipped not in text:
+        raise RuntimeError(f"the generated structs no longer declare {shipped}; update this benchmark")
+    return text.replace(shipped, f"const BVH_STACK_SIZE: u32 = {entries}u;")
 
 
 def big_sphere_scene():
@@ -79,8 +97,9 @@ class Variant:
     workgroup: tuple[int, int] = SHIPPED_WORKGROUP
     max_depth: int = MAX_DEPTH
     integrator: str = "mis"
-    # "texels" (shipped), "buffer" (before texels), "uniform" (scenes whose nodes fit 64 KiB),
-    # "paired" (paired_nodes.py) or "wide" (wide_nodes.py)
+    # "texels" (shipped: 4-wide records), or the binary nodes: "binary" (texels, the kernel before
+    # 4-wide records), "buffer" (before texels), "uniform" (scenes whose nodes fit 64 KiB), "paired"
+    # (paired_nodes.py)
     nodes: str = "texels"
     triangles: str = "texels"  # "texels" (shipped) or "buffer" (before texels)
     same_arithmetic: bool = True  # whether its image must equal the shipped kernel's bit for bit
@@ -93,21 +112,61 @@ class Variant:
 
 
 VARIANTS = [
-    Variant("shipped", what="the shipped megakernel (MIS, max depth 9; nodes and triangles as texels)"),
+    Variant("shipped", what="the shipped megakernel (MIS, max depth 9; 4-wide BVH records and triangles as texels)"),
     Variant("primary_only", max_depth=1, same_arithmetic=False, what="camera rays' closest hit only (max depth 1)"),
     Variant("direct_only", max_depth=2, same_arithmetic=False, what="max depth 2: primary, shadow ray, one BSDF ray"),
     Variant("no_shadow_rays", integrator="bsdf", same_arithmetic=False, what="BSDF sampling alone: no shadow rays"),
     Variant(
+        "binary_nodes",
+        sources={"acceleration.wgsl": binary_traversal_wgsl()},
+        nodes="binary",
+        same_arithmetic=False,
+        same_image=True,
+        what="the binary BVH's nodes as texels (the kernel before 4-wide records, kernel_variants/binary_nodes.py)",
+    ),
+    Variant(
+        "binary_primary_only",
+        sources={"acceleration.wgsl": binary_traversal_wgsl()},
+        nodes="binary",
+        max_depth=1,
+        same_arithmetic=False,
+        what="camera rays' closest hit only (max depth 1) through the binary BVH: compare with primary_only",
+    ),
+    Variant(
+        "nearest_child_first",
+        files={"bvh_child_order.wgsl": "wide_nearest_order.wgsl"},
+        same_arithmetic=False,
+        same_image=True,
+        what="4-wide BVH, only the nearest child first (the others unsorted)",
+    ),
+    Variant(
+        "stack_64",
+        sources={GENERATED_STRUCTS: stack_size_structs(64)},
+        what="the shipped kernel with a 64-entry stack instead of BVH_STACK_SIZE (enough for these two scenes' trees)",
+    ),
+    Variant(
+        "binary_nodes_stack_64",
+        sources={"acceleration.wgsl": binary_traversal_wgsl(), GENERATED_STRUCTS: stack_size_structs(64)},
+        nodes="binary",
+        same_arithmetic=False,
+        same_image=True,
+        what="the kernel shipped before 4-wide records as it was: binary nodes as texels, a 64-entry stack",
+    ),
+    Variant(
         "storage_nodes",
         files={"acceleration.wgsl": "storage_nodes_traverse_bvh.wgsl"},
         nodes="buffer",
-        what="nodes in a storage buffer (the kernel before texels)",
+        same_arithmetic=False,
+        same_image=True,
+        what="binary nodes in a storage buffer (the kernel before texels)",
     ),
     Variant(
         "uniform_nodes",
         files={"acceleration.wgsl": "uniform_nodes_traverse_bvh.wgsl"},
         nodes="uniform",
-        what="nodes in a uniform buffer, the array sized for the scene (a specialization for small scenes)",
+        same_arithmetic=False,
+        same_image=True,
+        what="binary nodes in a uniform buffer, the array sized for the scene (a specialization for small scenes)",
     ),
     Variant(
         "storage_triangles",
@@ -119,31 +178,9 @@ VARIANTS = [
         "paired_nodes",
         files={"acceleration.wgsl": "paired_traverse_bvh.wgsl"},
         nodes="paired",
-        what="both children's boxes in one record (kernel_variants/paired_nodes.py), as texels",
-    ),
-    Variant(
-        "wide_nodes",
-        sources={"acceleration.wgsl": wide_traversal_wgsl("sorted")},
-        nodes="wide",
         same_arithmetic=False,
         same_image=True,
-        what="4-wide BVH (kernel_variants/wide_nodes.py), children sorted nearest first, as texels",
-    ),
-    Variant(
-        "wide_nodes_nearest",
-        sources={"acceleration.wgsl": wide_traversal_wgsl("nearest")},
-        nodes="wide",
-        same_arithmetic=False,
-        same_image=True,
-        what="4-wide BVH, only the nearest child first (the others unsorted), as texels",
-    ),
-    Variant(
-        "wide_primary_only",
-        sources={"acceleration.wgsl": wide_traversal_wgsl("sorted")},
-        nodes="wide",
-        max_depth=1,
-        same_arithmetic=False,
-        what="camera rays' closest hit only (max depth 1) through the 4-wide BVH: compare with primary_only",
+        what="binary BVH, both children's boxes in one record (kernel_variants/paired_nodes.py), as texels",
     ),
     Variant("workgroup_16x16", workgroup=(16, 16), what="workgroup 16x16"),
     Variant("workgroup_64x1", workgroup=(64, 1), what="workgroup 64x1"),
@@ -152,19 +189,21 @@ VARIANTS = [
 
 
 def scene_resources(context, records) -> dict:
-    """What variants bind: the nodes five ways (uniform: None unless they fit one), the triangles two."""
+    """What variants bind: the nodes five ways (the shipped 4-wide records; the binary nodes four
+    ways, uniform: None unless they fit one), the triangles two."""
     fields = paired_fields(records.acceleration)
     paired = PAIRED_NODE.zeros(len(fields["a_ref"]))
     for name, values in fields.items():
         paired[name] = values
-    fits_uniform = records.nodes.nbytes <= context.device.limits["max-uniform-buffer-binding-size"]
+    binary = node_records(records.acceleration)
+    fits_uniform = binary.nbytes <= context.device.limits["max-uniform-buffer-binding-size"]
     return {
         "nodes": {
-            "uniform": uniform_buffer(context, "nodes", records.nodes) if fits_uniform else None,
             "texels": TrackedTexels(context, "nodes", records.nodes).resource,
-            "buffer": storage_buffer(context, "nodes", records.nodes),
+            "binary": TrackedTexels(context, "binary nodes", binary).resource,
+            "uniform": uniform_buffer(context, "nodes", binary) if fits_uniform else None,
+            "buffer": storage_buffer(context, "nodes", binary),
             "paired": TrackedTexels(context, "paired nodes", paired).resource,
-            "wide": TrackedTexels(context, "wide nodes", wide_records(records.acceleration)).resource,
         },
         "triangles": {
             "texels": TrackedTexels(context, "triangles", records.triangles).resource,
@@ -180,7 +219,7 @@ class Run:
         context = renderer.context
         width, height = renderer.width, renderer.height
         self.context, self.variant, self.width, self.height = context, variant, width, height
-        node_count = str(len(renderer.records.nodes))
+        node_count = str(renderer.records.acceleration.node_count)  # the binary nodes (uniform_nodes)
         generated = {
             name: (VARIANTS_DIR / file).read_text().replace("__NODE_COUNT__", node_count)
             for name, file in variant.files.items()
@@ -291,7 +330,13 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
         for run in runs[shift:] + runs[:shift]:
             seconds[run.variant.name].append(run.dispatch())
     base = seconds[variants[0].name]
-    result = {"triangles": len(records.triangles), "nodes": len(records.nodes), "skipped": skipped, "variants": {}}
+    result = {
+        "triangles": len(records.triangles),
+        "binary_nodes": records.acceleration.node_count,
+        "wide_records": len(records.nodes),
+        "skipped": skipped,
+        "variants": {},
+    }
     for run in runs:
         times = seconds[run.variant.name]
         median = statistics.median(times)

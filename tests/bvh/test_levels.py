@@ -7,11 +7,11 @@ import pytest
 
 from wgputrace import default_scene
 from wgputrace.bvh.levels import box_edges, node_levels
-from wgputrace.render.scene_buffers import scene_records
+from wgputrace.render.scene_buffers import node_records, scene_records
 
 
 def test_levels_of_the_default_scene_tree_match_a_recursive_walk():
-    nodes = scene_records(default_scene()).nodes
+    nodes = node_records(scene_records(default_scene()).acceleration)
     levels = node_levels(nodes["left_or_first"], nodes["triangle_count"])
     expected = np.full(len(nodes), -1)
 

@@ -70,4 +70,5 @@ def test_compact_records():
     sizes = {s.name: s.size for s in ALL_STRUCTS}
     assert sizes["Triangle"] == 48
     assert sizes["BvhNode"] == 32
+    assert sizes["WideBvhNode"] == 112  # 7 texels: four boxes by axis, four child words
     assert sizes["Material"] == 32

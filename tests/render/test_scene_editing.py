@@ -12,11 +12,12 @@ from tests.bvh.test_refit import bounds_from_scratch
 from tests.harness import read_binding
 from wgputrace import Camera, Diffuse, Emitter, Glass, Renderer, Scene, default_scene, make_box, make_icosphere
 from wgputrace import model_matrix as place
+from wgputrace.bvh.wide import EMPTY_SLOT
 from wgputrace.gpu.device import DeviceLimitError
-from wgputrace.gpu.layout import BVH_NODE, FRAME, MATERIAL, TRIANGLE
+from wgputrace.gpu.layout import FRAME, MATERIAL, TRIANGLE, WIDE_BVH_NODE
 from wgputrace.gpu.texels import TEXEL_BYTES
 from wgputrace.gpu.tracked_buffer import SPARE_FRACTION, UploadCount
-from wgputrace.render import scene_sync
+from wgputrace.render import scene_buffers, scene_sync
 from wgputrace.scene import SceneError
 
 SIZE = 24
@@ -75,27 +76,39 @@ def test_a_camera_move_uploads_only_the_frame(cornell):
     np.testing.assert_array_equal(image, fresh_image(scene))
 
 
-def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell):
+def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell, monkeypatch):
     scene, renderer = cornell
     sphere = scene.shape("sphere2")
     nodes_before = renderer.records.nodes.copy()
     sphere.transform = place((0.0, -0.05, -0.1), (0, 0, 0), 1.0)
+    # a refit keeps the topology: the wide records' boxes are regathered, the tree not collapsed again
+    monkeypatch.setattr(scene_buffers, "collapse", lambda bvh: pytest.fail("a refit collapsed the tree again"))
     image = rendered(renderer)
     stats = renderer.upload_stats
     assert set(stats) == {"triangles", "bvh nodes"}
     assert stats["triangles"].bytes == sphere.triangle_count * TRIANGLE.size
     changed_nodes = np.count_nonzero(renderer.records.nodes != nodes_before)
-    assert stats["bvh nodes"].bytes == changed_nodes * BVH_NODE.size
+    # the GPU's 4-wide records (WIDE_BVH_NODE, 112 B), only those whose boxes changed
+    assert stats["bvh nodes"].bytes == changed_nodes * WIDE_BVH_NODE.size
     assert changed_nodes < len(nodes_before) // 2  # not the whole tree
     assert stats["triangles"].calls <= sphere.triangle_count // 8  # merged into runs, not one call a row
-    # the refit tree's bounds are exact (not merely conservative), and that is what the GPU holds
-    bvh, nodes = renderer.records.acceleration, renderer.records.nodes
-    expected_min, expected_max = bounds_from_scratch(bvh, triangle_corners(renderer.records.triangles))
-    np.testing.assert_array_equal(nodes["bounds_min"], expected_min)
-    np.testing.assert_array_equal(nodes["bounds_max"], expected_max)
+    # the refit tree's bounds are exact (not merely conservative); the wide records keep their
+    # children and hold, slot by slot, the exact boxes of the binary nodes they came from; that is
+    # what the GPU holds
+    records = renderer.records
+    bvh, nodes, wide = records.acceleration, records.nodes, records.wide
+    expected_min, expected_max = bounds_from_scratch(bvh, triangle_corners(records.triangles))
+    np.testing.assert_array_equal(bvh.bounds_min, expected_min)
+    np.testing.assert_array_equal(bvh.bounds_max, expected_max)
+    np.testing.assert_array_equal(nodes["children"], nodes_before["children"])
+    used = wide.slot_node != EMPTY_SLOT
+    for k, axis in enumerate("xyz"):
+        np.testing.assert_array_equal(nodes[f"min_{axis}"][used], expected_min[wide.slot_node[used], k])
+        np.testing.assert_array_equal(nodes[f"max_{axis}"][used], expected_max[wide.slot_node[used], k])
     np.testing.assert_array_equal(
-        read_binding(renderer.context, renderer.bindings[2], BVH_NODE.dtype, len(nodes)), nodes
+        read_binding(renderer.context, renderer.bindings[2], WIDE_BVH_NODE.dtype, len(nodes)), nodes
     )
+    monkeypatch.undo()  # a fresh renderer collapses its tree
     np.testing.assert_array_equal(image, fresh_image(scene))
 
 
@@ -195,7 +208,7 @@ def test_gpu_bytes_per_triangle_counts_every_scene_buffer(cornell):
     assert renderer.gpu_bytes_per_triangle == sum(sizes.values()) / triangles
     # triangle and node records, the nodes' texture with its spare capacity, are most of it
     nodes = len(renderer.records.nodes)
-    used = triangles * TRIANGLE.size + nodes * BVH_NODE.size
+    used = triangles * TRIANGLE.size + nodes * WIDE_BVH_NODE.size
     assert used / triangles < renderer.gpu_bytes_per_triangle < (1 + SPARE_FRACTION) * used / triangles + 1
 
 

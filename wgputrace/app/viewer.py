@@ -98,8 +98,9 @@ class SceneView:
         self.renderer = Renderer(scene, size[0], size[1], seed=options.seed, max_depth=options.max_depth)
         self.banded = BandedRenderer(self.renderer)
         self.display = Display(self.banded)
-        nodes = self.renderer.records.nodes
-        self.levels = node_levels(nodes["left_or_first"], nodes["triangle_count"])
+        # the binary tree's levels: the GPU's 4-wide records are derived from it
+        bvh = self.renderer.records.acceleration
+        self.levels = node_levels(bvh.left_or_first, bvh.triangle_count)
 
 
 class Viewer:
@@ -248,8 +249,8 @@ class Viewer:
         if self.view is None or not self.show_boxes:
             self.presenter.set_box_lines(None)
             return
-        nodes = self.view.renderer.records.nodes[self.view.levels == self.box_level]
-        self.presenter.set_box_lines(box_edges(nodes["bounds_min"], nodes["bounds_max"]))
+        bvh, level = self.view.renderer.records.acceleration, self.view.levels == self.box_level
+        self.presenter.set_box_lines(box_edges(bvh.bounds_min[level], bvh.bounds_max[level]))
 
     # frames
 
@@ -341,7 +342,7 @@ class Viewer:
                     *camera.position, *camera.forward, self.controller.speed
                 ),
                 f"scene {self.options.scene}: {renderer.triangle_count:,} triangles, "
-                f"{len(renderer.records.nodes):,} BVH nodes, depth {int(self.view.levels.max())}",
+                f"{renderer.records.acceleration.node_count:,} BVH nodes, depth {int(self.view.levels.max())}",
                 f"view {self.settings.view.name.lower()}   filter "
                 + (f"on (weight {self.view.display.filter_weight:.2f})" if self.settings.filter_enabled else "off")
                 + (f"   boxes level {self.box_level}" if self.show_boxes else "")

@@ -88,6 +88,18 @@ BVH_NODE = GpuStruct(
     (("bounds_min", "vec3<f32>"), ("left_or_first", "u32"), ("bounds_max", "vec3<f32>"), ("triangle_count", "u32")),
     "32-byte BVH node: interior (count 0) -> left child, right = left + 1; leaf -> first triangle.",
 )
+# What the GPU traverses (bvh/wide.py): a record per 4-wide node, its children's boxes by axis (min_x
+# of the four children in one vec4, ...), seven texels where four boxes with a word beside each
+# would take eight, and one word per child (leaf, record or empty, bvh/wide.py's encoding).
+WIDE_BVH_NODE = GpuStruct(
+    "WideBvhNode",
+    (
+        *((f"min_{axis}", "vec4<f32>") for axis in "xyz"),
+        *((f"max_{axis}", "vec4<f32>") for axis in "xyz"),
+        ("children", "vec4<u32>"),
+    ),
+    "Up to four children of a 4-wide BVH node: their boxes by axis, and one word each (bvh/wide.py).",
+)
 MATERIAL = GpuStruct(
     "Material",
     (("color", "vec3<f32>"), ("kind", "u32"), ("alpha", "f32"), ("ior", "f32")),
@@ -122,4 +134,4 @@ LIGHT = GpuStruct(
     "An emissive triangle in an alias table: keep this entry when u < threshold, else take entry `alias_index`.",
 )
 
-ALL_STRUCTS = (TRIANGLE, BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT)
+ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT)

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
+from ..bvh.wide import STACK_SIZE as WIDE_STACK_SIZE
+from ..bvh.wide import WIDE_COUNT_BITS, WIDE_EMPTY, WIDE_LEAF, WIDE_LEAF_MAX
 from ..scene.materials import MaterialKind
 from .device import GpuContext
 from .layout import ALL_STRUCTS
@@ -21,9 +23,9 @@ GENERATED_STRUCTS = "generated/structs.wgsl"
 NO_TRIANGLE = 0xFFFFFFFF
 # Estimators of direct light, in the order of their ids in the shaders (INTEGRATOR_BSDF = 0, ...).
 INTEGRATORS = ("bsdf", "nee", "mis")
-# Entries of the per-ray traversal stack; the BVH builder keeps trees at most this deep, which
-# bounds the stack because traversal pushes only the farther child of each node it enters.
-BVH_STACK_SIZE = 64
+# Entries of the per-ray traversal stack: enough for every tree the renderer builds (bvh/wide.py
+# says why), and more than the binary traversal of those trees needs.
+BVH_STACK_SIZE = WIDE_STACK_SIZE
 
 
 class ShaderCompileError(RuntimeError):
@@ -38,6 +40,10 @@ def generated_structs() -> str:
     parts += [f"const INTEGRATOR_{name.upper()}: u32 = {index}u;" for index, name in enumerate(INTEGRATORS)]
     parts.append(f"const NO_TRIANGLE: u32 = {NO_TRIANGLE:#x}u;")
     parts.append(f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;")
+    parts.append(f"const WIDE_LEAF: u32 = {WIDE_LEAF:#x}u;")
+    parts.append(f"const WIDE_COUNT_BITS: u32 = {WIDE_COUNT_BITS}u;")
+    parts.append(f"const WIDE_COUNT_MASK: u32 = {WIDE_LEAF_MAX - 1}u;")
+    parts.append(f"const WIDE_EMPTY: u32 = {WIDE_EMPTY:#x}u;")
     return "\n".join(parts) + "\n"
 
 

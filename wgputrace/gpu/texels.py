@@ -22,7 +22,7 @@ import numpy as np
 import wgpu
 
 from .device import GpuContext
-from .layout import BVH_NODE, TRIANGLE, GpuStruct
+from .layout import TRIANGLE, WIDE_BVH_NODE, GpuStruct
 from .tracked_buffer import SPARE_FRACTION, UploadCount, contiguous_records, merged_runs
 
 GENERATED_TEXEL_LOADERS = "generated/texel_loaders.wgsl"
@@ -31,7 +31,7 @@ GENERATED_TEXEL_LOADERS = "generated/texel_loaders.wgsl"
 # storage binding cap, limits how many triangles fit: MAX_TEXEL_ROW x max-texture-dimension-2d
 # texels, 3 per triangle (22.4 million at lavapipe's 16384 rows, against 2.8 million in its
 # 128 MiB storage binding).
-TEXEL_STRUCTS = (BVH_NODE, TRIANGLE)
+TEXEL_STRUCTS = (WIDE_BVH_NODE, TRIANGLE)
 TEXEL_BYTES = 16
 # Widest texture row, in texels (64 KiB): 8192 rows of it (WebGPU's default height limit) hold 2^25
 # texels. Narrower data gets a width near the square root of its texel count, so at most one

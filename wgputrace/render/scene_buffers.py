@@ -1,4 +1,7 @@
-"""A scene turned into GPU records: triangles in acceleration-structure order, nodes, materials."""
+"""A scene turned into GPU records: triangles in acceleration-structure order, nodes, materials.
+
+The BVH is built and kept binary (bvh/); the GPU gets it collapsed into 4-wide records
+(bvh/wide.py), the flat list its boxes as binary nodes."""
 
 from __future__ import annotations
 
@@ -7,8 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..bvh import BVH, build_bvh, build_flat
-from ..gpu.layout import BVH_NODE, MATERIAL, TRIANGLE
-from ..gpu.pipeline import BVH_STACK_SIZE
+from ..bvh.wide import BUILD_MAX_DEPTH, WideBVH, collapse
+from ..gpu.layout import BVH_NODE, MATERIAL, TRIANGLE, WIDE_BVH_NODE
 from ..scene import Material, Scene, TriangleArrays
 
 ACCELERATIONS = ("bvh", "flat")
@@ -17,9 +20,10 @@ ACCELERATIONS = ("bvh", "flat")
 @dataclass
 class SceneRecords:
     triangles: np.ndarray  # TRIANGLE.dtype, in the order the acceleration structure references
-    nodes: np.ndarray  # BVH_NODE.dtype
+    nodes: np.ndarray  # what the GPU traverses: WIDE_BVH_NODE.dtype for a BVH, BVH_NODE.dtype for the flat list
     materials: np.ndarray  # MATERIAL.dtype
-    acceleration: BVH
+    acceleration: BVH  # the canonical binary tree (or flat list)
+    wide: WideBVH | None = None  # a BVH's 4-wide form, whose records `nodes` holds
 
 
 def material_records(materials: list[Material]) -> np.ndarray:
@@ -31,6 +35,7 @@ def material_records(materials: list[Material]) -> np.ndarray:
 
 
 def node_records(acceleration: BVH) -> np.ndarray:
+    """The binary nodes as BVH_NODE records (the flat list's boxes on the GPU)."""
     nodes = BVH_NODE.zeros(acceleration.node_count)
     nodes["bounds_min"] = acceleration.bounds_min
     nodes["bounds_max"] = acceleration.bounds_max
@@ -39,11 +44,35 @@ def node_records(acceleration: BVH) -> np.ndarray:
     return nodes
 
 
+def wide_node_records(wide: WideBVH, bvh: BVH) -> np.ndarray:
+    """WIDE_BVH_NODE records of `wide`, the slots' boxes from `bvh`."""
+    records = WIDE_BVH_NODE.zeros(wide.record_count)
+    records["children"] = wide.refs
+    set_wide_bounds(records, wide, bvh)
+    return records
+
+
+def set_wide_bounds(records: np.ndarray, wide: WideBVH, bvh: BVH, rows: np.ndarray | slice = slice(None)) -> None:
+    """Regather the slot boxes of `records[rows]` from `bvh`'s nodes (after a refit)."""
+    bounds_min, bounds_max = wide.slot_bounds(bvh, rows)
+    for k, axis in enumerate("xyz"):
+        records[f"min_{axis}"][rows] = bounds_min[..., k]
+        records[f"max_{axis}"][rows] = bounds_max[..., k]
+
+
+def gpu_node_records(acceleration: BVH) -> tuple[np.ndarray, WideBVH | None]:
+    """What the GPU traverses: a BVH's 4-wide records and its wide form, or the flat list's boxes."""
+    if acceleration.kind != "bvh":
+        return node_records(acceleration), None
+    wide = collapse(acceleration)
+    return wide_node_records(wide, acceleration), wide
+
+
 def build_acceleration(arrays: TriangleArrays, acceleration: str) -> BVH:
     if acceleration not in ACCELERATIONS:
         raise ValueError(f"acceleration must be one of {ACCELERATIONS}, got {acceleration!r}")
     if acceleration == "bvh":
-        return build_bvh(arrays.vertices, max_depth=BVH_STACK_SIZE)
+        return build_bvh(arrays.vertices, max_depth=BUILD_MAX_DEPTH)
     return build_flat(arrays.vertices, arrays.shape_index)
 
 
@@ -60,4 +89,5 @@ def scene_records(scene: Scene, acceleration: str = "bvh") -> SceneRecords:
     structure = build_acceleration(arrays, acceleration)
     order = structure.triangle_order
     triangles = triangle_records(arrays.vertices[order], arrays.material_index[order])
-    return SceneRecords(triangles, node_records(structure), material_records(arrays.materials), structure)
+    nodes, wide = gpu_node_records(structure)
+    return SceneRecords(triangles, nodes, material_records(arrays.materials), structure, wide)

@@ -14,6 +14,10 @@ sample the same light for the same random numbers: the picture after an edit is 
 picture of a fresh Renderer of the edited scene (up to exact ties of two hit distances).
 
 A refit whose SAH cost exceeds the built tree's by REBUILD_DEGRADATION becomes a rebuild.
+The GPU traverses the BVH as 4-wide records (bvh/wide.py): a rebuild collapses the new tree; a
+refit keeps the topology, so it does not collapse again but regathers the boxes of the records
+holding a refit node (through the wide tree's slot -> binary node map), and only those of them
+whose bytes changed are uploaded.
 Rows are compared as bytes before they count as changed, so an edit that restores a value
 uploads nothing and does not restart accumulation.
 """
@@ -26,7 +30,14 @@ from ..bvh import BVH, Refitter
 from ..scene import MaterialKind, Scene, Shape
 from ..scene.scene import zero_area
 from .lights import LightTable, light_table
-from .scene_buffers import SceneRecords, build_acceleration, material_records, node_records, triangle_records
+from .scene_buffers import (
+    SceneRecords,
+    build_acceleration,
+    gpu_node_records,
+    material_records,
+    set_wide_bounds,
+    triangle_records,
+)
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
 # Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
@@ -54,8 +65,8 @@ def changed_rows(old: np.ndarray, new: np.ndarray) -> np.ndarray:
 
 
 class SceneMirror:
-    """GPU records of `scene` (triangles in BVH order, nodes, materials) and the state needed to
-    update them incrementally."""
+    """GPU records of `scene` (triangles in BVH order, nodes as the GPU traverses them, materials)
+    and the state needed to update them incrementally."""
 
     def __init__(self, scene: Scene, acceleration: str) -> None:
         self.scene, self.acceleration_kind = scene, acceleration
@@ -69,7 +80,7 @@ class SceneMirror:
 
     @property
     def records(self) -> SceneRecords:
-        return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh)
+        return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh, self.wide)
 
     @property
     def material_kinds(self) -> frozenset:
@@ -125,9 +136,10 @@ class SceneMirror:
         bvh = build_acceleration(arrays, self.acceleration_kind)
         order = bvh.triangle_order
         vertices = arrays.vertices[order]
+        nodes, wide = gpu_node_records(bvh)
         new = {
             TRIANGLES: triangle_records(vertices, arrays.material_index[order]),
-            NODES: node_records(bvh),
+            NODES: nodes,
             MATERIALS: material_records(arrays.materials),
         }
         old = {TRIANGLES: self.triangles, NODES: self.nodes, MATERIALS: self.materials}
@@ -136,6 +148,7 @@ class SceneMirror:
         }
         self.triangles, self.nodes, self.materials = new[TRIANGLES], new[NODES], new[MATERIALS]
         self.bvh: BVH = bvh
+        self.wide = wide
         self.refitter = Refitter(bvh, vertices)
         # where each shape's kept triangles start in input order, their local indices, and the
         # BVH position of every input triangle
@@ -175,9 +188,21 @@ class SceneMirror:
             triangles[f"v{corner}"] = corners[:, corner]
         rows = positions[changed_rows(self.triangles[positions], triangles)]
         self.triangles[positions] = triangles
-        self.nodes["bounds_min"][touched] = self.bvh.bounds_min[touched]
-        self.nodes["bounds_max"][touched] = self.bvh.bounds_max[touched]
-        return {TRIANGLES: rows, NODES: touched}
+        return {TRIANGLES: rows, NODES: self._refit_nodes(touched)}
+
+    def _refit_nodes(self, touched: np.ndarray) -> np.ndarray:
+        """Bring the GPU node records up to date with the refit `touched` binary nodes; the rows
+        that changed."""
+        if self.wide is None:  # the flat list uploads its boxes as they are
+            self.nodes["bounds_min"][touched] = self.bvh.bounds_min[touched]
+            self.nodes["bounds_max"][touched] = self.bvh.bounds_max[touched]
+            return touched
+        moved = np.zeros(self.bvh.node_count + 1, bool)  # the last entry stands for empty slots
+        moved[touched] = True
+        rows = np.flatnonzero(moved[self.wide.slot_node].any(axis=1))
+        before = self.nodes[rows]
+        set_wide_bounds(self.nodes, self.wide, self.bvh, rows)
+        return rows[changed_rows(before, self.nodes[rows])]
 
     def _reassign_materials(self) -> dict[str, np.ndarray]:
         """A shape got another material: new material list, every triangle's index recomputed."""

@@ -1,0 +1,55 @@
+// Variant (bench/kernel_profile.py binary_nodes): the binary BVH's nodes as texels, the shipped traversal before 4-wide nodes.
+// kernel_profile.py fills in the loader of the binary node texels (not part of the shipped kernel).
+//! include "intersect_leaf.wgsl"
+//! include "intersect_box.wgsl"
+//! include "hit_queries.wgsl"
+//! include "generated/texels_binary_nodes.wgsl"
+
+@group(0) @binding(2) var node_texels: texture_2d<u32>;
+
+// A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
+// leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.
+fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
+    var hit = Hit(t_max, NO_TRIANGLE);
+    let sheared = shear_ray(ray);
+    let inverse_direction = safe_inverse_direction(ray.direction);
+    var stack: array<u32, BVH_STACK_SIZE>;
+    var stack_size = 0u;
+    var node_index = 0u;
+    let root = load_BvhNode(node_texels, 0u);
+    if intersect_box(ray.origin, inverse_direction, root.bounds_min, root.bounds_max, hit.t) == FLOAT_MAX {
+        return hit;
+    }
+    loop {
+        traversal_steps++;
+        let node = load_BvhNode(node_texels, node_index);
+        if node.triangle_count > 0u {
+            if intersect_leaf(sheared, node, skip_triangle, any_hit, &hit) {
+                break;
+            }
+        } else {
+            let left = node.left_or_first;
+            let left_node = load_BvhNode(node_texels, left);
+            let right_node = load_BvhNode(node_texels, left + 1u);
+            let t_left = intersect_box(ray.origin, inverse_direction, left_node.bounds_min, left_node.bounds_max, hit.t);
+            let t_right = intersect_box(ray.origin, inverse_direction, right_node.bounds_min, right_node.bounds_max, hit.t);
+            if t_left != FLOAT_MAX || t_right != FLOAT_MAX {
+                let left_first = t_left <= t_right;
+                let near = select(left + 1u, left, left_first);
+                let far_hit = select(t_left, t_right, left_first) != FLOAT_MAX;
+                if far_hit {
+                    stack[stack_size] = select(left, left + 1u, left_first);
+                    stack_size++;
+                }
+                node_index = near;
+                continue;
+            }
+        }
+        if stack_size == 0u {
+            break;
+        }
+        stack_size--;
+        node_index = stack[stack_size];
+    }
+    return hit;
+}
