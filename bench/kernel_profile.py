@@ -45,11 +45,11 @@ from wgputrace.gpu.layout import ACCUMULATED_PIXEL  # noqa: E402
 from wgputrace.gpu.material_dispatch import GENERATED_MATERIALS, material_dispatch, shaded_kinds  # noqa: E402
 from wgputrace.gpu.pipeline import (  # noqa: E402
     BVH_STACK_SIZE,
-    GENERATED_STRUCTS,
+    GENERATED_TRAVERSAL_STACK,
     INTEGRATORS,
     compute_kernel,
     dispatch_size,
-    generated_structs,
+    traversal_stack,
 )
 from wgputrace.gpu.shader_source import shader_root  # noqa: E402
 from wgputrace.gpu.texels import TrackedTexels  # noqa: E402
@@ -66,15 +66,6 @@ SHIPPED_WORKGROUP = (8, 8)
 # Family-wise false-alarm rate of the mean radiance tests of variants that compute the same image
 # by other arithmetic (Sidak-corrected over those variants, scenes and channels).
 AGREEMENT_SIGNIFICANCE = 1e-3
-
-
-def stack_size_structs(entries: int) -> str:
-    """The generated structs file with another traversal stack size: what the stack's size costs."""
-    shipped = f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;"
-    text = generated_structs()
-    if shipped not in text:
-        raise RuntimeError(f"the generated structs no longer declare {shipped}; update this benchmark")
-    return text.replace(shipped, f"const BVH_STACK_SIZE: u32 = {entries}u;")
 
 
 def big_sphere_scene():
@@ -140,13 +131,13 @@ VARIANTS = [
         what="4-wide BVH, only the nearest child first (the others unsorted)",
     ),
     Variant(
-        "stack_64",
-        sources={GENERATED_STRUCTS: stack_size_structs(64)},
-        what="the shipped kernel with a 64-entry stack instead of BVH_STACK_SIZE (enough for these two scenes' trees)",
+        "max_stack",
+        sources={GENERATED_TRAVERSAL_STACK: traversal_stack(BVH_STACK_SIZE)},
+        what="the shipped kernel with the largest stack (BVH_STACK_SIZE entries) instead of one sized for the tree",
     ),
     Variant(
         "binary_nodes_stack_64",
-        sources={"acceleration.wgsl": binary_traversal_wgsl(), GENERATED_STRUCTS: stack_size_structs(64)},
+        sources={"acceleration.wgsl": binary_traversal_wgsl(), GENERATED_TRAVERSAL_STACK: traversal_stack(64)},
         nodes="binary",
         same_arithmetic=False,
         same_image=True,
@@ -226,6 +217,8 @@ class Run:
         }
         generated.update(variant.sources)
         generated.setdefault("acceleration.wgsl", '//! include "traverse_bvh.wgsl"\n')
+        # the stack the renderer compiles for this scene's tree, unless the variant sizes its own
+        generated.setdefault(GENERATED_TRAVERSAL_STACK, traversal_stack(renderer.traversal_stack_size))
         generated[GENERATED_MATERIALS] = material_dispatch(
             shaded_kinds(frozenset(m.kind for m in renderer.scene.materials))
         )

@@ -4,6 +4,7 @@
 //! include "hit_queries.wgsl"
 //! include "generated/texel_loaders.wgsl"
 //! include "bvh_child_order.wgsl"
+//! include "generated/traversal_stack.wgsl"
 
 // The nodes as texels (gpu/texels.py): on lavapipe a texture load costs a fraction of a storage
 // load: the whole path tracer ran 1.3x (Cornell box) to 1.6x (328k triangles) as fast
@@ -38,8 +39,9 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var hit = Hit(t_max, NO_TRIANGLE);
     let sheared = shear_ray(ray);
     let inverse_direction = safe_inverse_direction(ray.direction);
-    // at most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits
-    var stack: array<u32, BVH_STACK_SIZE>;
+    // at most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits BVH_STACK_SIZE;
+    // the renderer compiles only what its tree needs (gpu/pipeline.py traversal_stack_size)
+    var stack: array<u32, TRAVERSAL_STACK_SIZE>;
     var stack_size = 0u;
     var node = 0u; // record 0 holds the root's children
     loop {

@@ -3,6 +3,7 @@
 //! include "generated/texel_loaders.wgsl"
 //! include "intersect_box.wgsl"
 //! include "hit_queries.wgsl"
+//! include "generated/traversal_stack.wgsl"
 
 @group(0) @binding(2) var node_texels: texture_2d<u32>;
 
@@ -15,7 +16,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     let sheared = shear_ray(ray);
     let inverse_direction = safe_inverse_direction(ray.direction);
     // (ref, count) of the nodes still to visit
-    var stack: array<vec2<u32>, BVH_STACK_SIZE>;
+    var stack: array<vec2<u32>, TRAVERSAL_STACK_SIZE>;
     var stack_size = 0u;
     let root_min = texel_at(node_texels, 0u);
     let root_max = texel_at(node_texels, 1u);

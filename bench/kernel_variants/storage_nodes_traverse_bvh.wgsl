@@ -2,6 +2,7 @@
 //! include "intersect_leaf.wgsl"
 //! include "intersect_box.wgsl"
 //! include "hit_queries.wgsl"
+//! include "generated/traversal_stack.wgsl"
 
 @group(0) @binding(2) var<storage, read> nodes: array<BvhNode>;
 
@@ -11,7 +12,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var hit = Hit(t_max, NO_TRIANGLE);
     let sheared = shear_ray(ray);
     let inverse_direction = safe_inverse_direction(ray.direction);
-    var stack: array<u32, BVH_STACK_SIZE>;
+    var stack: array<u32, TRAVERSAL_STACK_SIZE>;
     var stack_size = 0u;
     var node_index = 0u;
     let root = nodes[0];

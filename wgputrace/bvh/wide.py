@@ -19,11 +19,13 @@ the topology, regathers the slots' boxes from the refit binary nodes instead of 
 
 The stack: a traversal pushes every child of a record it enters but the nearest, so it holds at
 most (WIDTH - 1) entries per wide level above it. A record of wide level L comes from a binary
-interior node at depth L or deeper, so a tree whose leaves lie at most BUILD_MAX_DEPTH deep has at
-most BUILD_MAX_DEPTH wide levels and needs at most STACK_SIZE entries: the renderer builds with
-max_depth=BUILD_MAX_DEPTH and the shader's stack has STACK_SIZE entries. Only splitting a leaf
-the builder made at its depth limit adds levels; `collapse` counts the entries exactly and
-refuses a tree that could need more than the stack holds.
+interior node at depth L or deeper, so a tree whose leaves lie at most D deep has at most D wide
+levels and needs at most (WIDTH - 1) D entries. The renderer builds with max_depth=BUILD_MAX_DEPTH;
+splitting the leaves the builder made at that limit adds at most LEAF_SPLIT_LEVELS levels below
+it, so STACK_SIZE entries hold every tree the renderer makes (the Cornell box with a cluster of
+tiny triangles peeled off one per level needs 102). `collapse` counts each tree's need exactly
+(`WideBVH.max_stack`), so the renderer compiles a stack of only that size (gpu/pipeline.py), and
+refuses a tree that could need more than it is allowed.
 """
 
 from __future__ import annotations
@@ -37,9 +39,8 @@ from .tree import BVH, box_surface_area
 WIDTH = 4
 # The renderer's builder depth limit. 32 levels of a binned-SAH tree hold far more than the
 # 22.4 million triangles the triangle texels allow on lavapipe (the 328k-triangle sphere in the
-# Cornell box is 22 deep), and with WIDTH - 1 entries a level the stack stays at STACK_SIZE words.
+# Cornell box is 22 deep).
 BUILD_MAX_DEPTH = 32
-STACK_SIZE = (WIDTH - 1) * BUILD_MAX_DEPTH
 WIDE_LEAF = 1 << 31
 # build_bvh's leaves hold at most 4 triangles (its max_leaf_size); 8 leaves room for other settings,
 # and 28 bits of first triangle exceed the 22.4 million the triangle texels hold on lavapipe.
@@ -47,6 +48,11 @@ WIDE_COUNT_BITS = 3
 WIDE_LEAF_MAX = 1 << WIDE_COUNT_BITS
 # the first triangle of a leaf has the bits between the count and WIDE_LEAF
 WIDE_FIRST_LIMIT = 1 << (31 - WIDE_COUNT_BITS)
+# Halving a leaf of fewer than WIDE_FIRST_LIMIT triangles until it holds at most WIDE_LEAF_MAX takes
+# at most this many levels.
+LEAF_SPLIT_LEVELS = (31 - WIDE_COUNT_BITS) - WIDE_COUNT_BITS
+# Stack entries every tree the renderer builds fits in (the module docstring says why).
+STACK_SIZE = (WIDTH - 1) * (BUILD_MAX_DEPTH + LEAF_SPLIT_LEVELS)
 WIDE_EMPTY = 0xFFFFFFFF
 EMPTY_SLOT = -1
 

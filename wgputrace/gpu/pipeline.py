@@ -26,6 +26,26 @@ INTEGRATORS = ("bsdf", "nee", "mis")
 # Entries of the per-ray traversal stack: enough for every tree the renderer builds (bvh/wide.py
 # says why), and more than the binary traversal of those trees needs.
 BVH_STACK_SIZE = WIDE_STACK_SIZE
+# The renderer compiles the stack only as large as its tree needs, rounded up to a multiple of
+# this: WGSL zero-fills the stack array at every traversal, so its size costs even where it is not
+# used (`python bench/kernel_profile.py --variants max_stack`: the Cornell box's path tracer, whose
+# tree needs 16, ran at 0.61x with the largest stack on lavapipe). Rounding keeps the compiles few
+# as edits change the tree.
+STACK_SIZE_STEP = 16
+GENERATED_TRAVERSAL_STACK = "generated/traversal_stack.wgsl"
+
+
+def traversal_stack_size(entries_needed: int) -> int:
+    """The stack size compiled for a tree whose traversal holds at most `entries_needed` entries."""
+    if entries_needed > BVH_STACK_SIZE:
+        raise ValueError(f"a traversal stack of {entries_needed} entries exceeds BVH_STACK_SIZE = {BVH_STACK_SIZE}")
+    rounded = -(-max(entries_needed, 1) // STACK_SIZE_STEP) * STACK_SIZE_STEP
+    return min(rounded, BVH_STACK_SIZE)
+
+
+def traversal_stack(entries: int = BVH_STACK_SIZE) -> str:
+    """The generated file sizing traverse_bvh.wgsl's stack."""
+    return f"const TRAVERSAL_STACK_SIZE: u32 = {entries}u;\n"
 
 
 class ShaderCompileError(RuntimeError):
@@ -81,14 +101,15 @@ def compute_kernel(
     """Compile `entry` (a file under shaders/ with `fn main`, or the function `entry_point`) into a
     compute pipeline.
 
-    `generated` adds or replaces virtual files; by default the material dispatch covers every kind
-    and rays are not counted.
+    `generated` adds or replaces virtual files; by default the material dispatch covers every kind,
+    rays are not counted and the traversal stack has BVH_STACK_SIZE entries.
     """
     files = {
         GENERATED_STRUCTS: generated_structs(),
         GENERATED_MATERIALS: material_dispatch(),
         GENERATED_RAY_COUNT: ray_count_hook(counting=False),
         GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),
+        GENERATED_TRAVERSAL_STACK: traversal_stack(),
         **(generated or {}),
     }
     source = load_shader(entry, files)

@@ -20,7 +20,16 @@ from ..gpu.buffers import read_buffer, storage_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
-from ..gpu.pipeline import INTEGRATORS, ComputeKernel, compute_kernel, dispatch_size
+from ..gpu.pipeline import (
+    BVH_STACK_SIZE,
+    GENERATED_TRAVERSAL_STACK,
+    INTEGRATORS,
+    ComputeKernel,
+    compute_kernel,
+    dispatch_size,
+    traversal_stack,
+    traversal_stack_size,
+)
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from ..gpu.texels import TrackedTexels, require_texels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
@@ -51,18 +60,21 @@ def path_tracer_kernel(
     rows: bool = False,
     material_kinds: frozenset[MaterialKind] = ALL_KINDS,
     count_rays: bool = False,
+    stack_size: int = BVH_STACK_SIZE,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
     (for measurements such as bench/glossy_light_sampling.py). `rows` compiles the entry point
     that renders a band of rows (path_tracer_rows.wgsl, for the viewer). `material_kinds` limits
     the BSDF code compiled in to those kinds (gpu/material_dispatch.py). `count_rays` compiles the
-    ray counters in (gpu/ray_count.py; render/ray_count.py runs them)."""
+    ray counters in (gpu/ray_count.py; render/ray_count.py runs them). `stack_size` sizes the BVH
+    traversal's stack (gpu/pipeline.py traversal_stack_size)."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
     kinds = shaded_kinds(material_kinds)
     key = (id(context.device), acceleration, integrator, tuple(sorted(overrides.items())), rows, kinds, count_rays)
+    key += (stack_size,)
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         _kernels[key] = compute_kernel(
@@ -72,6 +84,7 @@ def path_tracer_kernel(
                 "acceleration.wgsl": traversal,
                 GENERATED_MATERIALS: material_dispatch(kinds),
                 GENERATED_RAY_COUNT: ray_count_hook(count_rays),
+                GENERATED_TRAVERSAL_STACK: traversal_stack(stack_size),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
@@ -136,7 +149,8 @@ class Renderer:
         self.integrator = integrator
         self._shader_overrides = shader_overrides
         self._kinds = shaded_kinds(self._mirror.material_kinds)
-        self.kernel = path_tracer_kernel(self.context, accel, integrator, shader_overrides, material_kinds=self._kinds)
+        self._stack_size = self._needed_stack_size()
+        self.kernel = self.kernel_variant()
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
         self._frame = TrackedBuffer(
@@ -231,13 +245,11 @@ class Renderer:
         if frame_changed:
             self._frame.upload(frame)
             self._frame_bytes = frame.tobytes()
-        kinds = shaded_kinds(self._mirror.material_kinds)
-        new_pipeline = kinds != self._kinds
+        kinds, stack_size = shaded_kinds(self._mirror.material_kinds), self._needed_stack_size()
+        new_pipeline = (kinds, stack_size) != (self._kinds, self._stack_size)
         if new_pipeline:
-            self._kinds = kinds
-            self.kernel = path_tracer_kernel(
-                self.context, self.accel, self.integrator, self._shader_overrides, material_kinds=kinds
-            )
+            self._kinds, self._stack_size = kinds, stack_size
+            self.kernel = self.kernel_variant()
         if new_pipeline or generations != [buffer.generation for buffer in self._scene_buffers.values()]:
             self._bind()
         if changes or frame_changed:
@@ -264,11 +276,27 @@ class Renderer:
         self.stats = RenderStats()
 
     def kernel_variant(self, **options) -> ComputeKernel:
-        """This renderer's path tracer (acceleration, integrator, overrides, material kinds) compiled
-        with other `path_tracer_kernel` options, e.g. count_rays=True."""
+        """This renderer's path tracer (acceleration, integrator, overrides, material kinds, stack
+        size) compiled with other `path_tracer_kernel` options, e.g. count_rays=True."""
         return path_tracer_kernel(
-            self.context, self.accel, self.integrator, self._shader_overrides, material_kinds=self._kinds, **options
+            self.context,
+            self.accel,
+            self.integrator,
+            self._shader_overrides,
+            material_kinds=self._kinds,
+            stack_size=self._stack_size,
+            **options,
         )
+
+    @property
+    def traversal_stack_size(self) -> int:
+        """Entries of the BVH traversal stack compiled into this renderer's path tracer."""
+        return self._stack_size
+
+    def _needed_stack_size(self) -> int:
+        """The stack the scene's tree needs (bvh/wide.py counts it), rounded up to STACK_SIZE_STEP."""
+        wide = self._mirror.wide
+        return traversal_stack_size(wide.max_stack) if wide is not None else BVH_STACK_SIZE
 
     @property
     def samples_per_pixel(self) -> int:
