@@ -131,6 +131,11 @@ VARIANTS = [
         what="4-wide BVH, only the nearest child first (the others unsorted)",
     ),
     Variant(
+        "function_stack",
+        files={"acceleration.wgsl": "function_stack_traverse_bvh.wgsl"},
+        what="the traversal stack a function variable, zero-filled at every traversal (shipped before)",
+    ),
+    Variant(
         "max_stack",
         sources={GENERATED_TRAVERSAL_STACK: traversal_stack(BVH_STACK_SIZE)},
         what="the shipped kernel with the largest stack (BVH_STACK_SIZE entries) instead of one sized for the tree",

@@ -35,13 +35,17 @@ fn order_pair(a: ptr<function, vec2<u32>>, b: ptr<function, vec2<u32>>) {
 
 // A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
 // leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.
+// At most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits BVH_STACK_SIZE; the
+// renderer compiles only what its tree needs (gpu/pipeline.py traversal_stack_size). At module
+// scope because WGSL zero-fills a variable where it is declared: here once per invocation, in
+// traverse() at every traversal (x1.05 Cornell box, x1.14 328k sphere on lavapipe:
+// `python bench/kernel_profile.py --variants function_stack`). traverse() is never re-entered.
+var<private> stack: array<u32, TRAVERSAL_STACK_SIZE>;
+
 fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var hit = Hit(t_max, NO_TRIANGLE);
     let sheared = shear_ray(ray);
     let inverse_direction = safe_inverse_direction(ray.direction);
-    // at most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits BVH_STACK_SIZE;
-    // the renderer compiles only what its tree needs (gpu/pipeline.py traversal_stack_size)
-    var stack: array<u32, TRAVERSAL_STACK_SIZE>;
     var stack_size = 0u;
     var node = 0u; // record 0 holds the root's children
     loop {

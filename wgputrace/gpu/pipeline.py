@@ -27,10 +27,11 @@ INTEGRATORS = ("bsdf", "nee", "mis")
 # says why), and more than the binary traversal of those trees needs.
 BVH_STACK_SIZE = WIDE_STACK_SIZE
 # The renderer compiles the stack only as large as its tree needs, rounded up to a multiple of
-# this: WGSL zero-fills the stack array at every traversal, so its size costs even where it is not
-# used (`python bench/kernel_profile.py --variants max_stack`: the Cornell box's path tracer, whose
-# tree needs 16, ran at 0.61x with the largest stack on lavapipe). Rounding keeps the compiles few
-# as edits change the tree.
+# this, so that an invocation's private memory stays small (on a GPU a large private array costs
+# occupancy or spills). On lavapipe it mattered while the stack was a function variable, zero-filled
+# at every traversal (the Cornell box at 0.61x with the largest stack); at module scope it no longer
+# measurably does (`python bench/kernel_profile.py --variants max_stack`: x1.00, x0.99). Rounding
+# keeps the compiles few as edits change the tree.
 STACK_SIZE_STEP = 16
 GENERATED_TRAVERSAL_STACK = "generated/traversal_stack.wgsl"
 
