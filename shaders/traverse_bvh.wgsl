@@ -38,7 +38,7 @@ fn order_pair(a: ptr<function, vec2<u32>>, b: ptr<function, vec2<u32>>) {
 // At most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits BVH_STACK_SIZE; the
 // renderer compiles only what its tree needs (gpu/pipeline.py traversal_stack_size). At module
 // scope because WGSL zero-fills a variable where it is declared: here once per invocation, in
-// traverse() at every traversal (x1.05 Cornell box, x1.14 328k sphere on lavapipe:
+// traverse() at every traversal (x1.06-1.14 Cornell box, x1.14-1.19 328k sphere on lavapipe:
 // `python bench/kernel_profile.py --variants function_stack`). traverse() is never re-entered.
 var<private> stack: array<u32, TRAVERSAL_STACK_SIZE>;
 
