@@ -73,8 +73,16 @@ def path_tracer_kernel(
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
     kinds = shaded_kinds(material_kinds)
-    key = (id(context.device), acceleration, integrator, tuple(sorted(overrides.items())), rows, kinds, count_rays)
-    key += (stack_size,)
+    key = (
+        id(context.device),
+        acceleration,
+        integrator,
+        tuple(sorted(overrides.items())),
+        rows,
+        kinds,
+        count_rays,
+        stack_size,
+    )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         _kernels[key] = compute_kernel(
@@ -370,19 +378,24 @@ class Renderer:
     @property
     def nonfinite_samples(self) -> int:
         """How many samples were NaN or infinite (each was dropped and counted as zero)."""
-        return int(self._accumulated()["sum"][:, 3].astype(np.float64).sum())
+        return self._dropped_sample_counts()[0]
 
     @property
     def cut_short_samples(self) -> int:
         """How many samples the driver's loop budget may have cut short (llvmpipe's 65,535 loop
         iterations per invocation, shaders/loop_budget.wgsl); each was dropped and counted as zero."""
-        return int(self._accumulated()["compensation"][:, 3].astype(np.float64).sum())
+        return self._dropped_sample_counts()[1]
 
     @property
     def dropped_samples(self) -> int:
         """Samples that added nothing to the image: non-finite or cut short."""
+        return sum(self._dropped_sample_counts())
+
+    def _dropped_sample_counts(self) -> tuple[int, int]:
+        """(non-finite, cut short): the counts accumulate_sample and drop_cut_short_sample keep in
+        each pixel's sum.w and compensation.w, from one read-back."""
         pixels = self._accumulated()
-        return int(pixels["sum"][:, 3].astype(np.float64).sum() + pixels["compensation"][:, 3].astype(np.float64).sum())
+        return tuple(int(pixels[field][:, 3].astype(np.float64).sum()) for field in ("sum", "compensation"))
 
     def reset(self) -> None:
         """Forget all samples (the random sequence continues, so new samples are independent)."""
