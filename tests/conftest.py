@@ -11,7 +11,7 @@ import pytest
 
 os.environ.setdefault("XDG_RUNTIME_DIR", tempfile.mkdtemp(prefix="wgputrace-test-xdg-"))
 
-SHARED_SCENES = Path(__file__).resolve().parents[2] / "shared" / "scenes"
+DATA_DIR = Path(__file__).resolve().parent / "data"
 FAILURE_DIR = Path(__file__).resolve().parent / "failures"
 
 
@@ -25,6 +25,12 @@ def gpu_context():
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261122)
+
+
+@pytest.fixture(scope="session")
+def data_dir() -> Path:
+    """tests/data: files the tests read (README.md there says where each comes from)."""
+    return DATA_DIR
 
 
 @pytest.fixture

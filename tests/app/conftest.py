@@ -7,7 +7,7 @@ import pytest
 
 @pytest.fixture(scope="session")
 def x_display():
-    from wgputrace.app.window import virtual_display
+    from wgputrace.testing.display import virtual_display
 
     with virtual_display() as name:
         yield name

@@ -12,13 +12,6 @@ import numpy as np
 
 KINDS = ("bvh", "flat")
 
-# Moller-Trumbore divides by the determinant; below this fraction of |e1| |e2| |d| the ray is
-# treated as parallel to the triangle's plane. Zero-area triangles always land here, so they are
-# never hit, and float64 rounding of a parallel ray cannot produce a huge bogus distance.
-PARALLEL_TOLERANCE = 1e-12
-# Rays traced together by the reference traversal; bounds its (ray, node) pair arrays.
-RAY_BATCH = 4096
-
 
 def validated_vertices(vertices: np.ndarray) -> np.ndarray:
     """Return triangle corners as a contiguous (N, 3, 3) float32 array, or raise ValueError naming the problem."""
@@ -42,42 +35,6 @@ def box_surface_area(bounds_min: np.ndarray, bounds_max: np.ndarray) -> np.ndarr
     extent = np.subtract(bounds_max, bounds_min, dtype=np.float64)
     x, y, z = extent[..., 0], extent[..., 1], extent[..., 2]
     return 2.0 * (x * y + y * z + z * x)
-
-
-def ray_triangle_distance(triangles: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """Float64 Moller-Trumbore distance along the ray, inf for a miss; both faces count, only t > 0 is a hit.
-
-    `triangles` is (..., 3, 3); `origin` and `direction` are (..., 3) and broadcast against it.
-    """
-    corners = np.asarray(triangles, dtype=np.float64)
-    origin = np.asarray(origin, dtype=np.float64)
-    direction = np.asarray(direction, dtype=np.float64)
-    edge1 = corners[..., 1, :] - corners[..., 0, :]
-    edge2 = corners[..., 2, :] - corners[..., 0, :]
-    p = np.cross(direction, edge2)
-    determinant = np.sum(edge1 * p, axis=-1)
-    scale = np.linalg.norm(edge1, axis=-1) * np.linalg.norm(edge2, axis=-1) * np.linalg.norm(direction, axis=-1)
-    usable = np.abs(determinant) > PARALLEL_TOLERANCE * scale
-    inverse = 1.0 / np.where(usable, determinant, 1.0)
-    s = origin - corners[..., 0, :]
-    u = np.sum(s * p, axis=-1) * inverse
-    q = np.cross(s, edge1)
-    v = np.sum(direction * q, axis=-1) * inverse
-    t = np.sum(edge2 * q, axis=-1) * inverse
-    hit = usable & (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0) & (t > 0.0)
-    return np.where(hit, t, np.inf)
-
-
-def _slab_entry(bounds_min: np.ndarray, bounds_max: np.ndarray, origin: np.ndarray, inverse: np.ndarray) -> np.ndarray:
-    """Distance at which each ray enters its box (0 if it starts inside), inf where it misses; (P, 3) inputs."""
-    with np.errstate(invalid="ignore"):
-        t0 = (bounds_min - origin) * inverse
-        t1 = (bounds_max - origin) * inverse
-    # The f-variants skip the NaN of 0 * inf, a ray parallel to a slab starting on its plane, so
-    # that slab does not constrain the ray.
-    near = np.fmax(np.fmax.reduce(np.fmin(t0, t1), axis=1), 0.0)
-    far = np.fmin.reduce(np.fmax(t0, t1), axis=1)
-    return np.where(near <= far, near, np.inf)
 
 
 @dataclass(frozen=True, eq=False)  # eq=False: comparing array fields with == is ambiguous
@@ -134,67 +91,3 @@ class BVH:
         if self.kind == "flat":
             return traversal_cost * self.node_count + leaf_cost
         return traversal_cost * float(np.sum(probability[counts == 0])) + leaf_cost
-
-    def closest_hit(
-        self, vertices_reordered: np.ndarray, origins: np.ndarray, directions: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Reference traversal: (t, index) per ray; t is inf and index -1 on a miss.
-
-        `vertices_reordered` is the (N, 3, 3) triangle array already permuted by triangle_order;
-        index points into it. Equal distances resolve to the smaller index, as an argmin over all
-        triangles would, so the result can be compared with brute force exactly.
-
-        The GPU's tests (box, descend into both children or intersect the leaf, prune boxes
-        entered beyond the closest hit so far) are applied to all rays at once, one tree level at
-        a time, instead of with a stack per ray: per-ray Python loops cost milliseconds a ray.
-        The closest hit does not depend on the visiting order, so the answer is the same.
-        """
-        triangles = np.asarray(vertices_reordered, dtype=np.float64)
-        origins = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
-        directions = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
-        if triangles.shape != (len(self.triangle_order), 3, 3):
-            raise ValueError(f"vertices_reordered must be ({len(self.triangle_order)}, 3, 3), got {triangles.shape}")
-        if origins.shape != directions.shape:
-            raise ValueError(f"origins {origins.shape} and directions {directions.shape} differ in shape")
-        distance = np.full(len(origins), np.inf)
-        index = np.full(len(origins), -1, np.int64)
-        for begin in range(0, len(origins), RAY_BATCH):
-            batch = slice(begin, begin + RAY_BATCH)
-            distance[batch], index[batch] = self._closest_hit_batch(triangles, origins[batch], directions[batch])
-        return distance, index
-
-    def _closest_hit_batch(
-        self, triangles: np.ndarray, origins: np.ndarray, directions: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        ray_count = len(origins)
-        with np.errstate(divide="ignore"):
-            inverse = 1.0 / directions
-        best_t = np.full(ray_count, np.inf)
-        no_hit = np.iinfo(np.int64).max  # larger than any index, so minimum.at replaces it
-        best_index = np.full(ray_count, no_hit)
-        # (ray, node) pairs still to test: a tree starts at its root, a flat list at every box.
-        roots = np.zeros(1, np.int64) if self.kind == "bvh" else np.arange(self.node_count)
-        ray = np.repeat(np.arange(ray_count), len(roots))
-        node = np.tile(roots, ray_count)
-        while ray.size:
-            entry = _slab_entry(self.bounds_min[node], self.bounds_max[node], origins[ray], inverse[ray])
-            kept = np.isfinite(entry) & (entry <= best_t[ray])
-            ray, node = ray[kept], node[kept]
-            first = self.left_or_first[node].astype(np.int64)
-            count = self.triangle_count[node].astype(np.int64)
-            leaf = count > 0
-
-            count = count[leaf]
-            pair_ray = np.repeat(ray[leaf], count)
-            pair_triangle = np.repeat(first[leaf] - (np.cumsum(count) - count), count) + np.arange(count.sum())
-            t = ray_triangle_distance(triangles[pair_triangle], origins[pair_ray], directions[pair_ray])
-            previous_t = best_t.copy()
-            np.minimum.at(best_t, pair_ray, t)
-            best_index[best_t < previous_t] = no_hit
-            attains = np.isfinite(t) & (t == best_t[pair_ray])
-            np.minimum.at(best_index, pair_ray[attains], pair_triangle[attains])
-
-            ray = np.repeat(ray[~leaf], 2)
-            node = (first[~leaf, None] + np.arange(2)).ravel()
-        best_index[best_index == no_hit] = -1
-        return best_t, best_index

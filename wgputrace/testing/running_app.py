@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from wgputrace import Camera
+from wgputrace.testing.checkout import checkout_file, checkout_root
 
-REPO = Path(__file__).resolve().parents[2]
 # Starting a process costs a device (~1.3 s), compiling the kernels (seconds on lavapipe, less
 # with Mesa's cache) and the first frames; the CI machine may be busy.
 START_SECONDS = 120.0
@@ -46,9 +46,9 @@ class Screenshot:
 class RunningApp:
     def __init__(self, arguments: list[str], cwd: Path) -> None:
         self.process = subprocess.Popen(
-            [sys.executable, str(REPO / "app.py"), *arguments],
+            [sys.executable, str(checkout_file("app.py")), *arguments],
             cwd=cwd,
-            env={**os.environ, "PYTHONPATH": str(REPO)},
+            env={**os.environ, "PYTHONPATH": str(checkout_root())},
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             text=True,

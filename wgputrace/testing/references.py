@@ -1,5 +1,6 @@
-"""Mitsuba 3 references (tests/references/<scene>.npz, made by scripts/make_references.py),
-batched renders of ours, and images of a failed comparison for a person to look at."""
+"""Mitsuba 3 references (tests/references/<scene>.npz in the checkout, made by
+scripts/make_references.py), batched renders of ours, and images of a failed comparison for a
+person to look at."""
 
 from __future__ import annotations
 
@@ -10,15 +11,20 @@ from pathlib import Path
 
 import numpy as np
 
-from tests.render.image_statistics import BlockComparison, Estimate
 from wgputrace import Renderer, save_image
 from wgputrace.scene import DegenerateTrianglesWarning
 from wgputrace.scenes import scene_by_name
+from wgputrace.testing.checkout import checkout_file
+from wgputrace.testing.image_statistics import BlockComparison, Estimate
 
-REFERENCE_DIR = Path(__file__).resolve().parents[1] / "references"
 # References are stored as float16, whose 11 significant bits move a value by at most this fraction
 # when rounding. Pixels of one value all round alike, so this is a bias bound, not noise.
 STORAGE_RTOL = 2.0**-11
+
+
+def reference_dir() -> Path:
+    """The checkout's tests/references/."""
+    return checkout_file("tests", "references")
 
 
 @dataclass
@@ -29,7 +35,7 @@ class Reference:
 
 def load_reference(name: str) -> Reference:
     """The reference's mean with its variance, the squared standard error of Mitsuba's passes."""
-    path = REFERENCE_DIR / f"{name}.npz"
+    path = reference_dir() / f"{name}.npz"
     with np.load(path) as data:
         metadata = json.loads(str(data["metadata"]))
         mean = data["mean"].astype(np.float64)

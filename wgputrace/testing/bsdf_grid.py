@@ -1,5 +1,6 @@
-"""The shipped BSDFs (bsdf.wgsl) run on the GPU, and a grid on the hemisphere over which their pdf
-and eval are integrated and their samples counted: what the chi-square and furnace tests compare.
+"""The shipped BSDFs (bsdf.wgsl) run on the GPU, incident directions in their local frame, and a
+grid on the hemisphere over which their pdf and eval are integrated and their samples counted:
+what the chi-square and furnace tests compare.
 
 Cells form a (cos theta, phi) grid on the hemisphere wi lies on, where every material but glass
 sends its light; the horizon, where the pdf drops to zero, is a cell edge, so no cell has a jump
@@ -17,9 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tests.harness import WORKGROUP, run_kernel
 from wgputrace import Glossy
 from wgputrace.scene import Material
+from wgputrace.testing.harness import WORKGROUP, run_kernel
+from wgputrace.testing.oracles import UNIT_ROUNDOFF
 
 # The most invocations one dispatch may hold: 65,535 workgroups (the per-dimension limit).
 MAX_DISPATCH = 65_535 * WORKGROUP
@@ -47,6 +49,28 @@ _SAMPLE = "let s = bsdf_sample(material, wi, v.xy, v.z);\n    return vec4<f32>(s
 _EVALUATE = "return vec4<f32>(bsdf_eval(material, wi, v.xyz), bsdf_pdf(material, wi, v.xyz));"
 # Channels of evaluate_bsdf's result.
 EVAL, PDF = 0, 3
+# Sampled directions are built from sqrt, cos, sin and normalize: a few roundings off unit length.
+UNIT_LENGTH_TOLERANCE = 16 * UNIT_ROUNDOFF
+
+
+def incident_directions(rng: np.random.Generator, cos_theta: np.ndarray) -> np.ndarray:
+    """Unit float32 directions with the given z (sign included) at random azimuths."""
+    cos_theta = np.asarray(cos_theta, np.float64)
+    phi = rng.uniform(0.0, 2.0 * np.pi, size=cos_theta.shape)
+    sin_theta = np.sqrt(np.maximum(0.0, 1.0 - cos_theta**2))
+    return np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), cos_theta], axis=-1).astype(np.float32)
+
+
+def sin_theta(v: np.ndarray) -> np.ndarray:
+    v = v.astype(np.float64)
+    return np.hypot(v[:, 0], v[:, 1])
+
+
+def refraction_indices(ior: np.ndarray, wi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(eta_i, eta_t) of glass of `ior` for incident directions wi: the ior is inside, on the -z
+    side; outside is 1."""
+    outside = wi[:, 2] >= 0.0
+    return np.where(outside, 1.0, ior), np.where(outside, ior, 1.0)
 
 
 def _run(context, body: str, materials: np.ndarray, wi: np.ndarray, items: np.ndarray, case: np.ndarray) -> np.ndarray:

@@ -1,5 +1,6 @@
 """Writing small glTF/GLB files for the loader tests: JSON and binary built from numpy arrays, so
-every material, node and camera field is under the test's control."""
+every material, node and camera field is under the test's control; a box and one material of
+each kind the loader maps to build them from."""
 
 from __future__ import annotations
 
@@ -10,7 +11,27 @@ from pathlib import Path
 
 import numpy as np
 
+from wgputrace import Diffuse, make_box
+
 FLOAT, UNSIGNED_INT = 5126, 5125
+
+BOX = make_box((0, 0, 0), (0, 0, 0), (1, 1, 1), Diffuse("unused")).vertices.reshape(-1, 3)
+BOX_INDICES = np.arange(len(BOX)).reshape(-1, 3)
+# One glTF material per kind the loader maps: diffuse, glass, emitter, glossy.
+MATERIALS = [
+    {"name": "red", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1], "metallicFactor": 0.0}},
+    {
+        "name": "glass",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 1, 1], "metallicFactor": 0.0},
+        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.33}},
+    },
+    {
+        "name": "lamp",
+        "emissiveFactor": [1, 0.5, 0.25],
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}},
+    },
+    {"name": "gold", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.3, 1], "roughnessFactor": 0.5}},
+]
 
 
 def gltf_document(meshes: list[tuple[np.ndarray, np.ndarray, int | None]], **extra) -> tuple[dict, bytes]:

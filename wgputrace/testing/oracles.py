@@ -1,7 +1,9 @@
-"""Float64 numpy oracles for the shader tests, and the packing both sides of a comparison share.
+"""Float64 numpy ray oracles for the shader, BVH and benchmark checks, and the packing both sides
+of a comparison share.
 
 Every oracle takes the float32 values the GPU sees (converted exactly to float64), so a difference
-between the two is the shader's own rounding, never a difference in the inputs.
+between the two is the shader's own rounding, never a difference in the inputs. Closest hits name
+their triangle as the shaders do: NO_TRIANGLE on a miss, the smaller index on a tie.
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from wgputrace.bvh import BVH
 from wgputrace.gpu.layout import TRIANGLE
 from wgputrace.gpu.pipeline import NO_TRIANGLE
 
@@ -33,6 +36,8 @@ FLOAT_MAX = float(np.finfo(np.float32).max)
 # Rays per chunk of the brute-force oracle: its (rays, triangles, 3) float64 temporaries stay
 # at tens of MB for a few thousand triangles.
 _CHUNK_RAYS = 128
+# Rays traced together by the BVH oracle; bounds its (ray, node) pair arrays.
+_BVH_RAY_BATCH = 4096
 
 
 def as_vec4(xyz: np.ndarray) -> np.ndarray:
@@ -40,6 +45,11 @@ def as_vec4(xyz: np.ndarray) -> np.ndarray:
     out = np.zeros((len(xyz), 4), np.float32)
     out[:, :3] = xyz
     return out
+
+
+def relative_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """|a - b| / |b|, with |b| kept above the smallest normal float32."""
+    return np.abs(a - b) / np.maximum(np.abs(b), np.finfo(np.float32).tiny)
 
 
 def triangle_records(corners: np.ndarray) -> np.ndarray:
@@ -160,6 +170,85 @@ def brute_force_closest_hit(
         near_edge = (np.abs(crossing.margin) < EDGE_MARGIN) & (plane_t > 0.0) & (plane_t <= limit)
         ambiguous[rows] = near_edge.any(axis=1)
     return best_t, best, ambiguous
+
+
+def bvh_closest_hit(
+    bvh: BVH, vertices_reordered: np.ndarray, origins: np.ndarray, directions: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(t, triangle) per ray through `bvh`'s boxes, as the GPU traverses them; t is inf and
+    triangle NO_TRIANGLE on a miss.
+
+    `vertices_reordered` is the (N, 3, 3) triangle array already permuted by triangle_order;
+    triangle points into it. Equal distances resolve to the smaller index, as brute force does,
+    so the two agree exactly.
+
+    The GPU's tests (box, descend into both children or intersect the leaf, prune boxes entered
+    beyond the closest hit so far) are applied to all rays at once, one tree level at a time,
+    instead of with a stack per ray: per-ray Python loops cost milliseconds a ray. The closest
+    hit does not depend on the visiting order, so the answer is the same.
+    """
+    triangles = np.asarray(vertices_reordered, dtype=np.float64)
+    origins = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
+    directions = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
+    if triangles.shape != (len(bvh.triangle_order), 3, 3):
+        raise ValueError(f"vertices_reordered must be ({len(bvh.triangle_order)}, 3, 3), got {triangles.shape}")
+    if origins.shape != directions.shape:
+        raise ValueError(f"origins {origins.shape} and directions {directions.shape} differ in shape")
+    distance = np.full(len(origins), np.inf)
+    triangle = np.full(len(origins), NO_TRIANGLE, np.uint32)
+    for begin in range(0, len(origins), _BVH_RAY_BATCH):
+        batch = slice(begin, begin + _BVH_RAY_BATCH)
+        distance[batch], triangle[batch] = _bvh_closest_hit_batch(bvh, triangles, origins[batch], directions[batch])
+    return distance, triangle
+
+
+def _bvh_closest_hit_batch(
+    bvh: BVH, triangles: np.ndarray, origins: np.ndarray, directions: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    ray_count = len(origins)
+    best_t = np.full(ray_count, np.inf)
+    no_hit = np.iinfo(np.int64).max  # larger than any index, so minimum.at replaces it
+    best_index = np.full(ray_count, no_hit)
+    # (ray, node) pairs still to test: a tree starts at its root, a flat list at every box.
+    roots = np.zeros(1, np.int64) if bvh.kind == "bvh" else np.arange(bvh.node_count)
+    ray = np.repeat(np.arange(ray_count), len(roots))
+    node = np.tile(roots, ray_count)
+    while ray.size:
+        entry = ray_box(origins[ray], directions[ray], bvh.bounds_min[node], bvh.bounds_max[node])
+        kept = np.isfinite(entry) & (entry <= best_t[ray])
+        ray, node = ray[kept], node[kept]
+        first = bvh.left_or_first[node].astype(np.int64)
+        count = bvh.triangle_count[node].astype(np.int64)
+        leaf = count > 0
+
+        count = count[leaf]
+        pair_ray = np.repeat(ray[leaf], count)
+        pair_triangle = np.repeat(first[leaf] - (np.cumsum(count) - count), count) + np.arange(count.sum())
+        t = ray_triangle(origins[pair_ray], directions[pair_ray], triangles[pair_triangle]).t
+        previous_t = best_t.copy()
+        np.minimum.at(best_t, pair_ray, t)
+        best_index[best_t < previous_t] = no_hit
+        attains = np.isfinite(t) & (t == best_t[pair_ray])
+        np.minimum.at(best_index, pair_ray[attains], pair_triangle[attains])
+
+        ray = np.repeat(ray[~leaf], 2)
+        node = (first[~leaf, None] + np.arange(2)).ravel()
+    return best_t, np.where(best_index == no_hit, NO_TRIANGLE, best_index).astype(np.uint32)
+
+
+def bvh_bounds_from_scratch(bvh: BVH, vertices_reordered: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every node's bounds recomputed bottom-up (children have larger ids than their parent)."""
+    low = np.empty_like(bvh.bounds_min)
+    high = np.empty_like(bvh.bounds_max)
+    for node in range(bvh.node_count - 1, -1, -1):
+        first, count = int(bvh.left_or_first[node]), int(bvh.triangle_count[node])
+        if count:
+            corners = vertices_reordered[first : first + count].reshape(-1, 3)
+            low[node], high[node] = corners.min(axis=0), corners.max(axis=0)
+        else:
+            low[node] = np.minimum(low[first], low[first + 1])
+            high[node] = np.maximum(high[first], high[first + 1])
+    return low, high
 
 
 def fresnel_dielectric(cos_i: np.ndarray, eta_i: np.ndarray, eta_t: np.ndarray) -> np.ndarray:

@@ -1,5 +1,5 @@
-"""Comparing Monte Carlo images statistically: per-pixel estimates with their variance, and
-per-block Welch t-tests between two estimates.
+"""Comparing Monte Carlo images statistically: per-pixel estimates with their variance and
+per-block Welch t-tests between two estimates; per-block z-scores of two single images.
 
 Every pixel of our renderer has its own random stream, and Mitsuba's passes are independent, so
 pixel estimates are independent of each other: the variance of a block's mean is the sum of its
@@ -13,6 +13,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
+
+# Each image is cut into BLOCKS x BLOCKS regions and each channel tested in each: a shifted,
+# mirrored or wrongly lit picture fails in some region even where the whole-image mean agrees.
+BLOCKS = 4
+CHANNELS = 3
 
 
 @dataclass
@@ -91,3 +96,26 @@ def compare_blocks(a: Estimate, b: Estimate, size: int, tolerance: np.ndarray | 
     # no noise on either side: equal or not at all
     comparison.p_value[~noisy] = np.where(excess[~noisy] == 0.0, 1.0, 0.0)
     return comparison
+
+
+def block_z_scores(image: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """(BLOCKS, BLOCKS, 3) z-scores of mean(image - other) per block and channel.
+
+    Every pixel of each image has its own random stream, so the per-pixel differences are
+    independent; if both images estimate the same picture, each difference has expectation zero.
+    Differences within a block are not identically distributed, but their mean over ~10^3 pixels
+    is normal (Lyapunov) with variance sum(Var D_p) / n^2. Under that hypothesis every D_p has
+    expectation zero, so the sample variance of the block's differences estimates mean(Var D_p).
+    """
+    difference = image.astype(np.float64) - other.astype(np.float64)
+    height, width = difference.shape[:2]
+    scores = np.zeros((BLOCKS, BLOCKS, CHANNELS))
+    for row in range(BLOCKS):
+        for column in range(BLOCKS):
+            block = difference[
+                row * height // BLOCKS : (row + 1) * height // BLOCKS,
+                column * width // BLOCKS : (column + 1) * width // BLOCKS,
+            ].reshape(-1, CHANNELS)
+            error = block.std(axis=0, ddof=1) / np.sqrt(len(block))
+            scores[row, column] = np.divide(block.mean(axis=0), error, out=np.zeros(CHANNELS), where=error > 0)
+    return scores
