@@ -1,7 +1,7 @@
 """Wavefront OBJ with MTL materials, read line by line so that every error names its file and line.
 
 Why not trimesh's OBJ reader, which the other formats use: it renamed and reordered the objects
-of ../shared/scenes/cornell_trac0r.obj (all ten came back as "wall_left_N", last first), skips
+of tests/data/cornell_trac0r.obj (all ten came back as "wall_left_N", last first), skips
 lines it cannot parse without saying which, and keeps MTL keys it does not know only as strings.
 
 Geometry: `v x y z` (a fourth coordinate or vertex colours are ignored); `f` with `i`, `i/t`,

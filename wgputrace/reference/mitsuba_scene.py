@@ -6,7 +6,7 @@
     image = mi.render(scene, spp=64, seed=1)
 
 Used by scripts/make_references.py (the test references) and bench/versus_mitsuba.py. Each of
-our materials becomes one mesh, flat shaded (README: Conventions; ../shared/scenes/README.md);
+our materials becomes one mesh, flat shaded (README: Conventions; tests/data/README.md);
 the integrator is Mitsuba's `path` at our max depth, the pixel filter a box.
 
 The `llvm_ad_rgb` variant is much faster than `scalar_rgb` but needs LLVM 16 or newer (Debian:
