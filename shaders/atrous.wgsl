@@ -3,17 +3,14 @@
 //! include "generated/view_structs.wgsl"
 //! include "constants.wgsl"
 //! include "guide_packing.wgsl"
+//! include "generated/bindings/atrous.wgsl"
+//! include "generated/workgroup.wgsl"
 //
 // Each pass spreads the 5x5 B3-spline kernel `step` pixels apart (1, 2, 4, ...), so a few passes
 // cover a wide footprint at 25 taps each. Taps are weighted down across edges of the first hit's
 // normal, depth and albedo, and the weights are normalised: a flat region keeps its level.
 // Guides and colours are textures: a tap costs two texel loads (storage-buffer loads cost several
-// times more on CPU adapters, ../shared/LAVAPIPE.md).
-
-@group(0) @binding(0) var<uniform> params: AtrousParams;
-@group(0) @binding(1) var guides: texture_2d<u32>;
-@group(0) @binding(2) var source: texture_2d<f32>;
-@group(0) @binding(3) var filtered_out: texture_storage_2d<rgba32float, write>;
+// times more on CPU adapters, gpu/texels.py).
 
 const B3_SPLINE = array<f32, 3>(0.375, 0.25, 0.0625);
 
@@ -34,7 +31,7 @@ fn edge_weight(centre: Guide, tap: Guide) -> f32 {
     return normal * depth * albedo;
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
         return;

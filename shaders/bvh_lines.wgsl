@@ -1,11 +1,9 @@
 // The edges of BVH boxes drawn over the picture as lines, projected by the path tracer's camera.
 //! include "generated/view_structs.wgsl"
+//! include "generated/bindings/box_lines.wgsl"
 //
 // The projection maps a point to the pixel its camera ray passes through (see BoxLinesParams),
 // so the lines sit exactly on the traced geometry; the GPU clips what lies behind the camera.
-
-@group(0) @binding(0) var<uniform> params: BoxLinesParams;
-@group(0) @binding(1) var<storage, read> endpoints: array<vec4<f32>>;
 
 @vertex
 fn vertex_main(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {

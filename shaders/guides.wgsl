@@ -2,13 +2,13 @@
 //! include "acceleration.wgsl"
 //! include "camera.wgsl"
 //! include "guide_packing.wgsl"
-
-@group(1) @binding(0) var guides: texture_storage_2d<rgba32uint, write>;
+//! include "generated/bindings/guides.wgsl"
+//! include "generated/workgroup.wgsl"
 
 // Through each pixel's centre, so the guides of a frame do not change from sample to sample.
 const PIXEL_CENTRE: vec2<f32> = vec2<f32>(0.5, 0.5);
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {
         return;

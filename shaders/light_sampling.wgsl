@@ -5,8 +5,6 @@
 //! include "constants.wgsl"
 //! include "spherical_triangle.wgsl"
 
-@group(0) @binding(6) var<storage, read> lights: array<Light>;
-
 // Light triangles subtending solid angles in this range (steradians) are sampled uniformly in solid
 // angle (spherical_triangle.wgsl); outside it, uniformly in area. Below the minimum the sampler's
 // f32 trigonometry loses digits and a triangle that small looks alike from all its points, so

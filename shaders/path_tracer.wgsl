@@ -7,9 +7,8 @@
 //! include "mis.wgsl"
 //! include "accumulate.wgsl"
 //! include "loop_budget.wgsl"
-
-@group(0) @binding(4) var<storage, read_write> rng_states: array<vec4<u32>>;
-@group(0) @binding(5) var<storage, read_write> accumulation: array<AccumulatedPixel>;
+//! include "generated/bindings/pixels.wgsl"
+//! include "generated/workgroup.wgsl"
 
 // Which estimator of direct light: BSDF sampling alone, light sampling alone (next-event
 // estimation), or both combined by multiple importance sampling. One compile per choice.
@@ -170,7 +169,7 @@ fn render_pixel(xy: vec2<u32>) {
     rng_states[pixel] = rng_state;
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     render_pixel(id.xy);
 }

@@ -4,10 +4,10 @@
 // A whole pass over a large image takes seconds on a CPU adapter; the viewer splits it into
 // bands sized to its frame-time budget so the window keeps answering between bands.
 
-// The first row of this dispatch's band.
-@group(1) @binding(0) var<uniform> band_first_row: u32;
+// The first row of this dispatch's band: band_first_row (gpu/bindings.py BAND_GROUP).
+//! include "generated/bindings/band.wgsl"
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main_rows(@builtin(global_invocation_id) id: vec3<u32>) {
     render_pixel(vec2<u32>(id.x, id.y + band_first_row));
 }

@@ -1,14 +1,11 @@
 // Presenting a frame: the resolved linear image scaled to the window, exposure, and the text overlay.
 //! include "generated/view_structs.wgsl"
+//! include "generated/bindings/present.wgsl"
 //
 // Writes linear values: the target is an sRGB format whose hardware encodes them, unless
 // ENCODE_SRGB says the target is plain unorm (then this shader encodes).
 
 override ENCODE_SRGB: bool = false;
-
-@group(0) @binding(0) var<uniform> params: PresentParams;
-@group(0) @binding(1) var image: texture_2d<f32>;
-@group(0) @binding(2) var overlay: texture_2d<f32>;
 
 @vertex
 fn vertex_main(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {

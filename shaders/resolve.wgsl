@@ -5,13 +5,8 @@
 //! include "constants.wgsl"
 //! include "colormap.wgsl"
 //! include "guide_packing.wgsl"
-
-@group(0) @binding(0) var<uniform> params: ResolveParams;
-@group(0) @binding(1) var<storage, read> accumulation: array<AccumulatedPixel>;
-@group(0) @binding(2) var guides: texture_2d<u32>;
-@group(0) @binding(3) var fallback: texture_2d<f32>;
-@group(0) @binding(4) var filtered: texture_2d<f32>;
-@group(0) @binding(5) var resolved: texture_storage_2d<rgba32float, write>;
+//! include "generated/bindings/resolve.wgsl"
+//! include "generated/workgroup.wgsl"
 
 // The mean of a pixel's samples. Rows above `rows_done` already have the current band pass's
 // sample. The Kahan compensation is left out: it is below half an ulp of the sum, invisible in a
@@ -36,7 +31,7 @@ fn demodulation_albedo(guide: Guide) -> vec3<f32> {
 
 // Invocation (x, y) resolves pixel (x, first_row + y): frames that added a band of rows
 // resolve only those.
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main(@builtin(global_invocation_id) invocation: vec3<u32>) {
     let id = vec2<u32>(invocation.x, invocation.y + params.first_row);
     if id.x >= params.width || id.y >= params.height {

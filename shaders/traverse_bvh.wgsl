@@ -6,11 +6,9 @@
 //! include "bvh_child_order.wgsl"
 //! include "generated/traversal_stack.wgsl"
 
-// The nodes as texels (gpu/texels.py): on lavapipe a texture load costs a fraction of a storage
-// load: the whole path tracer ran 1.3x (Cornell box) to 1.6x (328k triangles) as fast
-// (bench/kernel_profile.py, bench/README.md). Four children's boxes a record instead of two a
-// node took it another 1.1x / 1.3x (variant binary_nodes).
-@group(0) @binding(2) var node_texels: texture_2d<u32>;
+// The scene group's `nodes` are texels of 4-wide records here (gpu/bindings.py scene_group): texture
+// loads are the fast kind on lavapipe, and four children's boxes a record save steps
+// (bench/README.md's optimization log).
 
 // Child k's (entry distance bits, child word): the shipped box test, FLOAT_MAX for an empty slot.
 fn wide_child(ray: Ray, inverse_direction: vec3<f32>, wide: WideBvhNode, k: u32, t_max: f32) -> vec2<u32> {
@@ -38,8 +36,8 @@ fn order_pair(a: ptr<function, vec2<u32>>, b: ptr<function, vec2<u32>>) {
 // At most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits BVH_STACK_SIZE; the
 // renderer compiles only what its tree needs (gpu/pipeline.py traversal_stack_size). At module
 // scope because WGSL zero-fills a variable where it is declared: here once per invocation, in
-// traverse() at every traversal (x1.06-1.14 Cornell box, x1.14-1.19 328k sphere on lavapipe:
-// `python bench/kernel_profile.py --variants function_stack`). traverse() is never re-entered.
+// traverse() at every traversal (`python -m bench.kernel_profile --variants function_stack`
+// measures the difference). traverse() is never re-entered.
 var<private> stack: array<u32, TRAVERSAL_STACK_SIZE>;
 
 fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
@@ -57,7 +55,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
                 break;
             }
         } else {
-            let wide = load_WideBvhNode(node_texels, node);
+            let wide = load_WideBvhNode(nodes, node);
             var c0 = wide_child(ray, inverse_direction, wide, 0u, hit.t);
             var c1 = wide_child(ray, inverse_direction, wide, 1u, hit.t);
             var c2 = wide_child(ray, inverse_direction, wide, 2u, hit.t);

@@ -3,7 +3,7 @@
 //! include "intersect_box.wgsl"
 //! include "hit_queries.wgsl"
 
-@group(0) @binding(2) var<storage, read> nodes: array<BvhNode>;
+// The scene group's `nodes` are a storage array of BvhNode here (gpu/bindings.py scene_group).
 
 // Same contract as traverse_bvh.wgsl's traverse, so the path tracer includes either one.
 fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {

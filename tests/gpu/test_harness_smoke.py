@@ -1,6 +1,6 @@
 import numpy as np
 
-from tests.harness import run_kernel
+from wgputrace.testing.harness import run_kernel
 
 
 def test_harness_runs_shipped_code(gpu_context):

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import run_kernel
 from wgputrace.gpu.layout import ALL_STRUCTS, GpuStruct
+from wgputrace.testing.harness import run_kernel
 
 RECORDS = 37
 

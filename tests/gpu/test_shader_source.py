@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from wgputrace.gpu.pipeline import ShaderCompileError, compute_kernel
+from wgputrace.gpu.kernel import ComputeKernel, ShaderCompileError
 from wgputrace.gpu.shader_source import ShaderIncludeError, load_shader, shader_root
 
 
@@ -46,7 +46,7 @@ def test_compile_error_names_original_file_and_line(gpu_context):
     broken = '//! include "constants.wgsl"\n\nfn compute_broken() -> u32 {\n    let x: u32 = PI;\n    return x;\n}\n'
     entry = broken + "@compute @workgroup_size(1)\nfn main() {}\n"
     with pytest.raises(ShaderCompileError, match=r"broken_entry\.wgsl:4:"):
-        compute_kernel(gpu_context, "broken_entry.wgsl", generated={"broken_entry.wgsl": entry})
+        ComputeKernel(gpu_context, "broken_entry.wgsl", generated={"broken_entry.wgsl": entry})
 
 
 def test_every_shipped_shader_starts_with_a_comment_line():

@@ -7,11 +7,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import read_binding, run_kernel
 from wgputrace.gpu import texels as texels_module
 from wgputrace.gpu.layout import BVH_NODE, MATERIAL, TRIANGLE, GpuStruct
 from wgputrace.gpu.texels import MAX_TEXEL_ROW, TEXEL_BYTES, TrackedTexels, texel_loader, texture_shape
 from wgputrace.gpu.tracked_buffer import SPARE_FRACTION
+from wgputrace.testing.harness import read_binding, run_kernel
 
 pytestmark = pytest.mark.gpu
 
@@ -22,10 +22,10 @@ RECORDS = 3_000
 LOADER_KERNEL = """
 //! include "generated/structs.wgsl"
 //! include "texels.wgsl"
-@group(0) @binding(2) var records: texture_2d<u32>;
+//! include "generated/bindings/scene.wgsl"
 {loader}
 fn compute(i: u32) -> {name} {{
-    return load_{name}(records, inputs_0[i]);
+    return load_{name}(nodes, inputs_0[i]);
 }}
 """
 
@@ -53,7 +53,7 @@ def test_generated_loader_reassembles_every_field(gpu_context, rng, struct):
         RECORDS,
         input_types=["u32"],
         output_type=struct.name,
-        scene={2: texels.resource},
+        scene={"nodes": texels.resource},
     )
     for name in struct.dtype.names:
         np.testing.assert_array_equal(loaded[name], data[order][name], err_msg=f"{struct.name}.{name}")

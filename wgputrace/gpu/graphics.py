@@ -1,63 +1,55 @@
-"""Render pipelines, textures and bind groups of mixed resources: what presenting to a window
+"""Render pipelines (their layouts from gpu/bindings.py) and textures: what presenting to a window
 needs besides compute kernels, with the same include mechanism and compile errors naming files."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
 
 import numpy as np
 import wgpu
 
+from .bindings import BindGroup
 from .device import GpuContext
-from .pipeline import GENERATED_STRUCTS, ShaderCompileError, binding_resource, generated_structs
-from .shader_source import ShaderSource, load_shader
+from .kernel import Kernel, compile_shader
 
 # copy_texture_to_buffer writes rows at a multiple of this many bytes.
 _COPY_ROW_ALIGNMENT = 256
 
 
-@dataclass
-class RenderKernel:
-    pipeline: wgpu.GPURenderPipeline
-    source: ShaderSource
+class RenderKernel(Kernel):
+    """A render pipeline (`vertex_main`, `fragment_main`) drawing to `target_format`, and its groups."""
 
+    def __init__(
+        self,
+        context: GpuContext,
+        entry: str,
+        target_format: str,
+        groups: Sequence[BindGroup],
+        *,
+        generated: dict[str, str] | None = None,
+        constants: dict[str, float | int | bool] | None = None,
+        topology: str = "triangle-list",
+        label: str | None = None,
+    ) -> None:
+        label = label or entry
+        constants = constants or {}
 
-def render_kernel(
-    context: GpuContext,
-    entry: str,
-    target_format: str,
-    *,
-    generated: dict[str, str] | None = None,
-    constants: dict[str, float | int | bool] | None = None,
-    topology: str = "triangle-list",
-    label: str | None = None,
-) -> RenderKernel:
-    """Compile `entry` (with `vertex_main` and `fragment_main`) into a pipeline drawing to `target_format`."""
-    source = load_shader(entry, {GENERATED_STRUCTS: generated_structs(), **(generated or {})})
-    constants = constants or {}
-    try:
-        module = context.device.create_shader_module(label=label or entry, code=source.text)
-        pipeline = context.device.create_render_pipeline(
-            label=label or entry,
-            layout="auto",
-            vertex={"module": module, "entry_point": "vertex_main", "buffers": [], "constants": constants},
-            primitive={"topology": topology},
-            fragment={
-                "module": module,
-                "entry_point": "fragment_main",
-                "targets": [{"format": target_format}],
-                "constants": constants,
-            },
-        )
-    except wgpu.GPUError as error:
-        raise ShaderCompileError(source.explain(str(error))) from None
-    return RenderKernel(pipeline, source)
+        def create(module, layout):
+            return context.device.create_render_pipeline(
+                label=label,
+                layout=layout,
+                vertex={"module": module, "entry_point": "vertex_main", "buffers": [], "constants": constants},
+                primitive={"topology": topology},
+                fragment={
+                    "module": module,
+                    "entry_point": "fragment_main",
+                    "targets": [{"format": target_format}],
+                    "constants": constants,
+                },
+            )
 
-
-def bind_group(context: GpuContext, pipeline, group: int, resources: dict[int, object]) -> wgpu.GPUBindGroup:
-    """Bind buffers (whole) and texture views of `resources` (binding -> resource) to `group`."""
-    entries = [{"binding": binding, "resource": binding_resource(r)} for binding, r in resources.items()]
-    return context.device.create_bind_group(layout=pipeline.get_bind_group_layout(group), entries=entries)
+        source, self.pipeline = compile_shader(context, entry, groups, generated, label, create)
+        super().__init__(context, source, groups, label)
 
 
 def rgba8_texture(context: GpuContext, label: str, width: int, height: int) -> wgpu.GPUTexture:
@@ -92,7 +84,7 @@ def target_texture(context: GpuContext, label: str, width: int, height: int, tar
 def image_texture(context: GpuContext, label: str, width: int, height: int, texture_format: str) -> wgpu.GPUTexture:
     """A texture kernels write (storage) and later kernels read (textureLoad), copyable both ways:
     the viewer's per-pixel images. Reads through textures are several times faster than through
-    storage buffers on CPU adapters (../shared/LAVAPIPE.md)."""
+    storage buffers on CPU adapters (gpu/texels.py)."""
     usage = (
         wgpu.TextureUsage.STORAGE_BINDING
         | wgpu.TextureUsage.TEXTURE_BINDING

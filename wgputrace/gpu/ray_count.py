@@ -4,19 +4,19 @@ Every pipeline gets the generated file `generated/ray_count.wgsl`. Normally it d
 `count_ray`, which the shader compiler inlines away, and declares no binding, so the kernels that
 are timed carry no counter. The counting variant (`ray_count_hook(counting=True)`, compiled by
 `path_tracer_kernel(..., count_rays=True)`) adds one atomic increment per ray into a small
-storage buffer, bound alone in its own bind group (RAY_COUNT_GROUP: group 0 is the scene's,
-group 1 the viewer's band of rows). Atomics are slow, so counts come from a separate,
+storage buffer, bound alone in its own bind group (gpu/bindings.py RAY_COUNT_GROUP). Atomics are slow, so counts come from a separate,
 untimed run of the same samples (render/ray_count.py).
 """
 
 from __future__ import annotations
+
+from .bindings import RAY_COUNT_GROUP
 
 GENERATED_RAY_COUNT = "generated/ray_count.wgsl"
 
 # Counter slots, in the order of their ids in the shader (RAY_CLOSEST_HIT = 0, ...): rays that
 # look for the nearest surface (camera and extension rays) and shadow rays (any hit).
 RAY_KINDS = ("closest_hit", "shadow")
-RAY_COUNT_GROUP = 2
 
 
 def ray_count_hook(counting: bool) -> str:
@@ -25,7 +25,7 @@ def ray_count_hook(counting: bool) -> str:
     lines += [f"const RAY_{kind.upper()}: u32 = {index}u;" for index, kind in enumerate(RAY_KINDS)]
     if counting:
         lines += [
-            f"@group({RAY_COUNT_GROUP}) @binding(0) var<storage, read_write> ray_counts: array<atomic<u32>>;",
+            f'//! include "{RAY_COUNT_GROUP.file}"',
             "fn count_ray(kind: u32) {",
             "    atomicAdd(&ray_counts[kind], 1u);",
             "}",

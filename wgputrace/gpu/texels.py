@@ -1,10 +1,9 @@
 """Records kept in rgba32uint textures ("texels") for shaders that read them at random.
 
-On lavapipe a texture load costs a fraction of a storage-buffer load (shared/LAVAPIPE.md: 251
-against 49 million random vec4 loads/s from 1 MiB), and the BVH's nodes read from a texture made
-the path tracer 1.3 (Cornell box) to 1.6 (328k triangles) times as fast (bench/README.md,
-`python bench/kernel_profile.py`). The triangles followed: traversal, shading and light sampling
-all read them from texels, and no storage buffer holds them.
+On lavapipe a random texture load costs a fraction of a storage-buffer load, so the BVH's nodes
+and the triangles are read from texels: traversal, shading and light sampling alike, and no
+storage buffer holds them (figures in bench/README.md's optimization log;
+`python -m bench.kernel_profile --variants storage_triangles` measures the triangles' part).
 
 A record of S bytes (gpu.layout pads every struct to a multiple of 16) is S / 16 consecutive
 texels holding the bytes of its storage-buffer layout; texel t lies at column t % width and row

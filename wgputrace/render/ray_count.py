@@ -14,8 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gpu.buffers import read_buffer, storage_buffer
-from ..gpu.pipeline import dispatch_size
-from ..gpu.ray_count import RAY_COUNT_GROUP, RAY_KINDS
+from ..gpu.ray_count import RAY_KINDS
 from .renderer import Renderer
 
 
@@ -51,24 +50,15 @@ def count_rays(renderer: Renderer, spp: int) -> RayCounts:
     if spp < 1:
         raise ValueError(f"spp must be >= 1, got {spp}")
     renderer.update()
-    context, device = renderer.context, renderer.context.device
+    context = renderer.context
     kernel = renderer.kernel_variant(count_rays=True)
     zeros = np.zeros(len(RAY_KINDS), np.uint32)
     counter = storage_buffer(context, "ray counts", zeros, read_back=True)
-    scene_group = kernel.bind_group(context, 0, renderer.bindings)
-    counter_group = kernel.bind_group(context, RAY_COUNT_GROUP, {0: counter})
-    groups = dispatch_size(renderer.width, renderer.height, kernel.workgroup_size)
+    bind_groups = {**renderer.bind_groups, "ray_count": kernel.bind("ray_count", ray_counts=counter)}
     totals = np.zeros(len(RAY_KINDS), np.uint64)
     for _ in range(spp):
-        device.queue.write_buffer(counter, 0, zeros)
-        encoder = device.create_command_encoder()
-        compute = encoder.begin_compute_pass()
-        compute.set_pipeline(kernel.pipeline)
-        compute.set_bind_group(0, scene_group)
-        compute.set_bind_group(RAY_COUNT_GROUP, counter_group)
-        compute.dispatch_workgroups(*groups)
-        compute.end()
-        device.queue.submit([encoder.finish()])
+        context.device.queue.write_buffer(counter, 0, zeros)
+        kernel.dispatch((renderer.width, renderer.height), bind_groups)
         totals += read_buffer(context, counter, np.uint32, len(RAY_KINDS))
     renderer.stats.samples_per_pixel += spp
     counts = dict(zip(RAY_KINDS, (int(total) for total in totals), strict=True))

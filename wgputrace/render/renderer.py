@@ -16,17 +16,16 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
+from ..gpu.bindings import BAND_GROUP, PIXELS_GROUP, RAY_COUNT_GROUP, scene_group
 from ..gpu.buffers import read_buffer, storage_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
+from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.pipeline import (
     BVH_STACK_SIZE,
     GENERATED_TRAVERSAL_STACK,
     INTEGRATORS,
-    ComputeKernel,
-    compute_kernel,
-    dispatch_size,
     traversal_stack,
     traversal_stack_size,
 )
@@ -85,9 +84,11 @@ def path_tracer_kernel(
     )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
-        _kernels[key] = compute_kernel(
+        groups = (scene_group(acceleration), PIXELS_GROUP, *((BAND_GROUP,) if rows else ()))
+        _kernels[key] = ComputeKernel(
             context,
             "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
+            groups + ((RAY_COUNT_GROUP,) if count_rays else ()),
             generated={
                 "acceleration.wgsl": traversal,
                 GENERATED_MATERIALS: material_dispatch(kinds),
@@ -149,16 +150,14 @@ class Renderer:
             )
         self.stats = RenderStats()
         pixels = width * height
-        groups = dispatch_size(width, height, (8, 8))
-        for count in groups[:2]:
-            self.context.require("max-compute-workgroups-per-dimension", count, f"a {width}x{height} image")
-
         device = self.context.device
         self.integrator = integrator
         self._shader_overrides = shader_overrides
         self._kinds = shaded_kinds(self._mirror.material_kinds)
         self._stack_size = self._needed_stack_size()
         self.kernel = self.kernel_variant()
+        for count in self.kernel.workgroups((width, height))[:2]:
+            self.context.require("max-compute-workgroups-per-dimension", count, f"a {width}x{height} image")
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
         self._frame = TrackedBuffer(
@@ -189,7 +188,6 @@ class Renderer:
             MATERIALS: TrackedBuffer(self.context, "materials", storage, self._mirror.materials, binding_limit=limit),
             LIGHTS: TrackedBuffer(self.context, "lights", storage, self._mirror.lights.entries, binding_limit=limit),
         }
-        self._groups = groups
         self._dispatches_per_submit = 1
         self._device = device
         self._bind()
@@ -258,21 +256,19 @@ class Renderer:
         if new_pipeline:
             self._kinds, self._stack_size = kinds, stack_size
             self.kernel = self.kernel_variant()
-        if new_pipeline or generations != [buffer.generation for buffer in self._scene_buffers.values()]:
+        if generations != [buffer.generation for buffer in self._scene_buffers.values()]:
             self._bind()
         if changes or frame_changed:
             self.restart()
         return self.upload_stats
 
     def _bind(self) -> None:
-        buffers = {1: TRIANGLES, 2: NODES, 3: MATERIALS, 6: LIGHTS}
-        self._bindings = {
-            0: self._frame.buffer,
-            **{binding: self._scene_buffers[name].resource for binding, name in buffers.items()},
-            4: self._rng,
-            5: self._accumulation,
+        """Bind groups of the scene (made again when an edit reallocates one of its buffers) and of the pixels."""
+        scene = {name: buffer.resource for name, buffer in self._scene_buffers.items()}
+        self._bind_groups = {
+            "scene": self.kernel.bind("scene", frame=self._frame.buffer, **scene),
+            "pixels": self.kernel.bind("pixels", rng_states=self._rng, accumulation=self._accumulation),
         }
-        self._bind_group = self.kernel.bind_group(self.context, 0, self._bindings)
 
     def restart(self) -> None:
         """Forget all samples and put every pixel's random sequence back at the seed, on the GPU: the
@@ -311,11 +307,17 @@ class Renderer:
         return self.stats.samples_per_pixel
 
     @property
-    def bindings(self) -> dict:
-        """The GPU buffers of bind group 0 by binding (scene_bindings.wgsl, path_tracer.wgsl; the
-        triangles and the BVH's nodes are texture views), for kernels that read the scene or the accumulation where
-        it lies (the viewer's)."""
-        return dict(self._bindings)
+    def bind_groups(self) -> dict[str, wgpu.GPUBindGroup]:
+        """The path tracer's bind groups by name ("scene", "pixels"; gpu/bindings.py), current
+        after the last `update`: other kernels declaring these groups set them as they are."""
+        return dict(self._bind_groups)
+
+    @property
+    def resources(self) -> dict[str, object]:
+        """What the bind groups hold, by binding name (the frame uniform, the scene's buffers and
+        texel views, rng_states, accumulation), for kernels that read them elsewhere (the viewer's)."""
+        scene = {name: buffer.resource for name, buffer in self._scene_buffers.items()}
+        return {"frame": self._frame.buffer, **scene, "rng_states": self._rng, "accumulation": self._accumulation}
 
     def set_camera(self, camera: Camera) -> None:
         """Look through `camera` from now on: uploads only the frame uniform, restarts accumulation."""
@@ -334,17 +336,6 @@ class Renderer:
         record["light_weight_total"] = self.lights.total_weight
         return record
 
-    def _submit(self, dispatches: int) -> None:
-        encoder = self._device.create_command_encoder()
-        for _ in range(dispatches):
-            compute = encoder.begin_compute_pass()
-            compute.set_pipeline(self.kernel.pipeline)
-            compute.set_bind_group(0, self._bind_group)
-            compute.dispatch_workgroups(*self._groups)
-            compute.end()
-        self._device.queue.submit([encoder.finish()])
-        self.context.finish()
-
     def render(self, spp: int, progress: Callable[[int], None] | None = None) -> RenderStats:
         """Add `spp` samples per pixel; `progress(n)` is called after every n samples finish."""
         if spp < 0:
@@ -354,7 +345,7 @@ class Renderer:
         while done < spp:
             batch = min(self._dispatches_per_submit, spp - done)
             start = time.perf_counter()
-            self._submit(batch)
+            self.kernel.dispatch((self.width, self.height), self._bind_groups, repeat=batch, wait=True)
             seconds = time.perf_counter() - start
             done += batch
             self.stats.samples_per_pixel += batch

@@ -6,11 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.shaders.reference import brute_force_closest_hit, record_corners, t_tolerance
 from wgputrace import Camera, Diffuse, Emitter, Renderer, Scene, default_scene, make_plane
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL
 from wgputrace.gpu.pipeline import NO_TRIANGLE
-from wgputrace.render.display import (
+from wgputrace.testing.oracles import brute_force_closest_hit, record_corners, t_tolerance
+from wgputrace.view.banded import BandedRenderer
+from wgputrace.view.display import (
     FILTER_ALBEDO_SIGMA,
     FILTER_DEPTH_SIGMA,
     FILTER_FADE_SPP,
@@ -20,9 +21,8 @@ from wgputrace.render.display import (
     ViewSettings,
     filter_weight,
 )
-from wgputrace.render.present import camera_clip_matrix
-from wgputrace.render.progressive import BandedRenderer
-from wgputrace.render.view_layout import FILTER_ALBEDO_MIN, GUIDE_ALBEDO_ERROR, GUIDE_NORMAL_ERROR, View
+from wgputrace.view.layout import FILTER_ALBEDO_MIN, GUIDE_ALBEDO_ERROR, GUIDE_NORMAL_ERROR, View
+from wgputrace.view.present import camera_clip_matrix
 
 pytestmark = pytest.mark.gpu
 
@@ -52,7 +52,7 @@ def set_mean(display: Display, mean: np.ndarray) -> None:
     """Make the accumulation hold one sample per pixel equal to `mean` (H, W, 3)."""
     pixels = ACCUMULATED_PIXEL.zeros(WIDTH * HEIGHT)
     pixels["sum"][:, :3] = mean.reshape(-1, 3)
-    display.context.device.queue.write_buffer(display.banded.renderer.bindings[5], 0, pixels)
+    display.context.device.queue.write_buffer(display.banded.renderer.resources["accumulation"], 0, pixels)
     display.banded.samples_per_pixel, display.banded.rows_done = 1, 0
 
 

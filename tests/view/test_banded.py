@@ -8,8 +8,8 @@ import pytest
 from wgputrace import Renderer, default_scene
 from wgputrace.gpu.buffers import read_buffer
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL
-from wgputrace.render.display import Display, ViewSettings
-from wgputrace.render.progressive import BAND_ROWS_STEP, BandedRenderer
+from wgputrace.view.banded import BAND_ROWS_STEP, BandedRenderer
+from wgputrace.view.display import Display, ViewSettings
 
 pytestmark = pytest.mark.gpu
 
@@ -35,7 +35,7 @@ def mean_image(banded: BandedRenderer) -> np.ndarray:
 
 
 def accumulated(renderer: Renderer, pixels: int) -> np.ndarray:
-    return read_buffer(renderer.context, renderer.bindings[5], ACCUMULATED_PIXEL.dtype, pixels)
+    return read_buffer(renderer.context, renderer.resources["accumulation"], ACCUMULATED_PIXEL.dtype, pixels)
 
 
 def test_bands_give_the_image_of_whole_dispatches_bit_for_bit(gpu_context, scene):

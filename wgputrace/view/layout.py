@@ -1,12 +1,22 @@
-"""Host/GPU structs and constants of the viewer's kernels (guides, resolve, filter, present, box
-lines), defined once like gpu.layout's: each becomes a numpy dtype and the WGSL in
-generated/view_structs.wgsl."""
+"""Host/GPU structs, constants and bind groups of the viewer's kernels (guides, resolve, filter,
+present, box lines), defined once like gpu.layout's and gpu.bindings': each struct becomes a numpy
+dtype and the WGSL in generated/view_structs.wgsl, each group its WGSL declarations and layout."""
 
 from __future__ import annotations
 
 from enum import IntEnum
 
-from ..gpu.layout import GpuStruct
+from ..gpu.bindings import (
+    STORAGE_READ,
+    STORAGE_TEXTURE,
+    TEXTURE_F32,
+    TEXTURE_U32,
+    UNIFORM,
+    VERTEX_FRAGMENT,
+    BindGroup,
+    Binding,
+)
+from ..gpu.layout import ACCUMULATED_PIXEL, GpuStruct
 
 GENERATED_VIEW_STRUCTS = "generated/view_structs.wgsl"
 
@@ -18,6 +28,9 @@ FILTER_ALBEDO_MIN = 1e-3
 GUIDE_NORMAL_ERROR = 1e-4
 # ... and the albedo in 8-bit unorms: off by at most half a step.
 GUIDE_ALBEDO_ERROR = 0.5 / 255
+# Texel formats of the viewer's per-pixel images: linear colour, and the packed guides (guide_packing.wgsl).
+IMAGE_FORMAT = "rgba32float"
+GUIDE_FORMAT = "rgba32uint"
 
 
 class ResolveMode(IntEnum):
@@ -97,9 +110,46 @@ BOX_LINES_PARAMS = GpuStruct(
 
 VIEW_STRUCTS = (RESOLVE_PARAMS, ATROUS_PARAMS, PRESENT_PARAMS, BOX_LINES_PARAMS)
 
+# guides.wgsl writes them beside the scene group (group 0, gpu/bindings.py).
+GUIDES_GROUP = BindGroup("guides", 1, (Binding("guides", STORAGE_TEXTURE, GUIDE_FORMAT),))
+RESOLVE_GROUP = BindGroup(
+    "resolve",
+    0,
+    (
+        Binding("params", UNIFORM, RESOLVE_PARAMS),
+        Binding("accumulation", STORAGE_READ, ACCUMULATED_PIXEL),
+        Binding("guides", TEXTURE_U32),
+        Binding("fallback", TEXTURE_F32),
+        Binding("filtered", TEXTURE_F32),
+        Binding("resolved", STORAGE_TEXTURE, IMAGE_FORMAT),
+    ),
+)
+ATROUS_GROUP = BindGroup(
+    "atrous",
+    0,
+    (
+        Binding("params", UNIFORM, ATROUS_PARAMS),
+        Binding("guides", TEXTURE_U32),
+        Binding("source", TEXTURE_F32),
+        Binding("filtered_out", STORAGE_TEXTURE, IMAGE_FORMAT),
+    ),
+)
+PRESENT_GROUP = BindGroup(
+    "present",
+    0,
+    (Binding("params", UNIFORM, PRESENT_PARAMS), Binding("image", TEXTURE_F32), Binding("overlay", TEXTURE_F32)),
+    VERTEX_FRAGMENT,
+)
+BOX_LINES_GROUP = BindGroup(
+    "box_lines",
+    0,
+    (Binding("params", UNIFORM, BOX_LINES_PARAMS), Binding("endpoints", STORAGE_READ, "vec4<f32>")),
+    VERTEX_FRAGMENT,
+)
+
 
 def generated_view_structs() -> str:
-    parts = ["// Generated from wgputrace.render.view_layout: the viewer's host/GPU structs and view ids."]
+    parts = ["// Generated from wgputrace.view.layout: the viewer's host/GPU structs and view ids."]
     parts += [struct.wgsl() for struct in VIEW_STRUCTS]
     parts += [f"const VIEW_{view.name}: u32 = {int(view)}u;" for view in View]
     parts += [f"const RESOLVE_{mode.name}: u32 = {int(mode)}u;" for mode in ResolveMode]

@@ -17,13 +17,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..gpu.bindings import scene_group
 from ..gpu.buffers import uniform_buffer
-from ..gpu.graphics import bind_group, copy_texture, image_texture, read_texture
-from ..gpu.pipeline import compute_kernel, dispatch_size
-from .progressive import BandedRenderer
-from .view_layout import (
+from ..gpu.graphics import copy_texture, image_texture, read_texture
+from ..gpu.kernel import ComputeKernel, Pass, submit
+from .banded import BandedRenderer
+from .layout import (
+    ATROUS_GROUP,
     ATROUS_PARAMS,
     GENERATED_VIEW_STRUCTS,
+    GUIDE_FORMAT,
+    GUIDES_GROUP,
+    IMAGE_FORMAT,
+    RESOLVE_GROUP,
     RESOLVE_PARAMS,
     ResolveMode,
     View,
@@ -45,9 +51,6 @@ FILTER_FADE_SPP = 256
 FILTER_REFRESH_GROWTH = 1.25
 # The heat map's colour ramp ends at 2^HEAT_LOG2_MAX - 1 BVH nodes visited by a primary ray.
 HEAT_LOG2_MAX = 7.0
-
-IMAGE_FORMAT = "rgba32float"
-GUIDE_FORMAT = "rgba32uint"
 
 
 def filter_weight(samples_per_pixel: float) -> float:
@@ -76,9 +79,11 @@ class Display:
         width, height = banded.full_size
         generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
         traversal = {"acceleration.wgsl": f'//! include "traverse_{renderer.accel}.wgsl"\n'}
-        self._guides_kernel = compute_kernel(context, "guides.wgsl", generated={**generated, **traversal})
-        self._resolve_kernel = compute_kernel(context, "resolve.wgsl", generated=generated)
-        self._atrous_kernel = compute_kernel(context, "atrous.wgsl", generated=generated)
+        self._guides_kernel = ComputeKernel(
+            context, "guides.wgsl", (scene_group(renderer.accel), GUIDES_GROUP), generated={**generated, **traversal}
+        )
+        self._resolve_kernel = ComputeKernel(context, "resolve.wgsl", (RESOLVE_GROUP,), generated=generated)
+        self._atrous_kernel = ComputeKernel(context, "atrous.wgsl", (ATROUS_GROUP,), generated=generated)
         self.guides = image_texture(context, "pixel guides", width, height, GUIDE_FORMAT)
         self.resolved = image_texture(context, "resolved image", width, height, IMAGE_FORMAT)
         self._demodulated = image_texture(context, "demodulated image", width, height, IMAGE_FORMAT)
@@ -90,22 +95,16 @@ class Display:
         self._atrous_params = [
             uniform_buffer(context, f"a-trous params {k}", ATROUS_PARAMS.zeros(1)) for k in range(FILTER_PASSES)
         ]
-        bindings = renderer.bindings
-        self._guides_groups = (
-            self._guides_kernel.bind_group(context, 0, {b: bindings[b] for b in (0, 1, 2, 3)}),
-            bind_group(context, self._guides_kernel.pipeline, 1, {0: self.guides.create_view()}),
-        )
+        self._guides_group = self._guides_kernel.bind("guides", guides=self.guides)
         resolve_inputs = {
-            0: self._resolve_params,
-            1: bindings[5],
-            2: self.guides.create_view(),
-            3: self._fallback.create_view(),
-            4: self._filtered.create_view(),
+            "params": self._resolve_params,
+            "accumulation": renderer.resources["accumulation"],
+            "guides": self.guides,
+            "fallback": self._fallback,
+            "filtered": self._filtered,
         }
         self._resolve_groups = {
-            target_name: bind_group(
-                context, self._resolve_kernel.pipeline, 0, {**resolve_inputs, 5: target.create_view()}
-            )
+            target_name: {"resolve": self._resolve_kernel.bind("resolve", **resolve_inputs, resolved=target)}
             for target_name, target in (("resolved", self.resolved), ("demodulated", self._demodulated))
         }
         # pass k reads the demodulated image (k = 0) or the previous pass's output; the last writes `filtered`
@@ -113,19 +112,10 @@ class Display:
         for k in range(FILTER_PASSES):
             source = self._demodulated if k == 0 else self._ping_pong[(k - 1) % 2]
             target = self._filtered if k == FILTER_PASSES - 1 else self._ping_pong[k % 2]
-            self._atrous_groups.append(
-                bind_group(
-                    context,
-                    self._atrous_kernel.pipeline,
-                    0,
-                    {
-                        0: self._atrous_params[k],
-                        1: self.guides.create_view(),
-                        2: source.create_view(),
-                        3: target.create_view(),
-                    },
-                )
+            group = self._atrous_kernel.bind(
+                "atrous", params=self._atrous_params[k], guides=self.guides, source=source, filtered_out=target
             )
+            self._atrous_groups.append({"atrous": group})
         self._guides_current = False
         self._filtered_at: float | None = None  # samples per pixel when `filtered` was made
         self._resolved_as: tuple | None = None  # what `resolved` shows where no sample changed since
@@ -157,41 +147,30 @@ class Display:
         record["first_row"] = first_row
         return record
 
-    def _dispatch(self, passes: list[tuple[object, tuple]], rows: int | None = None) -> None:
-        width, height = self.banded.size
-        groups = dispatch_size(width, height if rows is None else rows, (8, 8))
-        encoder = self.context.device.create_command_encoder()
-        for kernel, bind_groups in passes:
-            compute = encoder.begin_compute_pass()
-            compute.set_pipeline(kernel.pipeline)
-            for index, group in enumerate(bind_groups):
-                compute.set_bind_group(index, group)
-            compute.dispatch_workgroups(*groups)
-            compute.end()
-        self.context.device.queue.submit([encoder.finish()])
-
     def _refilter(self) -> None:
         """Demodulate the current mean and run the a-trous passes into `filtered`."""
         width, height = self.banded.size
         queue = self.context.device.queue
         radiance = ViewSettings()
         queue.write_buffer(self._resolve_params, 0, self._resolve_params_record(radiance, ResolveMode.DEMODULATED, 0.0))
-        passes = [(self._resolve_kernel, (self._resolve_groups["demodulated"],))]
+        size = self.banded.size
+        passes = [Pass(self._resolve_kernel, size, self._resolve_groups["demodulated"])]
         for k in range(FILTER_PASSES):
             record = ATROUS_PARAMS.zeros(1)
             record["width"], record["height"], record["step"] = width, height, 1 << k
             record["normal_power"], record["depth_sigma"] = FILTER_NORMAL_POWER, FILTER_DEPTH_SIGMA
             record["albedo_sigma"] = FILTER_ALBEDO_SIGMA
             queue.write_buffer(self._atrous_params[k], 0, record)
-            passes.append((self._atrous_kernel, (self._atrous_groups[k],)))
-        self._dispatch(passes)
+            passes.append(Pass(self._atrous_kernel, size, self._atrous_groups[k]))
+        submit(self.context, passes)
         self._filtered_at = self.banded.samples_done
 
     def render(self, settings: ViewSettings):
         """Resolve the current samples as `settings` asks; returns the texture holding the image
         (the banded renderer's current size, from the top-left corner; row 0 on top)."""
         if not self._guides_current:
-            self._dispatch([(self._guides_kernel, self._guides_groups)])
+            scene = self.banded.renderer.bind_groups["scene"]
+            self._guides_kernel.dispatch(self.banded.size, {"scene": scene, "guides": self._guides_group})
             self._guides_current = True
         weight = 0.0
         if settings.filter_enabled and settings.view == View.RADIANCE:
@@ -211,7 +190,8 @@ class Display:
         if touched is not None:
             record = self._resolve_params_record(settings, mode, weight, touched[0])
             self.context.device.queue.write_buffer(self._resolve_params, 0, record)
-            self._dispatch([(self._resolve_kernel, (self._resolve_groups["resolved"],))], touched[1] - touched[0])
+            rows = (self.banded.size[0], touched[1] - touched[0])
+            self._resolve_kernel.dispatch(rows, self._resolve_groups["resolved"])
         self._resolved_as = shown_as
         self.filter_weight = weight
         return self.resolved

@@ -14,12 +14,14 @@ import time
 
 import numpy as np
 
+from ..gpu.bindings import IMAGE_WORKGROUP
 from ..gpu.buffers import uniform_buffer
+from ..gpu.layout import ACCUMULATED_PIXEL
+from ..render.renderer import Renderer
 from ..scene import Camera
-from .renderer import Renderer
 
-# The path tracer's workgroup is 8x8: bands are whole rows of workgroups.
-BAND_ROWS_STEP = 8
+# Bands are whole rows of the path tracer's workgroups.
+BAND_ROWS_STEP = IMAGE_WORKGROUP[1]
 # A call never runs more whole passes than this, however fast they are: the frame must end.
 MAX_PASSES_PER_CALL = 16
 # The cost estimate follows each measurement by this fraction: fast enough to follow a camera
@@ -38,8 +40,7 @@ class BandedRenderer:
         # the renderer's own path tracer (material kinds, overrides), compiled once more with this entry point
         self.kernel = renderer.kernel_variant(rows=True)
         self._band = uniform_buffer(self.context, "band first row", np.zeros(1, np.uint32))
-        self._scene_group = self.kernel.bind_group(self.context, 0, renderer.bindings)
-        self._band_group = self.kernel.bind_group(self.context, 1, {0: self._band})
+        self._band_group = self.kernel.bind("band", band_first_row=self._band)
         self.size = self.full_size
         self.samples_per_pixel = 0
         self.rows_done = 0
@@ -53,15 +54,11 @@ class BandedRenderer:
         # llvmpipe compiles a pipeline at its first dispatch, which would count as seconds per
         # sample; a band starting below the last row compiles it and touches no pixel
         self.context.device.queue.write_buffer(self._band, 0, np.array([self.full_size[1]], np.uint32))
-        encoder = self.context.device.create_command_encoder()
-        compute = encoder.begin_compute_pass()
-        compute.set_pipeline(self.kernel.pipeline)
-        compute.set_bind_group(0, self._scene_group)
-        compute.set_bind_group(1, self._band_group)
-        compute.dispatch_workgroups(1, 1, 1)
-        compute.end()
-        self.context.device.queue.submit([encoder.finish()])
-        self.context.finish()
+        self.kernel.dispatch((1, 1), self._bind_groups, wait=True)
+
+    @property
+    def _bind_groups(self) -> dict:
+        return {**self.renderer.bind_groups, "band": self._band_group}
 
     @property
     def reduced(self) -> bool:
@@ -79,17 +76,14 @@ class BandedRenderer:
         record["width"], record["height"] = width, height
         record["camera_right"], record["camera_up"], record["camera_forward"] = camera.image_plane(width, height)
         device = self.context.device
-        device.queue.write_buffer(self.renderer.bindings[0], 0, record)
+        resources = self.renderer.resources
+        device.queue.write_buffer(resources["frame"], 0, record)
         encoder = device.create_command_encoder()
         # only the pixels that will be traced: clearing 10 MB per frame while moving costs time
-        encoder.clear_buffer(self.renderer.bindings[5], 0, width * height * self._accumulated_pixel_bytes)
+        encoder.clear_buffer(resources["accumulation"], 0, width * height * ACCUMULATED_PIXEL.size)
         device.queue.submit([encoder.finish()])
         self.size, self.samples_per_pixel, self.rows_done = (width, height), 0, 0
         self._touched = (0, height)
-
-    @property
-    def _accumulated_pixel_bytes(self) -> int:
-        return self.renderer.bindings[5].size // (self.full_size[0] * self.full_size[1])
 
     def rows_for(self, seconds: float) -> int:
         """Rows of the current size that the cost estimate says fit in `seconds` (one band before
@@ -121,19 +115,9 @@ class BandedRenderer:
 
     def _dispatch(self, first_row: int, band_rows: int, passes: int) -> float:
         width, height = self.size
-        device = self.context.device
-        device.queue.write_buffer(self._band, 0, np.array([first_row], np.uint32))
+        self.context.device.queue.write_buffer(self._band, 0, np.array([first_row], np.uint32))
         start = time.perf_counter()
-        encoder = device.create_command_encoder()
-        for _ in range(passes):
-            compute = encoder.begin_compute_pass()
-            compute.set_pipeline(self.kernel.pipeline)
-            compute.set_bind_group(0, self._scene_group)
-            compute.set_bind_group(1, self._band_group)
-            compute.dispatch_workgroups(-(-width // 8), -(-band_rows // 8), 1)
-            compute.end()
-        device.queue.submit([encoder.finish()])
-        self.context.finish()
+        self.kernel.dispatch((width, band_rows), self._bind_groups, repeat=passes, wait=True)
         seconds = time.perf_counter() - start
         measured = seconds / (passes * band_rows * width)
         if self.seconds_per_sample is None:

@@ -7,9 +7,16 @@ import numpy as np
 
 from ..gpu.buffers import storage_buffer, uniform_buffer
 from ..gpu.device import GpuContext
-from ..gpu.graphics import bind_group, read_texture, render_kernel, rgba8_texture, target_texture, write_rgba8
+from ..gpu.graphics import RenderKernel, read_texture, rgba8_texture, target_texture, write_rgba8
 from ..scene import Camera
-from .view_layout import BOX_LINES_PARAMS, GENERATED_VIEW_STRUCTS, PRESENT_PARAMS, generated_view_structs
+from .layout import (
+    BOX_LINES_GROUP,
+    BOX_LINES_PARAMS,
+    GENERATED_VIEW_STRUCTS,
+    PRESENT_GROUP,
+    PRESENT_PARAMS,
+    generated_view_structs,
+)
 
 # trac0r drew its boxes in yellow.
 BOX_COLOR = (1.0, 0.85, 0.0, 1.0)
@@ -45,11 +52,16 @@ class Presenter:
         self.context, self.target_format = context, target_format
         generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
         encode = not target_format.endswith("-srgb")
-        self._image_kernel = render_kernel(
-            context, "present.wgsl", target_format, generated=generated, constants={"ENCODE_SRGB": encode}
+        self._image_kernel = RenderKernel(
+            context,
+            "present.wgsl",
+            target_format,
+            (PRESENT_GROUP,),
+            generated=generated,
+            constants={"ENCODE_SRGB": encode},
         )
-        self._lines_kernel = render_kernel(
-            context, "bvh_lines.wgsl", target_format, generated=generated, topology="line-list"
+        self._lines_kernel = RenderKernel(
+            context, "bvh_lines.wgsl", target_format, (BOX_LINES_GROUP,), generated=generated, topology="line-list"
         )
         self._params = uniform_buffer(context, "present params", PRESENT_PARAMS.zeros(1))
         self._lines_params = uniform_buffer(context, "box lines params", BOX_LINES_PARAMS.zeros(1))
@@ -79,7 +91,7 @@ class Presenter:
         points[:, :3] = endpoints.reshape(-1, 3)
         buffer = storage_buffer(self.context, "box line endpoints", points)
         self._lines = (buffer, len(points))
-        self._lines_group = bind_group(self.context, self._lines_kernel.pipeline, 0, {0: self._lines_params, 1: buffer})
+        self._lines_group = self._lines_kernel.bind("box_lines", params=self._lines_params, endpoints=buffer)
 
     def set_camera(self, camera: Camera, width: int, height: int, scene_size: float) -> None:
         """The camera (and full image size) the box lines are projected with."""
@@ -103,12 +115,7 @@ class Presenter:
         params["exposure"] = exposure
         device = self.context.device
         device.queue.write_buffer(self._params, 0, params)
-        group = bind_group(
-            self.context,
-            self._image_kernel.pipeline,
-            0,
-            {0: self._params, 1: image.create_view(), 2: self._overlay.create_view()},
-        )
+        group = self._image_kernel.bind("present", params=self._params, image=image, overlay=self._overlay)
         encoder = device.create_command_encoder()
         render = encoder.begin_render_pass(
             color_attachments=[
