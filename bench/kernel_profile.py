@@ -22,7 +22,6 @@ otherwise. Prints a table and writes bench/results/kernel_profile_<adapter>.json
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import time
 from dataclasses import dataclass, field
@@ -31,17 +30,17 @@ import numpy as np
 
 from bench.common import (
     CHANNELS,
-    RESULTS_DIR,
     agreement,
+    argument_parser,
     environment,
     git_revision,
     load_average,
+    parse,
     sidak_critical_z,
     slug,
     write_json,
 )
 from wgputrace import Renderer, default_scene, make_icosphere
-from wgputrace.cli import parse_size
 from wgputrace.gpu.bindings import IMAGE_WORKGROUP, PIXELS_GROUP, STORAGE_READ, Binding, scene_group
 from wgputrace.gpu.buffers import read_buffer, storage_buffer
 from wgputrace.gpu.device import describe, gpu
@@ -285,14 +284,12 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
     return result
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--size", type=parse_size, default=(256, 256))
-    parser.add_argument("--repeats", type=int, default=5)
+def main(argv: list[str] | None = None) -> None:
+    parser = argument_parser(__doc__, size=(256, 256), repeats=5)
     parser.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES))
     names = [v.name for v in VARIANTS]
     parser.add_argument("--variants", nargs="+", default=names, choices=names, help="(the shipped kernel always runs)")
-    args = parser.parse_args()
+    args = parse(parser, argv)
     width, height = args.size
     variants = [v for v in VARIANTS if v.name == "shipped" or v.name in args.variants]
     tests = len(args.scenes) * sum(v.same_image for v in variants) * len(CHANNELS)
@@ -321,7 +318,7 @@ def main() -> None:
         "load_average_after": load_average(),
         "scenes": results,
     }
-    path = RESULTS_DIR / f"kernel_profile_{slug(device['adapter'], device['backend'])}.json"
+    path = args.out / f"kernel_profile_{slug(device['adapter'], device['backend'])}.json"
     write_json(path, data)
     print(f"load average before {load_before}, after {data['load_average_after']}; wrote {path}")
 
