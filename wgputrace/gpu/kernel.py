@@ -55,11 +55,11 @@ def compile_shader(
 ) -> tuple[ShaderSource, object]:
     """Join `entry` with the standard generated files, the groups' declarations and `generated`;
     compile it and call `create_pipeline(module, layout)` with the layout made of `groups`."""
-    files = {**standard_files(), **group_files(tuple(groups)), **(generated or {})}
-    source = load_shader(entry, files)
+    layout = pipeline_layout(context, groups, label)
+    source = load_shader(entry, {**standard_files(), **group_files(tuple(groups)), **(generated or {})})
     try:
         module = context.device.create_shader_module(label=label, code=source.text)
-        return source, create_pipeline(module, pipeline_layout(context, groups, label))
+        return source, create_pipeline(module, layout)
     except wgpu.GPUError as error:
         raise ShaderCompileError(source.explain(str(error))) from None
 
