@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from tests.cli.test_cli import run_cli
 from wgputrace import load_image
 
 
-def test_render_a_test_scene_by_name(tmp_path):
+def test_render_a_test_scene_by_name(tmp_path, run_cli):
     out = tmp_path / "tiny_light.npy"
     result = run_cli("render", "tiny_light", "--spp", "1", "--size", "8x8", "-o", str(out))
     assert result.returncode == 0, result.stderr

@@ -14,28 +14,9 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """The viewer's arguments, shared by app.py and `wgputrace view`."""
-    from ..cli import parse_size
-    from ..scenes import BUILTIN_SCENES, DEFAULT_SCENE
-
-    parser.add_argument(
-        "scene",
-        nargs="?",
-        default=DEFAULT_SCENE,
-        help=f"built-in scene ({', '.join(BUILTIN_SCENES)}) or a .py file defining scene(); files reload on change",
-    )
-    parser.add_argument("--size", type=parse_size, default=(640, 480), help="window WIDTHxHEIGHT (default 640x480)")
-    parser.add_argument("--max-depth", type=int, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit")
-    parser.add_argument("--seed", type=int, default=1, help="random seed")
-    parser.add_argument("--exposure", type=float, default=1.0, help="multiplies radiance before display")
-    parser.add_argument("--fps", type=float, default=20.0, help="target frames per second (default 20)")
-    parser.add_argument("--filter", action="store_true", help="start with the pre-convergence filter on (key N)")
-    parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
-    parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")
+from ..cli_arguments import add_view_arguments
+from ..scenes import DEFAULT_SCENE
 
 
 def options_from(args: argparse.Namespace):
@@ -70,9 +51,10 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def notebook_viewer(scene: str = "cornell", size: tuple[int, int] = (480, 360), **options):
+def notebook_viewer(scene: str = DEFAULT_SCENE, size: tuple[int, int] = (480, 360), **options):
     """A viewer drawing into a Jupyter widget (rendercanvas's notebook backend, needs the
-    `notebook` extra); show `viewer.canvas` in a cell. Keyword options as ViewerOptions."""
+    `notebook` extra); show `viewer.canvas` in a cell. `scene` as wgputrace.load_scene reads it;
+    keyword options as ViewerOptions."""
     from rendercanvas.jupyter import RenderCanvas
 
     from .viewer import Viewer, ViewerOptions
@@ -84,5 +66,5 @@ def notebook_viewer(scene: str = "cornell", size: tuple[int, int] = (480, 360), 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="app.py", description="wgputrace's interactive viewer")
-    add_arguments(parser)
+    add_view_arguments(parser)
     return run(parser.parse_args(argv))

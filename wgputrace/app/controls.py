@@ -94,10 +94,6 @@ class FlyCamera:
         if since is not None:
             self._pending += np.asarray(MOVE_KEYS[key]) * max(now - since, 0.0)
 
-    def release_all(self, now: float) -> None:
-        for key in list(self._held_since):
-            self.release(key, now)
-
     def move(self, now: float) -> bool:
         """Move for the time movement keys were held up to `now` (wall time, however long the
         frames are); whether the camera moved."""

@@ -21,15 +21,15 @@ from ..bvh.levels import box_edges, node_levels
 from ..gpu.device import gpu
 from ..gpu.graphics import image_texture
 from ..image_io import save_image
+from ..loaders import SceneLoadError, load_scene, scene_file
 from ..render import Renderer
-from ..render.display import IMAGE_FORMAT, Display, ViewSettings
-from ..render.present import Presenter
-from ..render.progressive import BandedRenderer
-from ..render.view_layout import View
 from ..scenes import DEFAULT_SCENE
+from ..view.banded import BandedRenderer
+from ..view.display import Display, ViewSettings
+from ..view.layout import IMAGE_FORMAT, View
+from ..view.present import Presenter
 from .controls import MOVE_KEYS, FlyCamera
 from .overlay import text_overlay
-from .scene_file import SceneLoadError, load_scene, modified_time
 
 TARGET_FPS = 20.0
 # Part of a frame kept for resolving, filtering, presenting and events, until measured.
@@ -86,6 +86,15 @@ class FrameRecord:
     moving: bool
 
 
+def _modified_time(spec: str) -> float | None:
+    """When the scene file `spec` names last changed (None for a built-in scene or an unreadable file)."""
+    path = scene_file(spec)
+    try:
+        return None if path is None else path.stat().st_mtime
+    except OSError:
+        return None
+
+
 def _normalized(key: str) -> str:
     """Letters in lower case (Shift held gives capitals); named keys ("Tab") as they are."""
     return key.lower() if len(key) == 1 else key
@@ -126,7 +135,7 @@ class Viewer:
         self.scene = None
         self.view: SceneView | None = None
         self.controller: FlyCamera | None = None
-        self._scene_time = modified_time(options.scene)
+        self._scene_time = _modified_time(options.scene)
         self._next_scene_poll = 0.0
         self._next_overlay = 0.0
         self._camera_changed = False
@@ -168,7 +177,7 @@ class Viewer:
         if now < self._next_scene_poll:
             return
         self._next_scene_poll = now + SCENE_POLL_SECONDS
-        changed = modified_time(self.options.scene)
+        changed = _modified_time(self.options.scene)
         if changed is not None and changed != self._scene_time:
             self._scene_time = changed
             print(f"wgputrace view: {self.options.scene} changed, reloading", file=sys.stderr, flush=True)

@@ -1,4 +1,5 @@
-"""The one error type every loader raises, and the warning for what a loader repaired or skipped."""
+"""The one error type every loader and the scene resolver raise, and the warning for what a
+loader repaired or skipped."""
 
 from __future__ import annotations
 
@@ -6,14 +7,16 @@ from pathlib import Path
 
 
 class SceneLoadError(ValueError):
-    """A scene file cannot be loaded. `path` is the file at fault (an .mtl or .bin beside the file
-    asked for, perhaps), `line` its 1-based line for text formats (None for binary ones); the
-    message starts with both and names the problem."""
+    """A scene cannot be loaded. `path` is the file at fault (an .mtl or .bin beside the file
+    asked for, perhaps; None for an unknown built-in name), `line` its 1-based line for text
+    formats and Python scenes (None for binary ones); the message starts with both and names the
+    problem."""
 
-    def __init__(self, path: Path | str, problem: str, line: int | None = None) -> None:
-        self.path, self.line, self.problem = Path(path), line, problem
-        where = f"{self.path}:{line}" if line is not None else str(self.path)
-        super().__init__(f"{where}: {problem}")
+    def __init__(self, path: Path | str | None, problem: str, line: int | None = None) -> None:
+        self.path = None if path is None else Path(path)
+        self.line, self.problem = line, problem
+        where = [str(part) for part in (self.path, line) if part is not None]
+        super().__init__(": ".join([":".join(where), problem] if where else [problem]))
 
 
 class SceneLoadWarning(UserWarning):
