@@ -39,7 +39,7 @@ def test_pixel_centre_rays_are_the_shipped_camera_rays(gpu_context):
         WIDTH * HEIGHT,
         input_types=[],
         output_type="vec4<f32>",
-        scene={0: frame},
+        scene={"frame": frame},
     )[:, :3]
     origins, directions = pixel_centre_rays(camera, WIDTH, HEIGHT)
     np.testing.assert_array_equal(origins, np.broadcast_to(np.float32(camera.position), origins.shape))

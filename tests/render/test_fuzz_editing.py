@@ -59,8 +59,8 @@ def documented_errors():
         pass
 
 
-def gpu_rows(renderer: Renderer, binding: int, array: np.ndarray) -> np.ndarray:
-    return read_binding(renderer.context, renderer.bindings[binding], array.dtype, len(array))
+def gpu_rows(renderer: Renderer, binding: str, array: np.ndarray) -> np.ndarray:
+    return read_binding(renderer.context, renderer.resources[binding], array.dtype, len(array))
 
 
 def sorted_records(records: np.ndarray) -> np.ndarray:
@@ -127,10 +127,10 @@ class SceneEditing(RuleBasedStateMachine):
             assert np.all(np.isfinite(image))
             mirror = self.renderer._mirror
             for binding, array in (
-                (1, mirror.triangles),
-                (2, mirror.nodes),
-                (3, mirror.materials),
-                (6, mirror.lights.entries),
+                ("triangles", mirror.triangles),
+                ("nodes", mirror.nodes),
+                ("materials", mirror.materials),
+                ("lights", mirror.lights.entries),
             ):
                 np.testing.assert_array_equal(gpu_rows(self.renderer, binding, array), array)
             fresh = SceneMirror(self.scene, "bvh")

@@ -107,7 +107,7 @@ def sample_lights(gpu_context, triangles, materials, lights, uniforms, receiver)
         len(uniforms),
         input_types=["vec4<f32>", "vec4<f32>"],
         output_type="vec4<f32>",
-        scene={0: frame, 1: triangles, 3: materials, 6: lights.entries},
+        scene={"frame": frame, "triangles": triangles, "materials": materials, "lights": lights.entries},
     )
 
 
@@ -249,7 +249,7 @@ def test_spherical_light_sampling_is_uniform_in_solid_angle(gpu_context, failure
         SPHERICAL_SAMPLES,
         input_types=["vec4<f32>", "vec4<f32>"],
         output_type="vec4<f32>",
-        scene={0: frame, 1: triangles, 3: materials, 6: lights.entries},
+        scene={"frame": frame, "triangles": triangles, "materials": materials, "lights": lights.entries},
     )
     assert np.all(out[:, 3] > 0), f"{receiver}: sample_light's pdf differs from pdf_light's"
     # one triangle: chosen with probability 1, so the density is 1 / solid angle

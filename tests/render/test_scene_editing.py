@@ -106,7 +106,7 @@ def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell,
         np.testing.assert_array_equal(nodes[f"min_{axis}"][used], expected_min[wide.slot_node[used], k])
         np.testing.assert_array_equal(nodes[f"max_{axis}"][used], expected_max[wide.slot_node[used], k])
     np.testing.assert_array_equal(
-        read_binding(renderer.context, renderer.bindings[2], WIDE_BVH_NODE.dtype, len(nodes)), nodes
+        read_binding(renderer.context, renderer.resources["nodes"], WIDE_BVH_NODE.dtype, len(nodes)), nodes
     )
     monkeypatch.undo()  # a fresh renderer collapses its tree
     np.testing.assert_array_equal(image, fresh_image(scene))
@@ -203,7 +203,7 @@ def test_gpu_bytes_per_triangle_counts_every_scene_buffer(cornell):
     assert set(sizes) == {"triangles", "bvh nodes", "materials", "lights"}
     triangles = renderer.triangle_count
     # no spare before the scene grows: of the triangles' texture, less than one row unused
-    row_bytes = renderer.bindings[1].texture.size[0] * TEXEL_BYTES
+    row_bytes = renderer.resources["triangles"].texture.size[0] * TEXEL_BYTES
     assert 0 <= sizes["triangles"] - triangles * TRIANGLE.size < row_bytes
     assert renderer.gpu_bytes_per_triangle == sum(sizes.values()) / triangles
     # triangle and node records, the nodes' texture with its spare capacity, are most of it

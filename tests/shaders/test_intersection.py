@@ -348,7 +348,7 @@ def leave_surface(
         len(points),
         input_types=["vec4<f32>", "vec4<f32>", "u32"],
         output_type="vec4<f32>",
-        scene={1: records.triangles, 2: node_binding(context, records)},
+        scene={"triangles": records.triangles, "nodes": node_binding(context, records)},
     )
     return out
 
