@@ -8,27 +8,21 @@ import pytest
 
 from wgputrace import load_image
 
-LAMP_AND_FLOOR = """import wgputrace as wt
+# a lit box in front of the default camera (at the origin, looking along +z)
+LIT_BOX = """import wgputrace as wt
 
 
 def scene():
-    lamp = wt.Emitter("lamp")
-    white = wt.Diffuse("white")
-    return wt.Scene(
-        [
-            wt.make_plane((0, 1, 2), (-1.5707963, 0, 0), (1, 1), lamp, "lamp"),
-            wt.make_plane((0, 0, 2), (0, 0, 0), (4, 4), white, "floor"),
-        ],
-        wt.Camera.looking_at((0, 1, 0), (0, 0.5, 2)),
-    )
+    lamp = wt.make_icosphere((0, 1, 4), (0, 0, 0), 0.5, 1, wt.Emitter("lamp"), "lamp")
+    return wt.Scene([lamp, wt.make_box((0, -1, 4), (0, 0.5, 0), (1, 1, 1), wt.Diffuse("white"), "box")])
 """
 
 
 def scene_spec(kind: str, tmp_path, data_dir) -> tuple[str, int]:
     """SCENE of each kind, with its triangle count."""
     if kind == "py":
-        (tmp_path / "lamp.py").write_text(LAMP_AND_FLOOR)
-        return str(tmp_path / "lamp.py"), 4
+        (tmp_path / "lit_box.py").write_text(LIT_BOX)
+        return str(tmp_path / "lit_box.py"), 92
     return ("tiny_light", 676) if kind == "name" else (str(data_dir / "cornell_trac0r.obj"), 676)
 
 
@@ -51,10 +45,10 @@ def test_a_broken_scene_file_is_named_with_its_line(tmp_path, run_cli):
 
 def test_render_a_python_scene(tmp_path, data_dir, run_cli):
     spec, triangles = scene_spec("py", tmp_path, data_dir)
-    out = tmp_path / "lamp.npy"
+    out = tmp_path / "lit_box.npy"
     result = run_cli("render", spec, "--spp", "1", "--size", "16x12", "-o", str(out))
     assert result.returncode == 0, result.stderr
-    assert f"lamp.py: {triangles} triangles, 2 materials" in result.stdout
+    assert f"lit_box.py: {triangles} triangles, 2 materials" in result.stdout
     assert load_image(out).max() > 0
 
 
