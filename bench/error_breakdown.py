@@ -44,9 +44,8 @@ from bench.common import RESULTS_DIR, load_average, write_result  # noqa: E402
 from bench.convergence import RELATIVE_MSE_EPSILON, errors  # noqa: E402
 from bench.throughput import agreement, sidak_critical_z  # noqa: E402
 from tests.render.reference_images import load_reference  # noqa: E402
-from wgputrace import Diffuse, Renderer, Scene  # noqa: E402
+from wgputrace import Diffuse, Glossy, Renderer, Scene  # noqa: E402
 from wgputrace.bvh.binned_sah import build_bvh  # noqa: E402
-from wgputrace.scene import MaterialKind  # noqa: E402
 from wgputrace.scenes import scene_by_name  # noqa: E402
 
 SCENE = "cornell"
@@ -134,7 +133,7 @@ def region_masks(scene: Scene, width: int, height: int) -> dict[str, np.ndarray]
     kind = np.where(hit >= 0, kinds[arrays.material_index[np.maximum(hit, 0)]], -1)
     points = origins + distance[:, None] * directions
 
-    glossy = kind == MaterialKind.GLOSSY
+    glossy = kind == Glossy.kind
     corners = arrays.vertices[np.maximum(hit, 0)].astype(np.float64)
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     normals /= np.linalg.norm(normals, axis=-1, keepdims=True)

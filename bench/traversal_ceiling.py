@@ -73,8 +73,9 @@ from wgputrace.reference.mitsuba_scene import (  # noqa: E402
     libllvm_path,
     load_mitsuba,
 )
+from wgputrace.render.lights import emitting_kinds  # noqa: E402
 from wgputrace.render.ray_count import count_rays  # noqa: E402
-from wgputrace.scene import Camera, MaterialKind  # noqa: E402
+from wgputrace.scene import Camera  # noqa: E402
 from wgputrace.scenes import scene_by_name  # noqa: E402
 
 NAME = "traversal_ceiling"
@@ -195,7 +196,7 @@ def allowed_distance_difference(records, triangle: np.ndarray, t: np.ndarray, di
     kinds = records.materials["kind"][records.triangles["material"][np.where(hit, triangle, 0)]]
     # the magnitude mitsuba_scene.py scales the offset by: the largest corner coordinate
     offset = EMITTER_BACK_OFFSET_RELATIVE * float(np.max(np.abs(corners)))
-    lamp = hit & (kinds == int(MaterialKind.EMITTER))
+    lamp = hit & np.isin(kinds, emitting_kinds())
     return DISTANCE_RTOL * t + np.where(lamp, offset / np.maximum(cos, np.finfo(np.float64).tiny), 0.0)
 
 

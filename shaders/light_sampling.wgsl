@@ -4,6 +4,8 @@
 //! include "scene_bindings.wgsl"
 //! include "constants.wgsl"
 //! include "spherical_triangle.wgsl"
+// material_emitted: a light triangle's radiance, as its material kind defines it
+//! include "generated/materials.wgsl"
 
 // Light triangles subtending solid angles in this range (steradians) are sampled uniformly in solid
 // angle (spherical_triangle.wgsl); outside it, uniformly in area. Below the minimum the sampler's
@@ -58,7 +60,7 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
     let index = select(lights[entry.alias_index].triangle, entry.triangle, u_select.y < entry.threshold);
     let triangle = scene_triangle(index);
     let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
-    let radiance = materials[triangle.material].color;
+    let radiance = material_emitted(materials[triangle.material]);
     let a = normalize(triangle.v0 - p);
     let b = normalize(triangle.v1 - p);
     let c = normalize(triangle.v2 - p);

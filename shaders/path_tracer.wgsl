@@ -14,13 +14,6 @@
 // estimation), or both combined by multiple importance sampling. One compile per choice.
 override INTEGRATOR: u32 = INTEGRATOR_MIS;
 
-// Glossy lobes narrower than this roughness are treated like mirrors: light sampling would almost
-// never land in the lobe, so those vertices skip next-event estimation and their BSDF-sampled
-// hits on emitters count in full. The choice does not bias the estimate, only its noise.
-// Measured by bench/glossy_light_sampling.py (a glossy sphere under a small light, MIS): light
-// sampling made the glossy vertex 1.15x as efficient at roughness 0.005, 0.91x at 0.002.
-override GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS: f32 = 0.005;
-
 // Russian roulette starts at this path depth and never survives with more than this probability,
 // so that paths stuck in lossless loops (total internal reflection) still end. Overrides so that
 // bench/error_breakdown.py can measure other policies.
@@ -31,14 +24,13 @@ fn triangle_normal(triangle: Triangle) -> vec3<f32> {
     return normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
 }
 
-// Vertices where a light sample can land in the BSDF's lobe; elsewhere (glass, near-mirror
-// glossy) only BSDF sampling finds lights.
+// Vertices where a light sample can land in the BSDF's lobe (the material says: generated
+// material_samples_lights); elsewhere (glass, near-mirror glossy) only BSDF sampling finds lights.
 fn samples_lights(material: Material) -> bool {
     if INTEGRATOR == INTEGRATOR_BSDF || frame.light_count == 0u {
         return false;
     }
-    return material.kind == MATERIAL_DIFFUSE
-        || (material.kind == MATERIAL_GLOSSY && material.alpha >= GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS);
+    return material_samples_lights(material);
 }
 
 // Light reaching the surface point `p` of `triangle` from one sampled light point, times the
@@ -112,14 +104,14 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         let triangle = scene_triangle(hit.triangle);
         let material = materials[triangle.material];
         let normal = triangle_normal(triangle);
-        if material.kind == MATERIAL_EMITTER {
-            // emitters shine from both sides and reflect nothing
+        if material_emits(material) {
+            // emission shines from both sides
+            let emitted = material_emitted(material);
             let cos_light = abs(dot(normal, ray.direction));
-            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, previous_position, triangle, material.color, hit.t, cos_light);
-            radiance += throughput * material.color * weight;
-            break;
+            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, previous_position, triangle, emitted, hit.t, cos_light);
+            radiance += throughput * emitted * weight;
         }
-        if depth >= frame.max_depth {
+        if !material_reflects(material) || depth >= frame.max_depth {
             break;
         }
         let local = shading_frame(normal);

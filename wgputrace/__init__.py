@@ -9,30 +9,18 @@ wt.save_image("out.exr", img)
 from .image_io import load_image, save_image
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .render import UNLIMITED_DEPTH, Renderer, render
-from .scene import (
-    Camera,
-    Diffuse,
-    Emitter,
-    Glass,
-    Glossy,
-    Scene,
-    Shape,
-    make_box,
-    make_icosphere,
-    make_plane,
-    model_matrix,
-)
+from .scene import Camera, Scene, Shape, make_box, make_icosphere, make_plane, model_matrix
+from .scene.materials import KINDS
 from .scenes import default_scene
+
+# every material kind (Diffuse, Emitter, Glass, Glossy, and any module added to scene/materials/)
+globals().update(KINDS)
 
 __version__ = "0.1.0"
 
 __all__ = [
     "UNLIMITED_DEPTH",
     "Camera",
-    "Diffuse",
-    "Emitter",
-    "Glass",
-    "Glossy",
     "Renderer",
     "Scene",
     "SceneLoadError",
@@ -47,4 +35,5 @@ __all__ = [
     "model_matrix",
     "render",
     "save_image",
+    *KINDS,
 ]

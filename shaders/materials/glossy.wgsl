@@ -3,6 +3,12 @@
 //! include "sampling.wgsl"
 //! include "bsdf_sample.wgsl"
 
+// Glossy lobes narrower than this roughness are treated like mirrors: light sampling would almost
+// never land in the lobe, so those vertices skip next-event estimation (Glossy.samples_lights) and
+// their BSDF-sampled hits on emitters count in full. The choice does not bias the estimate, only
+// its noise; bench/glossy_light_sampling.py measures it (a glossy sphere under a small light, MIS).
+override GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS: f32 = 0.005;
+
 fn ggx_alpha(roughness: f32) -> f32 {
     return max(roughness, GGX_ALPHA_MIN);
 }

@@ -13,7 +13,6 @@ from wgputrace.reference.mitsuba_scene import (
     load_mitsuba,
     mitsuba_scene,
 )
-from wgputrace.scene import MaterialKind
 from wgputrace.scenes import scene_by_name
 
 pytest.importorskip("mitsuba")
@@ -41,7 +40,7 @@ def test_same_triangles_and_emitters(mi, name):
     emitter_triangles = sum(
         int(np.count_nonzero(arrays.material_index == index))
         for index, material in enumerate(arrays.materials)
-        if material.kind == MaterialKind.EMITTER
+        if material.emission is not None
     )
     shapes = theirs.shapes()
     # every emitter triangle twice: Mitsuba's area lights shine from the front only, ours both ways

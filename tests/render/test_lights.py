@@ -12,7 +12,7 @@ from tests.harness import frame_record, run_kernel
 from tests.stats import chi_square, sidak
 from wgputrace.gpu.layout import MATERIAL, TRIANGLE
 from wgputrace.render.lights import LUMINANCE_WEIGHTS, alias_table, light_table
-from wgputrace.scene import MaterialKind
+from wgputrace.scene import Diffuse, Emitter
 
 SEED = 11
 SAMPLES = 200_000
@@ -66,9 +66,9 @@ def light_scene(rng):
     triangles["material"][0::2] = np.arange(len(scales))
     triangles["material"][1::2] = len(scales)  # a diffuse material
     materials = MATERIAL.zeros(len(scales) + 1)
-    materials["kind"][: len(scales)] = int(MaterialKind.EMITTER)
+    materials["kind"][: len(scales)] = Emitter.kind
     materials["color"][: len(scales)] = radiance
-    materials["kind"][-1] = int(MaterialKind.DIFFUSE)
+    materials["kind"][-1] = Diffuse.kind
     materials["color"][-1] = 0.5
     return triangles, materials
 
@@ -128,7 +128,7 @@ def test_light_sampler_matches_power_and_area(gpu_context, failure_dir):
     out = sample_lights(gpu_context, triangles, materials, lights, uniforms, FAR_AWAY)
     chosen = out[:, 3].view(np.uint32)
     assert np.all(chosen & 0x80000000 == 0), "sample_light's pdf differs from pdf_light's"
-    assert np.all(materials["kind"][triangles["material"][chosen]] == int(MaterialKind.EMITTER))
+    assert np.all(materials["kind"][triangles["material"][chosen]] == Emitter.kind)
 
     # the sampled point lies on the chosen triangle: barycentric coordinates in [0, 1]
     corners = np.stack([triangles[c][chosen] for c in ("v0", "v1", "v2")], axis=1).astype(np.float64)
@@ -186,7 +186,7 @@ def spherical_case():
     triangles = TRIANGLE.zeros(1)
     triangles["v0"], triangles["v1"], triangles["v2"] = (0, 0, 0), (0, 0, 1), (1, 0, 0)
     materials = MATERIAL.zeros(1)
-    materials["kind"], materials["color"] = int(MaterialKind.EMITTER), (2.0, 1.0, 0.5)
+    materials["kind"], materials["color"] = Emitter.kind, (2.0, 1.0, 0.5)
     return triangles, materials
 
 

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Emitter, Glass, Glossy, Scene
+from wgputrace.render.scene_buffers import material_records
 from wgputrace.scene import MaterialError, SceneError
 
 
@@ -33,8 +34,7 @@ def test_bad_parameters_are_named(make, message):
 def test_emitter_radiance_is_color_times_emittance():
     emitter = Emitter("lamp", color=(1.0, 0.5, 0.25), emittance=4.0)
     assert emitter.radiance == (4.0, 2.0, 1.0)
-    color, _, _ = emitter.gpu_parameters()
-    assert color == (4.0, 2.0, 1.0)
+    assert tuple(Emitter.record_radiance(material_records([emitter]))[0]) == (4.0, 2.0, 1.0)
 
 
 def test_camera_is_right_handed_and_spans_fov():

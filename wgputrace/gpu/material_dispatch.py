@@ -1,84 +1,104 @@
-"""The per-scene part of bsdf.wgsl: `material_sample/_eval/_pdf`, switching over only the material
-kinds a scene uses and including only their files, so a scene without glass compiles no
-dielectric code (llvmpipe compiles per line: ~0.6 s per 250 lines, see ../shared/LAVAPIPE.md).
+"""The per-scene material code, generated from the material classes (scene/materials/): what
+bsdf.wgsl, path_tracer.wgsl and light_sampling.wgsl call, switching over only the kinds a scene
+uses and including only their files, so a scene without glass compiles no dielectric code
+(llvmpipe compiles per line, so unused code costs compile time).
 
-Emitters have no entry: they reflect nothing, and the path tracer ends a path on them before
-any BSDF is asked.
+| function                      | returns                                           | from the class          |
+|-------------------------------|---------------------------------------------------|-------------------------|
+| material_sample / _eval / _pdf | the BSDF's sample, f cos, density (bsdf_sample.wgsl) | `shader`             |
+| material_is_two_sided         | mirror wi below the surface to +z first?          | `two_sided`             |
+| material_samples_lights       | can a light sample land in the lobe?              | `light_sampling()`      |
+| material_reflects             | does a path go on from here?                      | `shader` is set         |
+| material_emits / _emitted     | does it emit, and what radiance                   | `emission`              |
+
+A kind the function does not concern (an emitter's BSDF) takes the default case.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
 
-from ..scene.materials import MaterialKind
+from ..scene.materials import Material, material_class, material_classes
 
 GENERATED_MATERIALS = "generated/materials.wgsl"
 
-
-@dataclass(frozen=True)
-class MaterialShader:
-    """Where a kind's WGSL lives and how the dispatch calls it (locals: material, wi, wo, u, u_lobe)."""
-
-    file: str
-    sample: str
-    eval: str
-    pdf: str
+# the kinds every material module defines; a kernel that draws no scene compiles them all
+ALL_KINDS = frozenset(cls.kind for cls in material_classes())
 
 
-MATERIAL_SHADERS = {
-    MaterialKind.DIFFUSE: MaterialShader(
-        "materials/diffuse.wgsl",
-        sample="diffuse_sample(material.color, wi, u)",
-        eval="diffuse_eval(material.color, wi, wo)",
-        pdf="diffuse_pdf(wi, wo)",
-    ),
-    MaterialKind.GLOSSY: MaterialShader(
-        "materials/glossy.wgsl",
-        sample="glossy_sample(material.color, material.alpha, wi, u)",
-        eval="glossy_eval(material.color, material.alpha, wi, wo)",
-        pdf="glossy_pdf(material.alpha, wi, wo)",
-    ),
-    MaterialKind.GLASS: MaterialShader(
-        "materials/glass.wgsl",
-        sample="glass_sample(material.color, material.ior, wi, u_lobe)",
-        eval="glass_eval(wi, wo)",
-        pdf="glass_pdf(wi, wo)",
-    ),
-}
-ALL_KINDS = frozenset(MaterialKind)
+def material_kind_constants() -> list[str]:
+    """`const MATERIAL_<NAME>: u32 = <kind>u;` for every registered kind."""
+    return [f"const MATERIAL_{cls.kind_name}: u32 = {cls.kind}u;" for cls in material_classes()]
 
 
-def shaded_kinds(kinds: Iterable[MaterialKind]) -> tuple[MaterialKind, ...]:
-    """The kinds among `kinds` that have BSDF code, in id order: the key pipelines are cached by."""
-    return tuple(sorted(set(kinds) & MATERIAL_SHADERS.keys()))
+def shaded_kinds(kinds: Iterable[int]) -> tuple[int, ...]:
+    """`kinds` in id order, each a registered kind: what the generated code covers, and the key
+    pipelines are cached by."""
+    return tuple(material_class(kind).kind for kind in sorted(set(kinds)))
 
 
-def material_dispatch(kinds: Iterable[MaterialKind] = ALL_KINDS) -> str:
+def _function(signature: str, cases: dict[type[Material], str], default: str) -> list[str]:
+    """`fn signature { switch material.kind { ... } }` returning each class's expression, kinds that
+    share one in one case, `default` for every other kind."""
+    grouped: dict[str, list[str]] = {}
+    for cls, expression in cases.items():
+        if expression != default:
+            grouped.setdefault(expression, []).append(f"MATERIAL_{cls.kind_name}")
+    lines = [f"        case {', '.join(labels)}: {{ return {expression}; }}" for expression, labels in grouped.items()]
+    return [
+        f"fn {signature} {{",
+        "    switch material.kind {",
+        *lines,
+        f"        default: {{ return {default}; }}",
+        "    }",
+        "}",
+    ]
+
+
+def material_dispatch(kinds: Iterable[int] = ALL_KINDS) -> str:
     """WGSL for GENERATED_MATERIALS: includes and switches for `kinds` only."""
-    used = [MATERIAL_SHADERS[kind] for kind in shaded_kinds(kinds)]
-    names = [kind.name for kind in shaded_kinds(kinds)]
-
-    def switch(call: str, miss: str) -> list[str]:
-        cases = [
-            f"        case MATERIAL_{name}: {{ return {getattr(shader, call)}; }}"
-            for name, shader in zip(names, used, strict=True)
-        ]
-        return ["    switch material.kind {", *cases, f"        default: {{ return {miss}; }}", "    }"]
-
+    classes = [material_class(kind) for kind in shaded_kinds(kinds)]
+    shaded = [cls for cls in classes if cls.shader is not None]
     lines = [
-        f"// Generated by wgputrace.gpu.material_dispatch for: {', '.join(names) or 'no reflecting materials'}.",
+        f"// Generated by wgputrace.gpu.material_dispatch for: {', '.join(c.kind_name for c in classes) or 'no materials'}.",
         '//! include "generated/structs.wgsl"',
         '//! include "bsdf_sample.wgsl"',
-        *(f'//! include "{shader.file}"' for shader in used),
-        "fn material_sample(material: Material, wi: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> BsdfSample {",
-        *switch("sample", "no_bsdf_sample()"),
-        "}",
-        "fn material_eval(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {",
-        *switch("eval", "vec3<f32>(0.0)"),
-        "}",
-        "fn material_pdf(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> f32 {",
-        *switch("pdf", "0.0"),
-        "}",
+        *(f'//! include "{cls.shader.file}"' for cls in shaded),
+        *_function(
+            "material_sample(material: Material, wi: vec3<f32>, u: vec2<f32>, u_lobe: f32) -> BsdfSample",
+            {cls: cls.shader.sample for cls in shaded},
+            "no_bsdf_sample()",
+        ),
+        *_function(
+            "material_eval(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32>",
+            {cls: cls.shader.eval for cls in shaded},
+            "vec3<f32>(0.0)",
+        ),
+        *_function(
+            "material_pdf(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> f32",
+            {cls: cls.shader.pdf for cls in shaded},
+            "0.0",
+        ),
+        *_function(
+            "material_is_two_sided(material: Material) -> bool",
+            {cls: "true" if cls.two_sided else "false" for cls in shaded},
+            "false",
+        ),
+        *_function(
+            "material_samples_lights(material: Material) -> bool",
+            {cls: cls.light_sampling() for cls in shaded},
+            "false",
+        ),
+        *_function("material_reflects(material: Material) -> bool", {cls: "true" for cls in shaded}, "false"),
+        *_function(
+            "material_emits(material: Material) -> bool",
+            {cls: "true" for cls in classes if cls.emission is not None},
+            "false",
+        ),
+        *_function(
+            "material_emitted(material: Material) -> vec3<f32>",
+            {cls: cls.emission for cls in classes if cls.emission is not None},
+            "vec3<f32>(0.0)",
+        ),
     ]
     return "\n".join(lines) + "\n"

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from ..bvh.wide import STACK_SIZE as WIDE_STACK_SIZE
 from ..bvh.wide import WIDE_COUNT_BITS, WIDE_EMPTY, WIDE_LEAF, WIDE_LEAF_MAX
-from ..scene.materials import MaterialKind
 from .layout import ALL_STRUCTS
-from .material_dispatch import GENERATED_MATERIALS, material_dispatch
+from .material_dispatch import GENERATED_MATERIALS, material_dispatch, material_kind_constants
 from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from .texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
 
@@ -45,7 +44,7 @@ def generated_structs() -> str:
     """Struct definitions and shared constants, made from the Python definitions."""
     parts = ["// Generated from wgputrace.gpu.layout and wgputrace.scene: host/GPU structs and ids."]
     parts += [struct.wgsl() for struct in ALL_STRUCTS]
-    parts += [f"const MATERIAL_{kind.name}: u32 = {int(kind)}u;" for kind in MaterialKind]
+    parts += material_kind_constants()
     parts += [f"const INTEGRATOR_{name.upper()}: u32 = {index}u;" for index, name in enumerate(INTEGRATORS)]
     parts.append(f"const NO_TRIANGLE: u32 = {NO_TRIANGLE:#x}u;")
     parts.append(f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;")

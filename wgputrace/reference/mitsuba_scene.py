@@ -22,7 +22,8 @@ from types import ModuleType
 
 import numpy as np
 
-from wgputrace.scene import MaterialKind, Scene
+from wgputrace.scene import Material, Scene
+from wgputrace.scene.materials.material import mitsuba_rgb
 
 DEBIAN_LIBLLVM = Path("/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
 LLVM_VARIANT = "llvm_ad_rgb"
@@ -75,34 +76,23 @@ def load_mitsuba(variant: str) -> ModuleType:
     return mi
 
 
-def rgb(value) -> dict:
-    return {"type": "rgb", "value": [float(v) for v in value]}
+def bsdf_dict(material: Material) -> dict:
+    """Our material as a Mitsuba BSDF: its class's mapping (material.py), in `twosided` where ours
+    is two-sided; black where it reflects nothing (an emitter)."""
+    if material.shader is None:
+        return {"type": "diffuse", "reflectance": mitsuba_rgb((0.0, 0.0, 0.0))}
+    bsdf = material.mitsuba_bsdf()
+    return {"type": "twosided", "bsdf": bsdf} if material.two_sided else bsdf
 
 
-def bsdf_dict(material) -> dict:
-    """Our material as a Mitsuba BSDF (emitters get a black one)."""
-    if material.kind == MaterialKind.DIFFUSE:
-        return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb(material.color)}}
-    if material.kind == MaterialKind.GLOSSY:
-        conductor = {
-            "type": "roughconductor",
-            "material": "none",
-            "distribution": "ggx",
-            "sample_visible": True,
-            "alpha": material.roughness,
-            "specular_reflectance": rgb(material.color),
-        }
-        return {"type": "twosided", "bsdf": conductor}
-    if material.kind == MaterialKind.GLASS:
-        return {
-            "type": "dielectric",
-            "int_ior": material.ior,
-            "ext_ior": 1.0,
-            "specular_transmittance": rgb(material.color),
-        }
-    if material.kind == MaterialKind.EMITTER:
-        return {"type": "diffuse", "reflectance": rgb((0.0, 0.0, 0.0))}
-    raise ValueError(f"material {material.name!r}: no Mitsuba mapping for kind {material.kind!r}")
+def emitter_dict(material: Material) -> dict | None:
+    """Our material's emission as a Mitsuba emitter (of one side), None where it emits nothing."""
+    if material.emission is None:
+        return None
+    emitter = material.mitsuba_emitter()
+    if emitter is None:
+        raise ValueError(f"material {material.name!r} ({type(material).__name__}) emits but has no Mitsuba emitter")
+    return emitter
 
 
 def mitsuba_mesh(mi: ModuleType, name: str, triangles: np.ndarray, bsdf: dict, emitter: dict | None):
@@ -139,9 +129,8 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
     shapes = {}
     for index, material in enumerate(arrays.materials):
         triangles = arrays.vertices[arrays.material_index == index]
-        bsdf = bsdf_dict(material)
-        if material.kind == MaterialKind.EMITTER:
-            emitter = {"type": "area", "radiance": rgb(material.radiance)}
+        bsdf, emitter = bsdf_dict(material), emitter_dict(material)
+        if emitter is not None:
             shapes[f"{index}_front"] = mitsuba_mesh(mi, f"{material.name}_front", triangles, bsdf, emitter)
             back = behind(triangles, EMITTER_BACK_OFFSET_RELATIVE * magnitude)
             shapes[f"{index}_back"] = mitsuba_mesh(mi, f"{material.name}_back", back, bsdf, emitter)

@@ -5,6 +5,9 @@ luminance of its radiance (the factor pi of a Lambertian emitter is common to al
 then a point uniform on it. The density of a light point per unit area is then
 luminance(L) / total_weight for every light, whatever its area: the shader needs no per-triangle
 table to evaluate it, only the radiance it already reads and `total_weight`.
+
+Which materials emit, and what, their classes say (scene/materials/material.py: `emission`,
+`record_radiance`): a new emitting kind becomes a light with no change here.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gpu.layout import LIGHT
-from ..scene import MaterialKind
+from ..scene import material_classes
 
 # Rec. 709 / sRGB luminance weights; the shaders use the same ones (shaders/light_sampling.wgsl).
 LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
@@ -51,12 +54,32 @@ def alias_table(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return threshold, alias
 
 
+def emitting_kinds() -> tuple[int, ...]:
+    """The material kinds that emit light."""
+    return tuple(cls.kind for cls in material_classes() if cls.emission is not None)
+
+
+def emitting(materials: np.ndarray) -> np.ndarray:
+    """Which of the MATERIAL records `materials` emit light."""
+    return np.isin(materials["kind"], emitting_kinds())
+
+
+def emitted_radiance(materials: np.ndarray) -> np.ndarray:
+    """(n, 3) float64: the radiance each MATERIAL record emits, as the shaders read it from the
+    record (its class's `emission`); zero where it emits nothing."""
+    radiance = np.zeros((len(materials), 3))
+    for cls in material_classes():
+        if cls.emission is not None:
+            rows = materials["kind"] == cls.kind
+            radiance[rows] = cls.record_radiance(materials[rows])
+    return radiance
+
+
 def light_table(triangles: np.ndarray, materials: np.ndarray) -> LightTable:
     """Light entries for the emissive triangles of GPU `triangles` records (TRIANGLE.dtype), in the
     triangles' GPU order, with the materials' GPU records (MATERIAL.dtype)."""
-    emissive = materials["kind"][triangles["material"]] == int(MaterialKind.EMITTER)
-    index = np.flatnonzero(emissive)
-    radiance = materials["color"][triangles["material"][index]].astype(np.float64)
+    index = np.flatnonzero(emitting(materials)[triangles["material"]])
+    radiance = emitted_radiance(materials)[triangles["material"][index]]
     v0, v1, v2 = (triangles[corner][index].astype(np.float64) for corner in ("v0", "v1", "v2"))
     area = 0.5 * np.linalg.norm(np.cross(v1 - v0, v2 - v0), axis=1)
     weight = area * (radiance @ LUMINANCE_WEIGHTS)

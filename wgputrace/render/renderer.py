@@ -32,7 +32,7 @@ from ..gpu.pipeline import (
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from ..gpu.texels import TrackedTexels, require_texels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
-from ..scene import Camera, MaterialKind, Scene
+from ..scene import Camera, Scene
 from .lights import LightTable
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
@@ -57,7 +57,7 @@ def path_tracer_kernel(
     overrides: dict[str, float] | None = None,
     *,
     rows: bool = False,
-    material_kinds: frozenset[MaterialKind] = ALL_KINDS,
+    material_kinds: frozenset[int] = ALL_KINDS,
     count_rays: bool = False,
     stack_size: int = BVH_STACK_SIZE,
 ) -> ComputeKernel:

@@ -27,10 +27,11 @@ class SceneRecords:
 
 
 def material_records(materials: list[Material]) -> np.ndarray:
+    """MATERIAL records: each material's kind, and the fields its class fills."""
     records = MATERIAL.zeros(len(materials))
-    for record, material in zip(records, materials, strict=False):
-        color, alpha, ior = material.gpu_parameters()
-        record["color"], record["kind"], record["alpha"], record["ior"] = color, int(material.kind), alpha, ior
+    for record, material in zip(records, materials, strict=True):
+        record["kind"] = material.kind
+        material.fill_record(record)
     return records
 
 

@@ -27,9 +27,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..bvh import BVH, Refitter
-from ..scene import MaterialKind, Scene, Shape
+from ..scene import Scene, Shape
 from ..scene.scene import zero_area
-from .lights import LightTable, light_table
+from .lights import LightTable, emitting, light_table
 from .scene_buffers import (
     SceneRecords,
     build_acceleration,
@@ -115,7 +115,7 @@ class SceneMirror:
             changes = _union(changes, self._reassign_materials())
         else:
             changes = _union(changes, self._update_material_records())
-        emitter = self.materials["kind"] == int(MaterialKind.EMITTER)
+        emitter = emitting(self.materials)
         if (
             reassigned
             or emitter[self.triangles["material"][changes.get(TRIANGLES, [])]].any()

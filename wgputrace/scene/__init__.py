@@ -1,22 +1,16 @@
 """Scene description in pure numpy (never imports wgpu): shapes, materials, camera."""
 
+from . import materials
 from .camera import Camera
 from .cornell import cornell_box
 from .errors import SceneError
-from .materials import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, MaterialKind
+from .materials import *  # noqa: F403 (the base, its error and every material kind, by module discovery)
 from .scene import DegenerateTrianglesWarning, Scene, TriangleArrays
 from .shapes import Shape, make_box, make_icosphere, make_plane, model_matrix
 
 __all__ = [
     "Camera",
     "DegenerateTrianglesWarning",
-    "Diffuse",
-    "Emitter",
-    "Glass",
-    "Glossy",
-    "Material",
-    "MaterialError",
-    "MaterialKind",
     "Scene",
     "SceneError",
     "Shape",
@@ -26,4 +20,5 @@ __all__ = [
     "make_icosphere",
     "make_plane",
     "model_matrix",
+    *materials.__all__,
 ]

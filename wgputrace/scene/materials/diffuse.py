@@ -4,6 +4,7 @@
 |-----------|----------------|---------|-------------------------------------------|
 | color     | RGB in [0, 1]  | 0.5     | albedo: the fraction of light reflected   |
 
+GPU record: color. WGSL: shaders/materials/diffuse.wgsl.
 Mitsuba 3: `twosided` `diffuse` with `reflectance` = color.
 """
 
@@ -11,17 +12,26 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialKind, check_color
+from .material import Material, MaterialShader, check_color, mitsuba_rgb
 
 
 @dataclass(eq=False)
 class Diffuse(Material):
     color: tuple[float, float, float] = (0.5, 0.5, 0.5)
 
-    kind = MaterialKind.DIFFUSE
+    kind = 2
+    shader = MaterialShader(
+        "materials/diffuse.wgsl",
+        sample="diffuse_sample(material.color, wi, u)",
+        eval="diffuse_eval(material.color, wi, wo)",
+        pdf="diffuse_pdf(wi, wo)",
+    )
 
     def checked_parameters(self) -> dict[str, object]:
         return {"color": check_color(self.name, "color", self.color, upper=1.0)}
 
-    def gpu_parameters(self):
-        return self.color, 0.0, 1.0
+    def fill_record(self, record) -> None:
+        record["color"] = self.color
+
+    def mitsuba_bsdf(self) -> dict:
+        return {"type": "diffuse", "reflectance": mitsuba_rgb(self.color)}

@@ -7,6 +7,7 @@
 
 The radiance (each component of color x emittance) is at most RADIANCE_MAX.
 
+GPU record: color = the radiance. No WGSL file: it has no BSDF, and a path ends on it.
 Mitsuba 3: an `area` emitter with radiance color x emittance on each side, and a black BSDF.
 """
 
@@ -14,7 +15,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialError, MaterialKind, check_color, check_number
+import numpy as np
+
+from .material import Material, MaterialError, check_color, check_number, mitsuba_rgb
 
 # Far above any physical source (the sun's radiance is ~2e7 W/(sr m^2)), and low enough that the
 # float32 sums of billions of samples per pixel on the GPU stay finite (float32 ends at 3.4e38).
@@ -26,7 +29,8 @@ class Emitter(Material):
     color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     emittance: float = 1.0
 
-    kind = MaterialKind.EMITTER
+    kind = 1
+    emission = "material.color"
 
     def checked_parameters(self) -> dict[str, object]:
         color = check_color(self.name, "color", self.color, upper=None)
@@ -44,5 +48,12 @@ class Emitter(Material):
         r, g, b = self.color
         return (r * self.emittance, g * self.emittance, b * self.emittance)
 
-    def gpu_parameters(self):
-        return self.radiance, 0.0, 1.0
+    def fill_record(self, record) -> None:
+        record["color"] = self.radiance
+
+    @classmethod
+    def record_radiance(cls, records: np.ndarray) -> np.ndarray:
+        return records["color"].astype(np.float64)
+
+    def mitsuba_emitter(self) -> dict:
+        return {"type": "area", "radiance": mitsuba_rgb(self.radiance)}

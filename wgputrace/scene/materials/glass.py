@@ -6,7 +6,8 @@
 | ior       | float > 0     | 1.5     | index of refraction inside; outside is 1                     |
 
 "Inside" is the side opposite the triangle's normal cross(v1 - v0, v2 - v0): closed meshes must
-wind their triangles counter-clockwise seen from outside.
+wind their triangles counter-clockwise seen from outside. Both lobes are deltas.
+GPU record: color, ior. WGSL: shaders/materials/glass.wgsl.
 Mitsuba 3: `dielectric` with `int_ior` = ior, `ext_ior` = 1, `specular_transmittance` = color.
 """
 
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialKind, check_color, check_number
+from .material import Material, MaterialShader, check_color, check_number, mitsuba_rgb
 
 # An ior far outside every real material is almost always a unit or typing mistake.
 IOR_MAX = 100.0
@@ -25,7 +26,15 @@ class Glass(Material):
     color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     ior: float = 1.5
 
-    kind = MaterialKind.GLASS
+    kind = 3
+    shader = MaterialShader(
+        "materials/glass.wgsl",
+        sample="glass_sample(material.color, material.ior, wi, u_lobe)",
+        eval="glass_eval(wi, wo)",
+        pdf="glass_pdf(wi, wo)",
+    )
+    delta = True
+    two_sided = False
 
     def checked_parameters(self) -> dict[str, object]:
         return {
@@ -33,5 +42,13 @@ class Glass(Material):
             "ior": check_number(self.name, "ior", self.ior, low=0.0, high=IOR_MAX, low_inclusive=False),
         }
 
-    def gpu_parameters(self):
-        return self.color, 0.0, self.ior
+    def fill_record(self, record) -> None:
+        record["color"], record["ior"] = self.color, self.ior
+
+    def mitsuba_bsdf(self) -> dict:
+        return {
+            "type": "dielectric",
+            "int_ior": self.ior,
+            "ext_ior": 1.0,
+            "specular_transmittance": mitsuba_rgb(self.color),
+        }

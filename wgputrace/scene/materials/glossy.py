@@ -6,6 +6,8 @@
 | roughness | float [0, 1]  | 0.1     | GGX alpha (not squared); 0 is clamped to a near-mirror          |
 
 Sampling draws visible normals (Heitz 2018); shadowing is Smith's separable G1(wi) G1(wo).
+Lobes narrower than GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS (glossy.wgsl) skip light sampling.
+GPU record: color, alpha = roughness. WGSL: shaders/materials/glossy.wgsl.
 Mitsuba 3: `twosided` `roughconductor`, `material`=`none`, `distribution`=`ggx`,
 `alpha` = roughness, `specular_reflectance` = color, `sample_visible` = true.
 """
@@ -14,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialKind, check_color, check_number
+from .material import Material, MaterialShader, check_color, check_number, mitsuba_rgb
 
 
 @dataclass(eq=False)
@@ -22,7 +24,14 @@ class Glossy(Material):
     color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     roughness: float = 0.1
 
-    kind = MaterialKind.GLOSSY
+    kind = 4
+    shader = MaterialShader(
+        "materials/glossy.wgsl",
+        sample="glossy_sample(material.color, material.alpha, wi, u)",
+        eval="glossy_eval(material.color, material.alpha, wi, wo)",
+        pdf="glossy_pdf(material.alpha, wi, wo)",
+    )
+    samples_lights = "material.alpha >= GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS"
 
     def checked_parameters(self) -> dict[str, object]:
         return {
@@ -30,5 +39,15 @@ class Glossy(Material):
             "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
         }
 
-    def gpu_parameters(self):
-        return self.color, self.roughness, 1.0
+    def fill_record(self, record) -> None:
+        record["color"], record["alpha"] = self.color, self.roughness
+
+    def mitsuba_bsdf(self) -> dict:
+        return {
+            "type": "roughconductor",
+            "material": "none",
+            "distribution": "ggx",
+            "sample_visible": True,
+            "alpha": self.roughness,
+            "specular_reflectance": mitsuba_rgb(self.color),
+        }

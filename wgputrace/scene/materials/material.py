@@ -1,4 +1,24 @@
-"""The base of every material: a name, a kind that selects the WGSL code, parameter checks.
+"""The base of every material and the registry of material kinds.
+
+A material kind is one class in one module of this package, plus one WGSL file under
+shaders/materials/ if it reflects light, and nothing else: like a Mitsuba 3 BSDF plugin, the class
+is the whole descriptor, and like pbrt-v4's `BxDF::Flags()` it answers what the integrator asks.
+
+| what                                    | on the class                     | driven from it                                  |
+|-----------------------------------------|----------------------------------|-------------------------------------------------|
+| the id the GPU switches on              | `kind`                           | `MATERIAL_<NAME>` constants, the records' kind  |
+| parameters and their checks             | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)          |
+| its GPU record                          | `fill_record`                    | render/scene_buffers.py `material_records`      |
+| its BSDF code (sample, eval, pdf)       | `shader`                         | gpu/material_dispatch.py: generated dispatch    |
+| every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
+| can a light sample land in its lobe?    | `samples_lights` (WGSL)          | path_tracer.wgsl's next-event estimation        |
+| the same BSDF seen from both sides?     | `two_sided`                      | bsdf.wgsl; the Mitsuba `twosided` wrapper       |
+| the radiance it emits                   | `emission` (WGSL), `record_radiance` | path_tracer.wgsl, light_sampling.wgsl, render/lights.py |
+| its Mitsuba 3 equivalent                | `mitsuba_bsdf`, `mitsuba_emitter` | reference/mitsuba_scene.py                     |
+
+A class registers itself as a kind when its body sets `kind`; subclassing a kind without setting
+one makes a variant of that kind. Emission shines from both sides of a triangle; a kind without
+`shader` reflects nothing, and a path ends on it.
 
 Parameters are plain attributes. Assigning one re-runs the material's checks (a bad value raises
 MaterialError and leaves the material as it was) and bumps `version`, which is how a Renderer
@@ -8,20 +28,14 @@ knows which material record to upload again.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, fields
-from enum import IntEnum
 from typing import ClassVar
 
 import numpy as np
 
-
-class MaterialKind(IntEnum):
-    """Material ids shared with the shaders (trac0r's numbering: 1 emissive ... 4 glossy)."""
-
-    EMITTER = 1
-    DIFFUSE = 2
-    GLASS = 3
-    GLOSSY = 4
+# Kind ids are u32 on the GPU; 0 is the kind of a zeroed record, which no material has.
+KIND_MAX = 2**32 - 1
 
 
 class MaterialError(ValueError):
@@ -72,13 +86,92 @@ def check_number(
     return number
 
 
+def mitsuba_rgb(value) -> dict:
+    """An RGB value as a Mitsuba 3 dict entry."""
+    return {"type": "rgb", "value": [float(v) for v in value]}
+
+
+@dataclass(frozen=True)
+class MaterialShader:
+    """A kind's BSDF code: its file under shaders/ and the WGSL calls the generated dispatch makes
+    into it. The calls see `material` (its Material record), `wi`, `wo`, `u` (vec2) and `u_lobe`."""
+
+    file: str
+    sample: str
+    eval: str
+    pdf: str
+
+
+_KINDS: dict[int, type[Material]] = {}
+
+
+def material_classes() -> tuple[type[Material], ...]:
+    """Every registered material kind, in id order."""
+    return tuple(_KINDS[kind] for kind in sorted(_KINDS))
+
+
+def material_class(kind: int) -> type[Material]:
+    """The class registered for `kind`."""
+    if kind not in _KINDS:
+        raise ValueError(f"no material kind {kind} is registered; the kinds are {_registered()}")
+    return _KINDS[kind]
+
+
+def _registered() -> str:
+    return ", ".join(f"{cls.kind} ({cls.__name__})" for cls in material_classes())
+
+
+def _register(cls: type[Material]) -> None:
+    where = f"{cls.__module__}.{cls.__qualname__}"
+    kind = cls.kind
+    if isinstance(kind, bool) or not isinstance(kind, int) or not 1 <= kind <= KIND_MAX:
+        raise TypeError(f"{where}: kind must be an int in [1, {KIND_MAX}], got {kind!r}")
+    taken = _KINDS.get(kind)
+    if taken is not None:
+        raise TypeError(
+            f"{where}: material kind {kind} is already {taken.__module__}.{taken.__qualname__}'s; "
+            f"the kinds are {_registered()}"
+        )
+    cls.kind_name = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", cls.__name__).upper()
+    namesake = next((other for other in _KINDS.values() if other.kind_name == cls.kind_name), None)
+    if namesake is not None:
+        raise TypeError(
+            f"{where}: WGSL constant MATERIAL_{cls.kind_name} is already kind {namesake.kind} "
+            f"({namesake.__module__}.{namesake.__qualname__}); rename the class"
+        )
+    if cls.shader is not None and not isinstance(cls.shader, MaterialShader):
+        raise TypeError(f"{where}: shader must be a MaterialShader or None, got {cls.shader!r}")
+    if cls.emission is not None and cls.record_radiance.__func__ is Material.record_radiance.__func__:
+        raise TypeError(f"{where}: declares an emission but no record_radiance for the light table")
+    _KINDS[kind] = cls
+
+
 @dataclass(eq=False)
 class Material:
     """Materials compare by identity: two triangles share a material only if they share the object."""
 
     name: str
 
-    kind: ClassVar[MaterialKind]
+    # the id the GPU switches on; trac0r's numbering for the first four (emitter 1 ... glossy 4)
+    kind: ClassVar[int]
+    # the class name in upper snake case, set on registration: WGSL names the kind MATERIAL_<kind_name>
+    kind_name: ClassVar[str]
+    # its BSDF code; None: it reflects nothing
+    shader: ClassVar[MaterialShader | None] = None
+    # every lobe is a delta (mirror, refraction): no light sample lands in one
+    delta: ClassVar[bool] = False
+    # WGSL bool over `material`: can a light sample land in the lobe, so that next-event estimation
+    # pays at this vertex? None: no for a delta lobe, yes otherwise
+    samples_lights: ClassVar[str | None] = None
+    # the BSDF is the same seen from below (Mitsuba's `twosided`): bsdf.wgsl mirrors wi to +z first
+    two_sided: ClassVar[bool] = True
+    # WGSL vec3<f32> over `material`: the radiance it emits; None: it emits nothing
+    emission: ClassVar[str | None] = None
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        if "kind" in cls.__dict__:
+            _register(cls)
 
     def __post_init__(self) -> None:
         for parameter, value in self.checked_parameters().items():
@@ -106,10 +199,33 @@ class Material:
     def parameter_names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in fields(cls) if f.name != "name")
 
+    @classmethod
+    def light_sampling(cls) -> str:
+        """`samples_lights`, or its default: WGSL "false" for a delta lobe, "true" otherwise."""
+        if cls.samples_lights is not None:
+            return cls.samples_lights
+        return "false" if cls.delta else "true"
+
+    @classmethod
+    def record_radiance(cls, records: np.ndarray) -> np.ndarray:
+        """(n, 3) float64: what `emission` gives for MATERIAL `records` of this kind, as the light
+        table weighs lights by it (render/lights.py). Needed where `emission` is set."""
+        raise NotImplementedError(f"{cls.__name__} emits nothing")
+
     def checked_parameters(self) -> dict[str, object]:
         """Every parameter validated and normalized, or MaterialError naming the first bad one."""
         raise NotImplementedError
 
-    def gpu_parameters(self) -> tuple[tuple[float, float, float], float, float]:
-        """(color, alpha, ior) as the shaders read them; see shaders/materials/*.wgsl."""
+    def fill_record(self, record: np.void) -> None:
+        """Write the parameters into `record`, one MATERIAL record (gpu/layout.py), by field name, as
+        `shader` and `emission` read them. `kind` is written by the caller; other fields stay zero."""
         raise NotImplementedError
+
+    def mitsuba_bsdf(self) -> dict:
+        """The Mitsuba 3 BSDF dict of one side where `two_sided` (the exporter wraps it in `twosided`).
+        Needed where `shader` is set."""
+        raise NotImplementedError(f"{type(self).__name__} reflects nothing")
+
+    def mitsuba_emitter(self) -> dict | None:
+        """The Mitsuba 3 emitter dict of one side (the exporter adds the back); None: no emitter."""
+        return None
