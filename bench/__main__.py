@@ -4,7 +4,9 @@
     python -m bench --quick               (about 3 minutes: smaller images, fewer repeats and counts)
     python -m bench --gpu                 (on a GPU: more samples per timed run, which lasts milliseconds there)
     python -m bench --only scaling bvh_build
-    wgputrace bench [same options]        (from a checkout: bench/ is not in the wheel)
+
+Run from the checkout's root (bench/ is not in the wheel); each benchmark also runs alone as
+`python -m bench.<name>`.
 
 Each benchmark validates its output before timing it and writes its own JSON (and chart) to
 bench/results/; the suite adds bench/results/suite_<adapter>.json with the summary table: every
@@ -18,7 +20,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import importlib.util
 import json
 import sys
 import time
@@ -27,10 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import RESULTS_DIR, SETTINGS_KEYS, load_average, result_stem, write_result  # noqa: E402
+from bench.common import RESULTS_DIR, SETTINGS_KEYS, Run, mitsuba_missing, result_stem, write_result
 
 
 @dataclass(frozen=True)
@@ -132,10 +130,6 @@ def traversal_ceiling_targets(result: dict) -> list[Target]:
             free >= 1,
         ),
     ]
-
-
-def mitsuba_missing() -> str | None:
-    return None if importlib.util.find_spec("mitsuba") else "mitsuba is not importable (pip install mitsuba)"
 
 
 @dataclass(frozen=True)
@@ -244,7 +238,7 @@ def main(argv: list[str] | None = None) -> int:
     presets.add_argument("--gpu", action="store_true", help="more samples per timed run, for a GPU")
     parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
     args = parser.parse_args(argv)
-    started, load_before = time.perf_counter(), load_average()
+    suite = Run()
     # --only updates its benchmarks' rows and keeps the others' from earlier runs (each row says when)
     previous = result_stem("suite", args.out).with_suffix(".json")
     runs = json.loads(previous.read_text())["benchmarks"] if args.only and previous.exists() else {}
@@ -254,16 +248,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"== {benchmark.name}", file=sys.stderr, flush=True)
         preset = "quick" if args.quick else "gpu" if args.gpu else None
         runs[benchmark.name] = {**run(benchmark, preset, args.out), "preset": preset}
-    summary = {
-        # each benchmark records its own; see "benchmarks"
-        **dict.fromkeys(SETTINGS_KEYS),
-        "load_average_before_after": [load_before, load_average()],
-        "benchmarks": runs,
-        "wall_seconds": time.perf_counter() - started,
-    }
-    written = write_result("suite", summary, out=args.out)
+    # each benchmark records its own settings; see "benchmarks"
+    written = write_result("suite", {**dict.fromkeys(SETTINGS_KEYS), "benchmarks": runs}, out=args.out, run=suite)
     print(table(runs))
-    print(f"suite: {summary['wall_seconds']:.0f} s; wrote {written['json']}")
+    print(f"suite: {json.loads(written['json'].read_text())['wall_seconds']:.0f} s; wrote {written['json']}")
     return 1 if any(entry["outcome"] == "failed" for entry in runs.values()) else 0
 
 

@@ -1,9 +1,9 @@
 """A 1,000,000-triangle mesh from file to picture: load, BVH build, GPU upload, render, and a refit.
 
-    python bench/big_mesh.py                  (or: python -m bench.big_mesh)
-    python bench/big_mesh.py --cells 708 --size 256x256 --spp 1
+    python -m bench.big_mesh
+    python -m bench.big_mesh --cells 708 --size 256x256 --spp 1
 
-The mesh is a wavy height field of 2 x cells^2 triangles (708 cells: 1,002,528 triangles), written
+The mesh is bench/common.py's wavy height field of 2 x cells^2 triangles (708 cells: 1,002,528 triangles), written
 once as binary PLY (through trimesh) and as OBJ (our own reader), lit by a lamp above it. Each
 file is loaded into a Scene and checked (triangle count, finite vertices); the PLY scene is then
 rendered: the Renderer's setup is split into the BVH build and the rest (buffers, upload,
@@ -14,7 +14,6 @@ moved and the renderer refits (the timing of one update). Load times are the med
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import sys
 import tempfile
@@ -23,26 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import write_result  # noqa: E402
-from wgputrace import Camera, Emitter, Renderer, load_scene, make_plane, model_matrix  # noqa: E402
-from wgputrace.cli import parse_size  # noqa: E402
-
-CELLS = 708  # 2 x 708^2 = 1,002,528 triangles
-
-
-def height_field(cells: int) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices ((cells + 1)^2, 3) and faces (2 cells^2, 3) of a wavy sheet over [-1, 1]^2, facing +y."""
-    x, z = np.meshgrid(np.linspace(-1, 1, cells + 1), np.linspace(-1, 1, cells + 1), indexing="ij")
-    y = 0.1 * np.sin(9 * x) * np.cos(7 * z)
-    vertices = np.stack([x, y, z], axis=-1).reshape(-1, 3).astype(np.float32)
-    i, j = np.meshgrid(np.arange(cells), np.arange(cells), indexing="ij")
-    a = (i * (cells + 1) + j).ravel()
-    b, c, d = a + 1, a + cells + 1, a + cells + 2
-    faces = np.concatenate([np.stack([a, c, b], 1), np.stack([b, c, d], 1)])
-    return vertices, faces
+from bench.common import BIG_MESH_CELLS, Run, argument_parser, height_field, image_failures, log, parse, write_result
+from wgputrace import Camera, Emitter, Renderer, load_scene, make_plane, model_matrix
 
 
 def write_files(directory: Path, vertices: np.ndarray, faces: np.ndarray) -> dict[str, Path]:
@@ -57,16 +38,19 @@ def write_files(directory: Path, vertices: np.ndarray, faces: np.ndarray) -> dic
     return {"ply": ply, "obj": obj}
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--cells", type=int, default=CELLS)
-    parser.add_argument("--size", type=parse_size, default=(256, 256))
-    parser.add_argument("--spp", type=int, default=1)
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args()
+def main(argv: list[str] | None = None) -> int:
+    parser = argument_parser(__doc__, size=(256, 256), spp=1, repeats=3)
+    parser.add_argument(
+        "--cells",
+        type=int,
+        default=BIG_MESH_CELLS,
+        help=f"a height field of 2 cells^2 triangles (default {BIG_MESH_CELLS})",
+    )
+    args = parse(parser, argv, "cells")
+    run = Run()
     width, height = args.size
     vertices, faces = height_field(args.cells)
-    result = {"benchmark": "big_mesh", "triangles_in_file": len(faces), "loads": {}}
+    result = {"triangles_in_file": len(faces), "loads": {}}
     scenes = {}
     with tempfile.TemporaryDirectory() as directory:
         files = write_files(Path(directory), vertices, faces)
@@ -76,10 +60,13 @@ def main() -> None:
                 start = time.perf_counter()
                 scene = load_scene(path)
                 seconds.append(time.perf_counter() - start)
-            assert scene.triangle_count == len(faces) and np.all(np.isfinite(scene.shapes[0].world_vertices))
+            if scene.triangle_count != len(faces) or not np.all(np.isfinite(scene.shapes[0].world_vertices)):
+                raise SystemExit(
+                    f"{kind}: {scene.triangle_count} triangles loaded of {len(faces)}, or non-finite corners"
+                )
             scenes[kind] = scene
             result["loads"][kind] = {"bytes": path.stat().st_size, "median_seconds": statistics.median(seconds)}
-            print(f"load {kind}: {path.stat().st_size / 1e6:.1f} MB in {statistics.median(seconds):.2f} s")
+            log(f"load {kind}: {path.stat().st_size / 1e6:.1f} MB in {statistics.median(seconds):.2f} s")
 
     scene = scenes["ply"]
     lamp = make_plane((0, 1.5, 0), (np.pi, 0, 0), (0.6, 0.6), Emitter("lamp", emittance=12.0), "lamp")
@@ -90,9 +77,9 @@ def main() -> None:
     setup_seconds = time.perf_counter() - start
     build_seconds = renderer.records.acceleration.build_seconds
     renderer.render(1)  # validate (and compile) before timing
-    image = renderer.image()
-    if not (np.all(np.isfinite(image)) and image.mean() > 0):
-        raise SystemExit(f"the image is not valid: finite {np.all(np.isfinite(image))}, mean {image.mean()}")
+    failures = image_failures(renderer.image(), renderer.dropped_samples, (1e-3, np.inf))
+    if failures:
+        raise SystemExit(f"the image is not valid, nothing timed: {failures}")
     renderer.reset()
     render_stats = renderer.render(args.spp)
     start = time.perf_counter()
@@ -136,8 +123,9 @@ def main() -> None:
     )
     print(f"render {args.spp} spp at {width}x{height}: {render_stats.render_seconds:.2f} s")
     print(f"move the mesh: update {refit_seconds:.2f} s, uploads {result['move_mesh']['uploads']}")
-    print(f"wrote {write_result('big_mesh', result)['json']}")
+    write_result("big_mesh", result, out=args.out, run=run)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

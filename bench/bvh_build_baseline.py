@@ -1,13 +1,13 @@
 """The BVH builder against the builder of an earlier git revision, in one run: build time, SAH
 cost, and the render time per sample of their trees.
 
-    python bench/bvh_build_baseline.py                (or: python -m bench.bvh_build_baseline)
-    python bench/bvh_build_baseline.py --cells 224 --repeats 3 --baseline 82b407f
+    python -m bench.bvh_build_baseline
+    python -m bench.bvh_build_baseline --cells 224 --repeats 3 --baseline 82b407f
 
 The baseline is wgputrace/bvh/binned_sah.py as it was at `--baseline` (default 82b407f, the last
 revision before the per-triangle records), loaded from git. Both builders build every scene
 (the 1,002,528-triangle height field of bench/big_mesh.py, a random soup, the Cornell box),
-interleaved, `repeats` times each, after validating each tree (bench/bvh_build.py's checks); the
+interleaved, `repeats` times each, after validating each tree (bench/common.py's `bvh_failures`); the
 median build times, their ratio, the SAH costs and node counts are reported. Then both trees of
 the Cornell box and of a 100,000-triangle height field (bench/scaling.py's) are rendered at
 128x128 with the same renderer settings and seed; the pictures must agree, and a few samples per
@@ -17,7 +17,6 @@ Writes bench/results/bvh_build_baseline_<adapter>.json.
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
 import statistics
 import subprocess
@@ -25,20 +24,24 @@ import sys
 import time
 from collections.abc import Callable
 from functools import partial
-from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.big_mesh import CELLS, height_field  # noqa: E402
-from bench.bvh_build import validation_failures  # noqa: E402
-from bench.common import REPO_ROOT, load_average, write_result  # noqa: E402
-from bench.scaling import sheet_scene  # noqa: E402
-from wgputrace import Renderer, default_scene  # noqa: E402
-from wgputrace.bvh import BVH, build_bvh  # noqa: E402
-from wgputrace.render import scene_buffers  # noqa: E402
+from bench.common import (
+    BIG_MESH_CELLS,
+    REPO_ROOT,
+    Run,
+    argument_parser,
+    bvh_failures,
+    height_field,
+    log,
+    parse,
+    sheet_scene,
+    write_result,
+)
+from wgputrace import Renderer, default_scene
+from wgputrace.bvh import BVH, build_bvh
+from wgputrace.render import scene_buffers
 
 BASELINE_REVISION = "82b407f"
 CURRENT = "current"
@@ -75,7 +78,7 @@ def baseline_builder(revision: str) -> Callable[..., BVH]:
 def time_builds(vertices: np.ndarray, builders: dict[str, Callable[..., BVH]], repeats: int) -> dict:
     trees = {name: build(vertices) for name, build in builders.items()}
     for name, tree in trees.items():
-        failures = validation_failures(tree, vertices)
+        failures = bvh_failures(tree, vertices)
         if failures:
             raise SystemExit(f"variant {name!r}: the BVH is not valid, nothing timed: {failures}")
     seconds = {name: [] for name in builders}
@@ -137,12 +140,17 @@ def time_renders(scene_factory: Callable, builders: dict[str, Callable[..., BVH]
     }
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--cells", type=int, default=CELLS, help="height field of 2 cells^2 triangles")
-    parser.add_argument("--repeats", type=int, default=3)
+def main(argv: list[str] | None = None) -> int:
+    parser = argument_parser(__doc__, repeats=3)
+    parser.add_argument(
+        "--cells",
+        type=int,
+        default=BIG_MESH_CELLS,
+        help=f"height field of 2 cells^2 triangles (default {BIG_MESH_CELLS})",
+    )
     parser.add_argument("--baseline", default=BASELINE_REVISION, help="git revision of the builder to compare with")
-    args = parser.parse_args()
+    args = parse(parser, argv, "cells")
+    run = Run()
     # the baseline first: ratios are to it
     builders = {f"baseline {args.baseline}": baseline_builder(args.baseline), CURRENT: build_bvh}
     vertices, faces = height_field(args.cells)
@@ -151,13 +159,12 @@ def main() -> None:
         f"random soup, {SOUP_TRIANGLES:,} triangles": soup(SOUP_TRIANGLES),
         "Cornell box": default_scene().arrays().vertices,
     }
-    load_before = load_average()
     builds = {}
     for scene, triangles in scenes.items():
         builds[scene] = time_builds(triangles, builders, args.repeats)
-        print(scene)
+        log(scene)
         for name, row in builds[scene].items():
-            print(
+            log(
                 f"  {name:22s} {row['median_seconds']:7.3f} s  x{row['seconds_over_reference']:.3f}  "
                 f"SAH {row['sah_cost']:.4f} (x{row['sah_over_reference']:.4f})  {row['node_count']:,} nodes"
             )
@@ -167,9 +174,9 @@ def main() -> None:
         "height field, 100,000 triangles": partial(sheet_scene, 100_000),
     }.items():
         renders[scene] = time_renders(factory, builders, args.repeats)
-        print(f"{scene}, {SIZE}x{SIZE}, render time per sample per pixel")
+        log(f"{scene}, {SIZE}x{SIZE}, render time per sample per pixel")
         for name, row in renders[scene].items():
-            print(
+            log(
                 f"  {name:22s} {row['seconds_per_spp'] * 1e3:7.1f} ms  x{row['over_reference']:.3f}  SAH {row['sah_cost']:.4f}"
             )
     result = {
@@ -182,11 +189,10 @@ def main() -> None:
         "baseline_revision": args.baseline,
         "builds": builds,
         "renders": renders,
-        "load_average_before_after": [load_before, load_average()],
-        "command": " ".join(["python bench/bvh_build_baseline.py", *sys.argv[1:]]),
     }
-    print(f"wrote {write_result('bvh_build_baseline', result)['json']}")
+    write_result("bvh_build_baseline", result, out=args.out, run=run)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

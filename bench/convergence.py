@@ -1,19 +1,18 @@
 """Error against time: RMSE and relative MSE of our image against the Mitsuba 3 reference, as
 functions of samples per pixel and of render time, for the Cornell box and the tiny-light scene.
 
-    python bench/convergence.py                 (or: python -m bench.convergence)
-    python bench/convergence.py --max-spp 64 --runs 1 --integrators mis
+    python -m bench.convergence
+    python -m bench.convergence --max-spp 64 --runs 1 --integrators mis
 
 For each scene and integrator: a validation render first (finite, no dropped samples, image mean
 equal to the reference's within a z-test; its first dispatch is the shader compile, so it is the
 warm-up too), then `runs` progressive renders from different seeds, the image read back at 1, 2,
 4, ... max-spp samples per pixel. Only Renderer.render is timed; read-backs are not. The reference
-(tests/references/<scene>.npz, 128x128) is noisy itself: since ours and it are independent,
-E[(ours - reference)^2] = our MSE + the reference's variance, which is subtracted, so the curves
-show our error alone. A converging unbiased estimator has RMSE ~ spp^-0.5 (slope -0.5 on log-log
-axes) and relative MSE ~ spp^-1; the height of a curve is the efficiency later work improves.
-Writes bench/results/convergence_<adapter>.csv (every checkpoint), .json (settings, versions,
-fits, validation) and .png.
+(tests/references/<scene>.npz, 128x128) is noisy itself; its variance is subtracted (bench/common.py's
+`errors`), so the curves show our error alone. A converging unbiased estimator has RMSE ~ spp^-0.5
+(slope -0.5 on log-log axes) and relative MSE ~ spp^-1; the height of a curve is the efficiency
+later work improves. Writes bench/results/convergence_<adapter>.csv (every checkpoint), .json
+(settings, versions, fits, validation) and .png.
 """
 
 from __future__ import annotations
@@ -25,14 +24,30 @@ from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
-from bench.throughput import agreement, sidak_critical_z  # noqa: E402
-from tests.render.reference_images import load_reference  # noqa: E402
-from wgputrace import Renderer  # noqa: E402
-from wgputrace.scenes import scene_by_name  # noqa: E402
+from bench.common import (
+    CHANNELS,
+    RELATIVE_MSE_EPSILON,
+    Run,
+    add_max_spp,
+    agreement,
+    argument_parser,
+    checkpoints,
+    curves,
+    errors,
+    figure,
+    fit_power_law,
+    image_failures,
+    log,
+    parse,
+    save_figure,
+    seconds_to_reach,
+    sidak_critical_z,
+    write_csv,
+    write_result,
+)
+from wgputrace import Renderer
+from wgputrace.scenes import scene_by_name
+from wgputrace.testing.references import load_reference
 
 SCENES = ("cornell", "tiny_light")
 INTEGRATORS = ("mis", "nee", "bsdf")
@@ -40,54 +55,16 @@ INTEGRATORS = ("mis", "nee", "bsdf")
 BASELINE_INTEGRATOR = "bsdf"
 VALIDATION_SPP = 16
 VALIDATION_SIGNIFICANCE = 1e-3  # family-wise, over scenes x integrators x channels
-CHANNELS = 3
-# relative MSE = mean((ours - reference)^2 / (reference^2 + this)): dark pixels do not dominate
-RELATIVE_MSE_EPSILON = 1e-2
-# Slopes are fitted from this many samples per pixel on: the first few checkpoints are dominated
-# by the odd first sample and by what a single image happens to hit.
-FIT_MIN_SPP = 4
 CSV_COLUMNS = ("scene", "integrator", "run", "seed", "spp", "seconds", "cpu_seconds", "rmse", "relative_mse", "raw_mse")
-
-
-def _log(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
-def errors(image: np.ndarray, reference_mean: np.ndarray, reference_variance: np.ndarray) -> dict:
-    """Our MSE and relative MSE with the reference's own variance taken out, and the raw MSE."""
-    squared = (image.astype(np.float64) - reference_mean) ** 2
-    mse = float(np.mean(squared - reference_variance))
-    relative = float(np.mean((squared - reference_variance) / (reference_mean**2 + RELATIVE_MSE_EPSILON)))
-    return {"rmse": float(np.sqrt(max(mse, 0.0))), "relative_mse": relative, "raw_mse": float(np.mean(squared))}
-
-
-def fit_slope(x: list[float], y: list[float]) -> float:
-    """Least-squares slope of log y against log x (positive values only)."""
-    x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
-    keep = (x > 0) & (y > 0)
-    return float(np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)[0])
-
-
-def checkpoints(max_spp: int) -> list[int]:
-    spp, points = 1, []
-    while spp <= max_spp:
-        points.append(spp)
-        spp *= 2
-    return points
 
 
 def validate(renderer: Renderer, reference_mean: np.ndarray, z_critical: float) -> dict:
     """The first image (it compiles the shader): finite, nothing dropped, mean equal to the reference's."""
     renderer.render(VALIDATION_SPP)
     image = renderer.image()
-    failures = []
-    if not np.isfinite(image).all():
-        failures.append(f"{np.count_nonzero(~np.isfinite(image))} image values are NaN or infinite")
-    if renderer.dropped_samples:
-        failures.append(f"the shader dropped {renderer.dropped_samples} samples (non-finite or cut short)")
     check = agreement(image, reference_mean.astype(np.float32), z_critical)
-    failures += check["failures"]
     renderer.reset()
+    failures = image_failures(image, renderer.dropped_samples) + check["failures"]
     return {"spp": VALIDATION_SPP, "agreement_with_reference": check, "failures": failures}
 
 
@@ -111,64 +88,16 @@ def measure(scene: str, integrator: str, args: argparse.Namespace, z_critical: f
             cpu_start = time.process_time()
             renderer.render(spp - renderer.samples_per_pixel)
             cpu_seconds += time.process_time() - cpu_start
-            image = renderer.image()
             if renderer.dropped_samples:
-                raise SystemExit(
-                    f"{scene}/{integrator} run {run + 1}: {renderer.dropped_samples} dropped samples (non-finite or cut short)"
-                )
+                raise SystemExit(f"{scene}/{integrator} run {run + 1}: {renderer.dropped_samples} dropped samples")
             row = {"scene": scene, "integrator": integrator, "run": run + 1, "seed": seed, "spp": spp}
             row["seconds"], row["cpu_seconds"] = renderer.stats.render_seconds, cpu_seconds
-            rows.append(row | errors(image, reference_mean, reference_variance))
-        _log(
-            f"{scene}/{integrator} run {run + 1}: {args.max_spp} spp in {renderer.stats.render_seconds:.1f} s, RMSE {rows[-1]['rmse']:.4g}"
+            rows.append(row | errors(renderer.image(), reference_mean, reference_variance))
+        log(
+            f"{scene}/{integrator} run {run + 1}: {args.max_spp} spp in {row['seconds']:.1f} s, RMSE {rows[-1]['rmse']:.4g}"
         )
     settings = {"width": width, "height": height, "max_depth": max_depth, "reference": reference.metadata}
     return rows, {"validation": validation, **settings}
-
-
-def curves(rows: list[dict]) -> dict:
-    """Per scene and integrator: per checkpoint the MSEs averaged over runs, the median time, and slopes."""
-    result = {}
-    for key in dict.fromkeys((row["scene"], row["integrator"]) for row in rows):
-        mine = [row for row in rows if (row["scene"], row["integrator"]) == key]
-        spp = sorted({row["spp"] for row in mine})
-        at = {s: [row for row in mine if row["spp"] == s] for s in spp}
-        rmse = [float(np.sqrt(max(np.mean([r["rmse"] ** 2 for r in at[s]]), 0.0))) for s in spp]
-        relative = [float(np.mean([r["relative_mse"] for r in at[s]])) for s in spp]
-        seconds = [float(np.median([r["seconds"] for r in at[s]])) for s in spp]
-        fit = [i for i, s in enumerate(spp) if s >= FIT_MIN_SPP]
-
-        def pick(values, indices=fit):
-            return [values[i] for i in indices]
-
-        result[f"{key[0]}/{key[1]}"] = {
-            "scene": key[0],
-            "integrator": key[1],
-            "spp": spp,
-            "seconds": seconds,
-            "rmse": rmse,
-            "relative_mse": relative,
-            "slope_rmse_vs_spp": fit_slope(pick(spp), pick(rmse)),
-            "slope_rmse_vs_seconds": fit_slope(pick(seconds), pick(rmse)),
-            "slope_relative_mse_vs_spp": fit_slope(pick(spp), pick(relative)),
-            # efficiency: 1 / (relative MSE x seconds) at the last checkpoint
-            "efficiency": 1.0 / (relative[-1] * seconds[-1]) if relative[-1] > 0 else None,
-        }
-    return result
-
-
-def fit_power_law(curve: dict, metric: str) -> tuple[float, float]:
-    """Slope and intercept of log `metric` against log seconds over the checkpoints from FIT_MIN_SPP on."""
-    keep = [i for i, spp in enumerate(curve["spp"]) if spp >= FIT_MIN_SPP]
-    log_seconds = np.log([curve["seconds"][i] for i in keep])
-    log_error = np.log([max(curve[metric][i], np.finfo(float).tiny) for i in keep])
-    slope, intercept = np.polyfit(log_seconds, log_error, 1)
-    return float(slope), float(intercept)
-
-
-def seconds_to_reach(slope: float, intercept: float, error: float) -> float:
-    """Where the power law log error = intercept + slope log seconds reaches `error`."""
-    return float(np.exp((np.log(error) - intercept) / slope))
 
 
 def time_to_equal_error(curves_by_name: dict) -> dict:
@@ -178,7 +107,6 @@ def time_to_equal_error(curves_by_name: dict) -> dict:
     FIT_MIN_SPP on, so single noisy checkpoints (a firefly in a heavy-tailed estimator) do not
     decide the ratio. For unbiased strategies relative MSE falls as 1/time, so the ratio does not
     depend on which error level is chosen."""
-
     ratios = {}
     for baseline in (c for c in curves_by_name.values() if c["integrator"] == BASELINE_INTEGRATOR):
         base_slope, base_intercept = fit_power_law(baseline, "relative_mse")
@@ -197,21 +125,17 @@ def time_to_equal_error(curves_by_name: dict) -> dict:
 
 
 def plot(path: Path, result: dict) -> None:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=(11.0, 8.0))
-    FigureCanvasAgg(figure)
-    panels = figure.subplots(2, 2)
+    chart = figure(11.0, 8.0)
+    panels = chart.subplots(2, 2)
     colors = {"cornell": "#3b75af", "tiny_light": "#c4452c"}
     styles = {"mis": "-", "bsdf": ":"}
-    for curve in result["curves"].values():
-        label = f"{curve['scene']}, {curve['integrator']}"
-        for row, (metric, slope) in enumerate(
-            (("rmse", "slope_rmse_vs_spp"), ("relative_mse", "slope_relative_mse_vs_spp"))
-        ):
-            for column, axis_key in enumerate(("seconds", "spp")):
-                axes = panels[row][column]
+    metrics = (("rmse", "slope_rmse_vs_spp", "RMSE"), ("relative_mse", "slope_relative_mse_vs_spp", "relative MSE"))
+    axes_keys = (("seconds", "render time (s, median over runs)"), ("spp", "samples per pixel"))
+    for row, (metric, slope, metric_label) in enumerate(metrics):
+        for column, (axis_key, axis_label) in enumerate(axes_keys):
+            axes = panels[row][column]
+            for curve in result["curves"].values():
+                label = f"{curve['scene']}, {curve['integrator']}"
                 axes.loglog(
                     curve[axis_key],
                     curve[metric],
@@ -221,44 +145,26 @@ def plot(path: Path, result: dict) -> None:
                     color=colors.get(curve["scene"], "black"),
                     label=f"{label} (slope {curve[slope]:.2f} vs spp)" if column == 1 else label,
                 )
-    for column, axis_label in enumerate(("render time (s, median over runs)", "samples per pixel")):
-        for row, metric_label in enumerate(("RMSE", f"relative MSE (eps {RELATIVE_MSE_EPSILON:g})")):
-            axes = panels[row][column]
             axes.set_xlabel(axis_label)
             axes.set_ylabel(metric_label)
             axes.grid(which="both", alpha=0.3)
             axes.legend(fontsize=7)
-    figure.suptitle(
-        f"wgputrace convergence against Mitsuba {result['mitsuba']} references on {result['adapter']['adapter']} "
-        f"({result['adapter']['backend']})\n{result['width']}x{result['height']}, up to {result['max_spp']} spp, "
-        f"{result['runs']} runs, max depth {result['max_depth']}, rev {result['git_revision']}",
-        fontsize=10,
+    title = (
+        f"wgputrace convergence against Mitsuba {result['mitsuba']} references, {result['width']}x{result['height']}, "
+        f"up to {result['max_spp']} spp, {result['runs']} runs, max depth {result['max_depth']}"
     )
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-
-
-def parse_arguments(argv: list[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenes", nargs="+", default=list(SCENES), help=f"default: {' '.join(SCENES)}")
-    parser.add_argument("--integrators", nargs="+", default=list(INTEGRATORS), help=f"default: {' '.join(INTEGRATORS)}")
-    parser.add_argument("--max-spp", type=int, default=256, help="last checkpoint, a power of two (default 256)")
-    parser.add_argument("--runs", type=int, default=2, help="progressive renders per scene and integrator (default 2)")
-    parser.add_argument("--seed", type=int, default=1, help="seed of the first run; run k uses seed + k")
-    parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
-    args = parser.parse_args(argv)
-    if args.max_spp < FIT_MIN_SPP * 4 or args.max_spp & (args.max_spp - 1):
-        parser.error(f"--max-spp must be a power of two >= {FIT_MIN_SPP * 4}, got {args.max_spp}")
-    if args.runs < 1:
-        parser.error(f"--runs must be at least 1, got {args.runs}")
-    return args
+    save_figure(chart, path, result, title, fontsize=10)
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = parse_arguments(argv)
-    started = time.perf_counter()
-    load_before = load_average()
-    z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.scenes) * len(args.integrators) * CHANNELS)
+    parser = argument_parser(__doc__, seed=1)
+    parser.add_argument("--scenes", nargs="+", default=list(SCENES), help=f"default: {' '.join(SCENES)}")
+    parser.add_argument("--integrators", nargs="+", default=list(INTEGRATORS), help=f"default: {' '.join(INTEGRATORS)}")
+    add_max_spp(parser, 256)
+    parser.add_argument("--runs", type=int, default=2, help="progressive renders per scene and integrator (default 2)")
+    args = parse(parser, argv, "runs")
+    run = Run()
+    z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.scenes) * len(args.integrators) * len(CHANNELS))
     rows, settings = [], {}
     for scene in args.scenes:
         for integrator in args.integrators:
@@ -266,7 +172,6 @@ def main(argv: list[str] | None = None) -> int:
             rows += new_rows
     first = next(iter(settings.values()))
     result = {
-        "load_average_before_after": [load_before, load_average()],
         "scene": list(args.scenes),
         "mitsuba": first["reference"]["mitsuba"],
         "width": first["width"],
@@ -277,7 +182,6 @@ def main(argv: list[str] | None = None) -> int:
         "runs": args.runs,
         "seed": args.seed,
         "relative_mse_epsilon": RELATIVE_MSE_EPSILON,
-        "fit_min_spp": FIT_MIN_SPP,
         "timing": "wall clock of Renderer.render between checkpoints, summed; image read-backs not timed. "
         "cpu_seconds (CSV): process CPU time of the same calls, llvmpipe's threads included, which other load "
         "on a CPU adapter hardly changes",
@@ -285,13 +189,10 @@ def main(argv: list[str] | None = None) -> int:
         "error plus float16 rounding), averaged over pixels and channels",
         "scenes": settings,
         "curves": curves(rows),
-        "wall_seconds": time.perf_counter() - started,
     }
     result["time_to_equal_error"] = time_to_equal_error(result["curves"])
-    paths = write_result("convergence", result, out=args.out, plot=plot)
-    csv_path = result_stem("convergence", args.out).with_suffix(".csv")
-    lines = [",".join(CSV_COLUMNS)] + [",".join(str(row[column]) for column in CSV_COLUMNS) for row in rows]
-    csv_path.write_text("\n".join(lines) + "\n")
+    write_result("convergence", result, out=args.out, plot=plot, run=run)
+    write_csv("convergence", rows, CSV_COLUMNS, args.out)
     for name, curve in result["curves"].items():
         print(
             f"{name:24s} RMSE {curve['rmse'][-1]:.4g} at {curve['spp'][-1]} spp in {curve['seconds'][-1]:.1f} s; "
@@ -303,7 +204,6 @@ def main(argv: list[str] | None = None) -> int:
             f"{name:24s} reaches {BASELINE_INTEGRATOR}'s final relative MSE in {ratio['ratio_to_baseline_time']:.3g} "
             f"of its time (fitted slope {ratio['fitted_slope_relative_mse_vs_seconds']:.2f})"
         )
-    print(f"wrote {csv_path}, {paths['json'].name}, {paths['png'].name} in {result['wall_seconds']:.0f} s")
     return 0
 
 

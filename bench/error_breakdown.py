@@ -1,13 +1,13 @@
 """Where the Cornell box's remaining error lives, per strategy, and what each policy change buys.
 
-    python bench/error_breakdown.py                  (or: python -m bench.error_breakdown)
-    python bench/error_breakdown.py --batches 8 --spp 32 --variants mis bsdf
+    python -m bench.error_breakdown
+    python -m bench.error_breakdown --batches 8 --spp 32 --variants mis bsdf
 
 Every variant (an integrator, shader overrides, optionally the glass sphere made diffuse as a
 diagnostic) renders the 128x128 Cornell box as `batches` independent images of `spp` samples; the
 variants take turns batch by batch, so load from other processes slows them alike. Per pixel, the
 spread of the batches gives the variance of one sample; divided by (reference^2 + eps) as in
-bench/convergence.py it is the relative variance, whose mean over pixels is the relative MSE of a
+bench/convergence.py (bench/common.py's `errors`) it is the relative variance, whose mean over pixels is the relative MSE of a
 one-sample image (all variants are unbiased: the mean of the batches is z-tested against the
 Mitsuba reference first). Efficiency = 1 / (relative variance x seconds per sample); a variant
 reaches BSDF sampling's error in (efficiency of bsdf / its efficiency) of BSDF sampling's time,
@@ -37,16 +37,28 @@ from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import RESULTS_DIR, load_average, write_result  # noqa: E402
-from bench.convergence import RELATIVE_MSE_EPSILON, errors  # noqa: E402
-from bench.throughput import agreement, sidak_critical_z  # noqa: E402
-from tests.render.reference_images import load_reference  # noqa: E402
-from wgputrace import Diffuse, Glossy, Renderer, Scene  # noqa: E402
-from wgputrace.bvh.binned_sah import build_bvh  # noqa: E402
-from wgputrace.scenes import scene_by_name  # noqa: E402
+from bench.common import (
+    CHANNELS,
+    RELATIVE_MSE_EPSILON,
+    Run,
+    agreement,
+    argument_parser,
+    errors,
+    figure,
+    load_average,
+    log,
+    parse,
+    pixel_centre_rays,
+    save_figure,
+    sidak_critical_z,
+    write_result,
+)
+from wgputrace import Diffuse, Glossy, Renderer, Scene
+from wgputrace.bvh.binned_sah import build_bvh
+from wgputrace.gpu.pipeline import NO_TRIANGLE
+from wgputrace.scenes import scene_by_name
+from wgputrace.testing.oracles import bvh_closest_hit
+from wgputrace.testing.references import load_reference
 
 SCENE = "cornell"
 BASELINE = "bsdf"
@@ -55,7 +67,6 @@ GLASS_SHAPE, LAMP_SHAPE, CEILING_SHAPE, FLOOR_SHAPE = "sphere1", "lamp", "wall_t
 # enough to trace the penumbra of the 0.15-radius sphere under the 0.4 x 0.4 lamp to a pixel or two.
 LAMP_GRID = 9
 VALIDATION_SIGNIFICANCE = 1e-3  # family-wise over variants x channels
-CHANNELS = 3
 REGIONS = ("lamp", "glass sphere", "caustic", "glossy: lamp reflected", "glossy: other", "ceiling", "other")
 # Mitsuba 3's `path` integrator (MIS, roulette from depth 5) on the same scene: what an independent
 # unidirectional path tracer achieves per sample. Its time runs on another engine, so it has no
@@ -99,10 +110,6 @@ VARIANTS = {
 }
 
 
-def _log(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
 def build_scene(variant: Variant) -> Scene:
     scene = scene_by_name(SCENE)
     if variant.diffuse_glass:
@@ -111,8 +118,10 @@ def build_scene(variant: Variant) -> Scene:
 
 
 def _closest(bvh, triangles: np.ndarray, origins: np.ndarray, directions: np.ndarray):
-    distance, index = bvh.closest_hit(triangles, origins, directions)
-    return distance, np.where(index >= 0, bvh.triangle_order[np.maximum(index, 0)].astype(np.int64), -1)
+    """(distance, triangle in the scene's order or -1 on a miss) per ray."""
+    distance, index = bvh_closest_hit(bvh, triangles, origins, directions)
+    hit = index != NO_TRIANGLE
+    return distance, np.where(hit, bvh.triangle_order[np.where(hit, index, 0)].astype(np.int64), -1)
 
 
 def region_masks(scene: Scene, width: int, height: int) -> dict[str, np.ndarray]:
@@ -122,12 +131,7 @@ def region_masks(scene: Scene, width: int, height: int) -> dict[str, np.ndarray]
     kinds = np.array([material.kind for material in arrays.materials])
     bvh = build_bvh(arrays.vertices)
     triangles = arrays.vertices[bvh.triangle_order].astype(np.float64)
-    right, up, forward = scene.camera.image_plane(width, height)
-    x = (np.arange(width) + 0.5) / width * 2.0 - 1.0
-    y = (np.arange(height) + 0.5) / height * 2.0 - 1.0
-    directions = forward + x[None, :, None] * right - y[:, None, None] * up
-    directions = (directions / np.linalg.norm(directions, axis=-1, keepdims=True)).reshape(-1, 3)
-    origins = np.broadcast_to(np.asarray(scene.camera.position, np.float64), directions.shape)
+    origins, directions = pixel_centre_rays(scene.camera, width, height, np.float64)
     distance, hit = _closest(bvh, triangles, origins, directions)
     seen = np.where(hit >= 0, shape_names[arrays.shape_index[np.maximum(hit, 0)]], "")
     kind = np.where(hit >= 0, kinds[arrays.material_index[np.maximum(hit, 0)]], -1)
@@ -214,7 +218,7 @@ def measure(args: argparse.Namespace) -> tuple[dict, dict]:
     reference = load_reference(SCENE)
     width, height, max_depth = (reference.metadata[key] for key in ("width", "height", "max_depth"))
     renderers, batches, seconds, cpu_seconds = {}, {}, {}, {}
-    z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.variants) * CHANNELS)
+    z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.variants) * len(CHANNELS))
     for name in args.variants:
         variant = VARIANTS[name]
         if variant.integrator == MITSUBA_PATH:
@@ -228,7 +232,7 @@ def measure(args: argparse.Namespace) -> tuple[dict, dict]:
             batches[name].append(render(batch, args.spp))
             cpu_seconds[name].append(time.process_time() - cpu_start)
             seconds[name].append(time.perf_counter() - start)
-        _log(f"batch {batch + 1}/{args.batches} done, load {load_average()}")
+        log(f"batch {batch + 1}/{args.batches} done, load {load_average()}")
     masks = region_masks(scene_by_name(SCENE), width, height)
     denominator = reference.estimate.mean**2 + RELATIVE_MSE_EPSILON
     results, maps = {}, {}
@@ -273,43 +277,40 @@ def measure(args: argparse.Namespace) -> tuple[dict, dict]:
 
 
 def plot(path: Path, result: dict, extra: dict) -> None:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.colors import LogNorm
-    from matplotlib.figure import Figure
 
     maps = extra["maps"]
     shown = [name for name in ("mis", "bsdf") if name in maps]
-    figure = Figure(figsize=(15.0, 9.0))
-    FigureCanvasAgg(figure)
-    grid = figure.add_gridspec(2, 4)
+    chart = figure(15.0, 9.0)
+    grid = chart.add_gridspec(2, 4)
     reference = extra["reference"].estimate.mean
-    axes = figure.add_subplot(grid[0, 0])
+    axes = chart.add_subplot(grid[0, 0])
     axes.imshow(np.clip(reference / np.percentile(reference, 99), 0, 1) ** (1 / 2.2))
     axes.set_title("Mitsuba reference", fontsize=9)
     region_index = np.zeros(reference.shape[:2])
     for index, mask in enumerate(extra["masks"].values()):
         region_index[mask] = index
-    axes = figure.add_subplot(grid[1, 0])
+    axes = chart.add_subplot(grid[1, 0])
     axes.imshow(region_index, cmap="tab10", vmin=0, vmax=9, interpolation="nearest")
     labels = [f"{i} {r}" for i, r in enumerate(extra["masks"])]
     axes.set_title("regions: " + ", ".join(labels[:4]) + "\n" + ", ".join(labels[4:]), fontsize=7)
     positive = np.concatenate([maps[name][maps[name] > 0] for name in shown])
     norm = LogNorm(vmin=np.percentile(positive, 1), vmax=positive.max())
     for column, name in enumerate(shown, start=1):
-        axes = figure.add_subplot(grid[0, column])
+        axes = chart.add_subplot(grid[0, column])
         image = axes.imshow(maps[name], norm=norm, cmap="magma")
         axes.set_title(
             f"{name}: relative variance per sample (mean {result['variants'][name]['relative_variance_per_sample']:.3g})",
             fontsize=8,
         )
-        figure.colorbar(image, ax=axes, fraction=0.046)
+        chart.colorbar(image, ax=axes, fraction=0.046)
     if len(shown) == 2:
-        axes = figure.add_subplot(grid[0, 3])
+        axes = chart.add_subplot(grid[0, 3])
         ratio = maps["mis"] / np.maximum(maps["bsdf"], positive.min())
         image = axes.imshow(ratio, norm=LogNorm(vmin=1e-2, vmax=1e2), cmap="coolwarm")
         axes.set_title("mis / bsdf relative variance", fontsize=8)
-        figure.colorbar(image, ax=axes, fraction=0.046)
-    axes = figure.add_subplot(grid[1, 1:3])
+        chart.colorbar(image, ax=axes, fraction=0.046)
+    axes = chart.add_subplot(grid[1, 1:3])
     names = [
         name
         for name in (
@@ -339,7 +340,7 @@ def plot(path: Path, result: dict, extra: dict) -> None:
     axes.set_ylabel("relative variance x seconds per sample", fontsize=8)
     axes.legend(fontsize=7)
     axes.set_title("what the error per unit time is made of, by region", fontsize=9)
-    axes = figure.add_subplot(grid[1, 3])
+    axes = chart.add_subplot(grid[1, 3])
     names = list(result["variants"])
     ratios = [result["variants"][n].get(f"time_to_equal_error_vs_{BASELINE}", np.nan) for n in names]
     axes.barh(range(len(names)), ratios, color="#3b75af")
@@ -348,36 +349,24 @@ def plot(path: Path, result: dict, extra: dict) -> None:
     axes.set_xlabel(f"time to reach {BASELINE}'s error / {BASELINE}'s time", fontsize=8)
     axes.legend(fontsize=7)
     axes.invert_yaxis()
-    figure.suptitle(
-        f"Cornell box error breakdown, {result['width']}x{result['height']}, {result['batches']} x {result['spp']} spp per "
-        f"variant, max depth {result['max_depth']}, {result['adapter']['adapter']}, rev {result['git_revision']}",
-        fontsize=10,
+    title = (
+        f"Cornell box error breakdown, {result['width']}x{result['height']}, {result['batches']} x {result['spp']} spp "
+        f"per variant, max depth {result['max_depth']}"
     )
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-
-
-def parse_arguments(argv: list[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS), metavar="VARIANT")
-    parser.add_argument("--batches", type=int, default=8, help="independent images per variant (default 8)")
-    parser.add_argument("--spp", type=int, default=16, help="samples per pixel per batch (default 16)")
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
-    args = parser.parse_args(argv)
-    if args.batches < 2:
-        parser.error(f"--batches must be at least 2 (their spread is the variance), got {args.batches}")
-    return args
+    save_figure(chart, path, result, title, fontsize=10, dpi=100)
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = parse_arguments(argv)
-    started = time.perf_counter()
-    load_before = load_average()
+    parser = argument_parser(__doc__, spp=16, seed=1)
+    parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS), metavar="VARIANT")
+    parser.add_argument("--batches", type=int, default=8, help="independent images per variant (default 8)")
+    args = parse(parser, argv)
+    if args.batches < 2:
+        parser.error(f"--batches must be at least 2 (their spread is the variance), got {args.batches}")
+    run = Run()
     variants, extra = measure(args)
     reference = extra["reference"]
     result = {
-        "load_average_before_after": [load_before, load_average()],
         "scene": SCENE,
         "width": reference.metadata["width"],
         "height": reference.metadata["height"],
@@ -389,9 +378,8 @@ def main(argv: list[str] | None = None) -> int:
         "region_pixels": extra["pixels"],
         "timing": "median wall clock per batch (render and read-back); variants take turns batch by batch",
         "variants": variants,
-        "wall_seconds": time.perf_counter() - started,
     }
-    paths = write_result("error_breakdown", result, out=args.out, plot=lambda path, data: plot(path, data, extra))
+    write_result("error_breakdown", result, out=args.out, plot=lambda path, data: plot(path, data, extra), run=run)
     for name, variant in variants.items():
         shares = ", ".join(f"{r} {s:.0%}" for r, s in variant["region_share_of_relative_variance"].items())
         ratio = variant.get(f"time_to_equal_error_vs_{BASELINE}", float("nan"))
@@ -399,7 +387,6 @@ def main(argv: list[str] | None = None) -> int:
             f"{name:34s} rel. variance/sample {variant['relative_variance_per_sample']:.4g}, "
             f"{variant['seconds_per_sample'] * 1e3:.1f} ms/sample, time to {BASELINE}'s error {ratio:.3f}; {shares}"
         )
-    print(f"wrote {paths['json']}, {paths['png'].name} in {result['wall_seconds']:.0f} s")
     return 0
 
 

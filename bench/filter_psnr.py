@@ -1,11 +1,11 @@
 """PSNR of the viewer's picture against the Mitsuba 3 reference, with and without the
 pre-convergence filter, at 1, 4, 16 and 64 samples per pixel (default scene).
 
-    python bench/filter_psnr.py               (or: python -m bench.filter_psnr)
-    python bench/filter_psnr.py --repeats 8 --spp 1 4 16 64
+    python -m bench.filter_psnr
+    python -m bench.filter_psnr --repeats 8 --spp 1 4 16 64
 
 The picture is what the viewer shows at rest: the mean of the samples (through its GPU resolve),
-or the filtered one (wgputrace/render/display.py) at the weight the viewer gives it at that many
+or the filtered one (wgputrace/view/display.py) at the weight the viewer gives it at that many
 samples per pixel; a third column shows the filter at full weight, which the fade gives up for
 the converged image's sake. PSNR is taken on what a person sees: linear radiance clipped to
 [0, 1], sRGB-encoded, peak 1. Each repeat renders with its own seed; the mean and spread over
@@ -16,36 +16,20 @@ Writes bench/results/filter_psnr_<adapter>.json, .csv and .png.
 
 from __future__ import annotations
 
-import argparse
-import csv
-import json
 import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_csv, write_result
+from wgputrace import Renderer, default_scene
+from wgputrace.image_io import linear_to_srgb
+from wgputrace.scenes import DEFAULT_SCENE
+from wgputrace.testing.references import load_reference
+from wgputrace.view import display as viewer_display
+from wgputrace.view.banded import BandedRenderer
 
-from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
-from wgputrace import Renderer, default_scene  # noqa: E402
-from wgputrace.image_io import linear_to_srgb  # noqa: E402
-from wgputrace.render.display import (  # noqa: E402
-    FILTER_ALBEDO_SIGMA,
-    FILTER_DEPTH_SIGMA,
-    FILTER_FADE_SPP,
-    FILTER_NORMAL_POWER,
-    FILTER_PASSES,
-    Display,
-    ViewSettings,
-    filter_weight,
-)
-from wgputrace.render.progressive import BandedRenderer  # noqa: E402
-from wgputrace.scenes import DEFAULT_SCENE  # noqa: E402
-
-REFERENCE = Path(__file__).resolve().parent.parent / "tests" / "references" / f"{DEFAULT_SCENE}.npz"
 # Without the Mitsuba reference: our own render with this many samples per pixel stands in.
 FALLBACK_REFERENCE_SPP = 1024
 FALLBACK_SIZE = 128
@@ -53,16 +37,14 @@ MAX_DEPTH = 9
 VARIANTS = ("unfiltered", "filtered", "full_filter")
 
 
-def load_reference(size: int | None) -> tuple[np.ndarray, dict]:
+def reference_image() -> tuple[np.ndarray, dict]:
     """The Mitsuba reference's mean (H, W, 3) and how it was made, or our own long render."""
-    if REFERENCE.is_file():
-        with np.load(REFERENCE) as data:
-            metadata = json.loads(str(data["metadata"]))
-            mean = data["mean"].astype(np.float32)
-        return mean, {"kind": "mitsuba", "path": str(REFERENCE.relative_to(REFERENCE.parents[2])), **metadata}
-    side = size or FALLBACK_SIZE
-    print(f"{REFERENCE} not found: rendering our own {FALLBACK_REFERENCE_SPP} spp reference", file=sys.stderr)
-    renderer = Renderer(default_scene(), side, side, seed=1_000_003, max_depth=MAX_DEPTH)
+    try:
+        reference = load_reference(DEFAULT_SCENE)
+        return reference.estimate.mean.astype(np.float32), {"kind": "mitsuba", **reference.metadata}
+    except FileNotFoundError as missing:
+        log(f"{missing}: rendering our own {FALLBACK_REFERENCE_SPP} spp reference")
+    renderer = Renderer(default_scene(), FALLBACK_SIZE, FALLBACK_SIZE, seed=1_000_003, max_depth=MAX_DEPTH)
     renderer.render(FALLBACK_REFERENCE_SPP)
     return renderer.image(), {"kind": "wgputrace", "spp": FALLBACK_REFERENCE_SPP, "note": "Mitsuba reference missing"}
 
@@ -81,11 +63,11 @@ def measure(
     scene = default_scene()
     renderer = Renderer(scene, width, height, seed=seed, max_depth=MAX_DEPTH)
     banded = BandedRenderer(renderer)
-    display = Display(banded)
+    display = viewer_display.Display(banded)
     settings = {
-        "unfiltered": ViewSettings(),
-        "filtered": ViewSettings(filter_enabled=True),
-        "full_filter": ViewSettings(filter_enabled=True, fade=False),
+        "unfiltered": viewer_display.ViewSettings(),
+        "filtered": viewer_display.ViewSettings(filter_enabled=True),
+        "full_filter": viewer_display.ViewSettings(filter_enabled=True, fade=False),
     }
     results: dict[str, dict[int, list[float]]] = {name: {spp: [] for spp in spp_levels} for name in VARIANTS}
     means: dict[str, dict[int, list[float]]] = {name: {spp: [] for spp in spp_levels} for name in VARIANTS}
@@ -100,29 +82,21 @@ def measure(
                 image = display.read_image()
                 results[name][spp].append(psnr(image, reference))
                 means[name][spp].append(float(image.mean(dtype=np.float64)))
-        print(
-            f"repeat {repeat + 1}/{repeats}: "
-            + ", ".join(
-                f"{spp} spp {results['unfiltered'][spp][-1]:.2f}/{results['filtered'][spp][-1]:.2f} dB"
-                for spp in spp_levels
-            ),
-            file=sys.stderr,
-            flush=True,
+        levels = (
+            f"{spp} spp {results['unfiltered'][spp][-1]:.2f}/{results['filtered'][spp][-1]:.2f} dB"
+            for spp in spp_levels
         )
+        log(f"repeat {repeat + 1}/{repeats}: {', '.join(levels)}")
     return results, means
 
 
 def plot(path: Path, result: dict) -> None:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=(7.0, 4.6))
-    FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
+    chart = figure(7.0, 4.6)
+    axes = chart.add_subplot()
     levels = result["spp"]
     labels = {
         "unfiltered": "mean of the samples",
-        "filtered": f"viewer's filter (fading out at {FILTER_FADE_SPP} spp)",
+        "filtered": f"viewer's filter (fading out at {result['filter']['fade_spp']} spp)",
         "full_filter": "filter at full weight",
     }
     for name, style in zip(VARIANTS, ("o-", "s-", "^--"), strict=True):
@@ -135,30 +109,20 @@ def plot(path: Path, result: dict) -> None:
     axes.set_ylabel(f"PSNR (dB, displayed sRGB), mean of {result['repeats']} seeds")
     axes.grid(alpha=0.3)
     axes.legend(loc="lower right")
-    gain = result["gain_db"][str(4)] if "4" in result["gain_db"] else None
-    reference = result["reference"]
     title = f"pre-convergence filter on {result['scene']} {result['width']}x{result['height']}"
-    if gain is not None:
-        title += f": +{gain:.2f} dB at 4 spp"
-    figure.suptitle(
-        f"{title}\nreference: {reference['kind']}, {result['adapter']['adapter']}, rev {result['git_revision']}",
-        fontsize=10,
-    )
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
+    if "4" in result["gain_db"]:
+        title += f": +{result['gain_db']['4']:.2f} dB at 4 spp"
+    save_figure(chart, path, result, f"{title}; reference: {result['reference']['kind']}", fontsize=10, dpi=120)
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argument_parser(__doc__, repeats=8, seed=1)
     parser.add_argument("--spp", type=int, nargs="+", default=[1, 4, 16, 64], help="sample counts (ascending)")
-    parser.add_argument("--repeats", type=int, default=8, help="seeds per sample count (default 8)")
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--out", type=Path, default=RESULTS_DIR)
-    args = parser.parse_args(argv)
-    if args.spp != sorted(set(args.spp)) or args.spp[0] < 1:
-        parser.error(f"--spp must be ascending positive counts, got {args.spp}")
-    started, load_before = time.perf_counter(), load_average()
-    reference, reference_info = load_reference(None)
+    args = parse(parser, argv)
+    if args.spp != sorted(set(args.spp)):
+        parser.error(f"--spp must be ascending counts, got {args.spp}")
+    run = Run()
+    reference, reference_info = reference_image()
     height, width = reference.shape[:2]
     results, means = measure(reference, args.spp, args.repeats, args.seed)
     summary = {
@@ -184,7 +148,6 @@ def main(argv: list[str] | None = None) -> int:
         for name in ("filtered", "full_filter")
     }
     result = {
-        "load_average_before_after": [load_before, load_average()],
         "scene": DEFAULT_SCENE,
         "width": width,
         "height": height,
@@ -195,34 +158,31 @@ def main(argv: list[str] | None = None) -> int:
         "reference": reference_info,
         "psnr_definition": "10 log10(1 / MSE) of the clipped, sRGB-encoded images (peak 1)",
         "filter": {
-            "passes": FILTER_PASSES,
-            "normal_power": FILTER_NORMAL_POWER,
-            "depth_sigma": FILTER_DEPTH_SIGMA,
-            "albedo_sigma": FILTER_ALBEDO_SIGMA,
-            "fade_spp": FILTER_FADE_SPP,
-            "weight_at_spp": {str(spp): filter_weight(spp) for spp in args.spp},
-        },
+            key: getattr(viewer_display, f"FILTER_{key.upper()}")
+            for key in ("passes", "normal_power", "depth_sigma", "albedo_sigma", "fade_spp")
+        }
+        | {"weight_at_spp": {str(spp): viewer_display.filter_weight(spp) for spp in args.spp}},
         "psnr": summary,
         "gain_db": gains,
         "mean_radiance_ratio_to_unfiltered": mean_ratio,
         "reference_mean_radiance": float(reference.mean(dtype=np.float64)),
-        "wall_seconds": time.perf_counter() - started,
     }
-    paths = write_result("filter_psnr", result, out=args.out, plot=plot)
-    with open(result_stem("filter_psnr", args.out).with_suffix(".csv"), "w", newline="") as file:
-        writer = csv.writer(file)
-        writer.writerow(["spp", "filter_weight", *(f"psnr_{name}_db" for name in VARIANTS), "gain_db", "repeats"])
-        for spp in args.spp:
-            means = [f"{summary[name][str(spp)]['mean']:.3f}" for name in VARIANTS]
-            writer.writerow([spp, f"{filter_weight(spp):.3f}", *means, f"{gains[str(spp)]:.3f}", args.repeats])
+    write_result("filter_psnr", result, out=args.out, plot=plot, run=run)
+    rows = [
+        {"spp": spp, "filter_weight": f"{viewer_display.filter_weight(spp):.3f}", "gain_db": f"{gains[str(spp)]:.3f}"}
+        | {f"psnr_{name}_db": f"{summary[name][str(spp)]['mean']:.3f}" for name in VARIANTS}
+        | {"repeats": args.repeats}
+        for spp in args.spp
+    ]
+    write_csv("filter_psnr", rows, list(rows[0]), args.out)
     for spp in args.spp:
         print(
             f"{spp:4d} spp  unfiltered {summary['unfiltered'][str(spp)]['mean']:6.2f} dB  "
-            f"filtered {summary['filtered'][str(spp)]['mean']:6.2f} dB (weight {filter_weight(spp):.2f})  "
+            f"filtered {summary['filtered'][str(spp)]['mean']:6.2f} dB (weight {viewer_display.filter_weight(spp):.2f})  "
             f"full filter {summary['full_filter'][str(spp)]['mean']:6.2f} dB  gain {gains[str(spp)]:+.2f} dB  "
             f"mean radiance x{mean_ratio['filtered'][str(spp)]:.4f}"
         )
-    print(f"reference: {reference_info['kind']}; wrote {paths['json']}, .csv, .png")
+    print(f"reference: {reference_info['kind']}")
     return 0
 
 

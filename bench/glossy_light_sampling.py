@@ -1,6 +1,6 @@
 """Below which roughness should a glossy vertex skip light sampling? Measured, not guessed.
 
-    python bench/glossy_light_sampling.py            (or: python -m bench.glossy_light_sampling)
+    python -m bench.glossy_light_sampling
 
 For each roughness, a glossy sphere lit by one small area light (nothing else in the scene, so
 every pixel's error comes from the glossy vertex) is rendered with MIS twice: light sampling at
@@ -13,18 +13,13 @@ and .png; the value in shaders/path_tracer.wgsl (GLOSSY_LIGHT_SAMPLING_MIN_ROUGH
 
 from __future__ import annotations
 
-import argparse
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import RESULTS_DIR, write_result  # noqa: E402
-from wgputrace import Camera, Emitter, Glossy, Renderer, Scene, make_icosphere, make_plane  # noqa: E402
+from bench.common import Run, argument_parser, figure, image_failures, log, parse, save_figure, write_result
+from wgputrace import Camera, Emitter, Glossy, Renderer, Scene, make_icosphere, make_plane
 
 ROUGHNESSES = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5)
 THRESHOLD = "GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS"
@@ -48,8 +43,9 @@ def render_timed(scene: Scene, size: int, spp: int, threshold: float, seed: int)
     renderer.reset()
     stats = renderer.render(spp)
     image = renderer.image()
-    if not np.all(np.isfinite(image)) or renderer.dropped_samples:
-        raise RuntimeError(f"dropped samples (non-finite or cut short) at threshold {threshold}")
+    failures = image_failures(image, renderer.dropped_samples)
+    if failures:
+        raise SystemExit(f"threshold {threshold}: {'; '.join(failures)}")
     return image, stats.render_seconds
 
 
@@ -71,7 +67,7 @@ def measure(size: int, spp: int, reference_spp: int, repeats: int) -> list[dict]
         difference = (references[0] - references[1]).reshape(-1)
         z = difference.mean() / (difference.std(ddof=1) / np.sqrt(difference.size))
         if abs(z) > AGREEMENT_Z:
-            raise RuntimeError(f"roughness {roughness}: long renders disagree (z = {z:.1f}); a policy is biased")
+            raise SystemExit(f"roughness {roughness}: long renders disagree (z = {z:.1f}); a policy is biased")
         row = {"roughness": roughness}
         for name, threshold in POLICIES.items():
             errors, seconds = [], []
@@ -82,39 +78,30 @@ def measure(size: int, spp: int, reference_spp: int, repeats: int) -> list[dict]
             mse, time_spent = float(np.median(errors)), float(np.median(seconds))
             row[name] = {"relative_mse": mse, "seconds": time_spent, "efficiency": 1.0 / (mse * time_spent)}
         row["light sampling gain"] = row["light sampling on"]["efficiency"] / row["light sampling off"]["efficiency"]
-        print(f"roughness {roughness:6.3f}: light sampling efficiency x{row['light sampling gain']:.2f}", flush=True)
+        log(f"roughness {roughness:6.3f}: light sampling efficiency x{row['light sampling gain']:.2f}")
         rows.append(row)
     return rows
 
 
 def plot(path: Path, result: dict) -> None:
     rows = result["rows"]
-    title = f"{result['adapter']['adapter']}, {result['width']}^2, {result['spp']} spp, {result['git_revision']}"
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    figure, axis = plt.subplots(figsize=(6, 4))
+    chart = figure(6.0, 4.0)
+    axis = chart.add_subplot()
     axis.semilogx([r["roughness"] for r in rows], [r["light sampling gain"] for r in rows], "o-")
     axis.axhline(1.0, color="grey", linestyle="--")
     axis.set_yscale("log")
     axis.set_xlabel("GGX roughness (alpha)")
     axis.set_ylabel("efficiency with / without light sampling")
-    axis.set_title(title, fontsize=9)
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
+    title = f"light sampling at a glossy vertex, {result['width']}^2, {result['spp']} spp"
+    save_figure(chart, path, result, title, dpi=120)
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argument_parser(__doc__, spp=16, repeats=3)
     parser.add_argument("--size", type=int, default=96, help="image width and height (default 96)")
-    parser.add_argument("--spp", type=int, default=16, help="samples per pixel of each timed render")
     parser.add_argument("--reference-spp", type=int, default=512, help="samples per pixel of each reference half")
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", type=Path, default=RESULTS_DIR)
-    args = parser.parse_args(argv)
-    started = time.perf_counter()
+    args = parse(parser, argv, "size", "reference_spp")
+    run = Run()
     rows = measure(args.size, args.spp, args.reference_spp, args.repeats)
     helping = [r["roughness"] for r in rows if r["light sampling gain"] >= 1.0]
     threshold = min(helping) if helping else None
@@ -128,12 +115,11 @@ def main(argv: list[str] | None = None) -> int:
         "repeats": args.repeats,
         "rows": rows,
         "smallest_roughness_where_light_sampling_helps": threshold,
-        "wall_seconds": time.perf_counter() - started,
     }
-    paths = write_result("glossy_light_sampling", result, out=args.out, plot=plot)
-    print(f"light sampling helps from roughness {threshold}; wrote {paths['json']} and .png")
+    write_result("glossy_light_sampling", result, out=args.out, plot=plot, run=run)
+    print(f"light sampling helps from roughness {threshold}")
     return 0
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    sys.exit(main())

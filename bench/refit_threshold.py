@@ -1,8 +1,8 @@
 """How much a refit BVH slows rendering as its SAH cost degrades: the measurement behind
 wgputrace.render.scene_sync.REBUILD_DEGRADATION.
 
-    python bench/refit_threshold.py            (or: python -m bench.refit_threshold)
-    python bench/refit_threshold.py --size 64x64 --spp 4 --steps 16 --repeats 7
+    python -m bench.refit_threshold
+    python -m bench.refit_threshold --size 64x64 --spp 4 --steps 16 --repeats 7
 
 The scene is the default Cornell box with SPHERES small spheres inside. Step by step every sphere
 takes a random walk (seeded); one renderer keeps refitting the BVH it built at step 0 (rebuilds
@@ -10,28 +10,23 @@ disabled), and at each step a fresh Renderer builds a new BVH over the same geom
 with the same seed. Order of work per step: validate (the two images must be equal bit for bit:
 an edited renderer promises the picture of a fresh one), then time `repeats` renders of `spp`
 samples per pixel each, interleaved, after a discarded warm-up, and keep the fastest of each: on a
-shared CPU adapter other processes only ever add time, and the median still carried it. Recorded per step: the refit
-tree's degradation (SAH cost / cost when built), seconds per sample per pixel of both, their ratio,
+shared CPU adapter other processes only ever add time, which a median still carries. Recorded per
+step: the refit tree's degradation (SAH cost / cost when built), seconds per sample per pixel of both, their ratio,
 and what a rebuild costs (BVH build plus full upload). Writes bench/results/refit_threshold_<adapter>.json
 and .png.
 """
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import write_result  # noqa: E402
-from wgputrace import Diffuse, Renderer, default_scene, make_icosphere, model_matrix  # noqa: E402
-from wgputrace.cli import parse_size  # noqa: E402
-from wgputrace.render import scene_sync  # noqa: E402
+from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
+from wgputrace import Diffuse, Renderer, default_scene, make_icosphere, model_matrix
+from wgputrace.render import scene_sync
 
 SEED = 20261123
 SPHERES = 24
@@ -69,13 +64,11 @@ def seconds_per_spp(renderer: Renderer, spp: int) -> float:
     return (time.perf_counter() - start) / spp
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--size", type=parse_size, default=(64, 64))
-    parser.add_argument("--spp", type=int, default=4)
-    parser.add_argument("--steps", type=int, default=16)
-    parser.add_argument("--repeats", type=int, default=7)
-    args = parser.parse_args()
+def main(argv: list[str] | None = None) -> int:
+    parser = argument_parser(__doc__, size=(64, 64), spp=4, repeats=7)
+    parser.add_argument("--steps", type=int, default=16, help="random-walk steps (default 16)")
+    args = parse(parser, argv, "steps")
+    run = Run()
     width, height = args.size
     threshold = scene_sync.REBUILD_DEGRADATION
     scene_sync.REBUILD_DEGRADATION = float("inf")  # the refit renderer must keep its first tree
@@ -114,7 +107,7 @@ def main() -> None:
         }
         record["time_ratio"] = record["seconds_per_spp_refit"] / record["seconds_per_spp_fresh"]
         steps.append(record)
-        print(
+        log(
             f"step {step:2d}: degradation {record['degradation']:.3f}  time ratio {record['time_ratio']:.3f}  "
             f"({record['seconds_per_spp_refit'] * 1e3:.1f} vs {record['seconds_per_spp_fresh'] * 1e3:.1f} ms/spp), "
             f"rebuild {rebuild_seconds * 1e3:.1f} ms"
@@ -136,33 +129,27 @@ def main() -> None:
         "fit": {"time_ratio_minus_1_per_degradation_minus_1": slope},
         "threshold_in_use": threshold,
     }
-    paths = write_result("refit_threshold", result, plot=chart)
+    write_result("refit_threshold", result, out=args.out, plot=plot, run=run)
     print(f"slope of (time ratio - 1) over (degradation - 1): {slope:.3f}")
-    print(f"wrote {paths['json']} and .png")
+    return 0
 
 
-def chart(path: Path, result: dict) -> None:
+def plot(path: Path, result: dict) -> None:
     degradation = np.array([step["degradation"] for step in result["steps"]])
     ratio = np.array([step["time_ratio"] for step in result["steps"]])
     slope = result["fit"]["time_ratio_minus_1_per_degradation_minus_1"]
-    threshold, title = result["threshold_in_use"], result["scene"]
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    figure, axes = plt.subplots(figsize=(6, 4))
+    threshold = result["threshold_in_use"]
+    chart = figure(6.0, 4.0)
+    axes = chart.add_subplot()
     axes.plot(degradation, ratio, "o", label="measured")
     line = np.linspace(1.0, degradation.max(), 20)
     axes.plot(line, 1 + slope * (line - 1), "-", label=f"1 + {slope:.2f} (D - 1)")
     axes.axvline(threshold, color="grey", linestyle=":", label=f"REBUILD_DEGRADATION = {threshold}")
     axes.set_xlabel("refit SAH cost / SAH cost when built (D)")
     axes.set_ylabel("render time, refit tree / fresh tree")
-    axes.set_title(title, fontsize=8)
     axes.legend()
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
+    save_figure(chart, path, result, result["scene"], fontsize=8, dpi=100)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -1,15 +1,15 @@
 """The ceiling on this adapter: our camera-ray traversal against Embree's (through Mitsuba 3's
 `llvm_ad_rgb`), and the paths/s we could reach if every ray cost as little as a camera ray.
 
-    python bench/traversal_ceiling.py            (or: python -m bench.traversal_ceiling)
-    python bench/traversal_ceiling.py --spp 2 --primary-spp 8 --repeats 3
+    python -m bench.traversal_ceiling
+    python -m bench.traversal_ceiling --spp 2 --primary-spp 8 --repeats 3
 
 Issue 8 asks for our paths/s on the Cornell box at 512x512 to equal Mitsuba's path tracer's. One
 run, one process, same scene (wgputrace/reference/mitsuba_scene.py builds Mitsuba's from ours),
 same image size, measures:
 
   a) ours, the full path tracer (MIS) at the reference's max depth: paths/s, and rays/s from the
-     ray-counting variant of the same samples (bench/throughput.py's counted_rays);
+     ray-counting variant of the same samples (bench/common.py's counted_rays);
   b) ours at max depth 1: one closest hit per camera ray and nothing else (the emission of a lamp
      seen directly); the ray counters must show one closest-hit ray per path and no other ray;
   c) Embree: Mitsuba's `scene.ray_intersect` (a full SurfaceInteraction) and
@@ -26,7 +26,7 @@ rays per path), a bound that no cheaper any-hit traversal could pass.
 
 Validated before timing: the pixel-centre rays through our shipped closest_hit (the test harness's
 kernel) and through Embree hit the same fraction of rays at the same distances; (a) and (d), and
-(b) and (d at depth 1), agree in mean radiance per channel (paired z-test, bench/throughput.py's
+(b) and (d at depth 1), agree in mean radiance per channel (paired z-test, bench/common.py's
 agreement); every image is finite. The first render of each kind is a discarded warm-up (lavapipe
 compiles at the first dispatch, drjit traces and JIT-compiles); timed Mitsuba launches must
 compile nothing (drjit's kernel history). Timed runs are interleaved round by round; medians.
@@ -38,45 +38,49 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import statistics
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
-from bench.throughput import (  # noqa: E402
+from bench.common import (
     CHANNELS,
-    Acceleration,
+    MitsubaSide,
+    Run,
+    Timed,
     agreement,
+    argument_parser,
     counted_rays,
+    figure,
     fresh_image,
+    log,
+    mitsuba_missing,
+    parse,
+    pixel_centre_rays,
     ray_rates,
+    record_skip,
+    save_figure,
     sidak_critical_z,
+    threads,
+    write_result,
 )
-from bench.versus_mitsuba import MitsubaSide, skip_reason  # noqa: E402
-from tests.render.reference_images import load_reference  # noqa: E402
-from tests.shaders.reference import record_corners  # noqa: E402
-from tests.shaders.test_traversal import closest_hit  # noqa: E402
-from wgputrace import Renderer  # noqa: E402
-from wgputrace.gpu.pipeline import NO_TRIANGLE  # noqa: E402
-from wgputrace.reference.mitsuba_scene import (  # noqa: E402
+from wgputrace import Renderer
+from wgputrace.gpu.pipeline import NO_TRIANGLE
+from wgputrace.reference.mitsuba_scene import (
     EMITTER_BACK_OFFSET_RELATIVE,
     LLVM_VARIANT,
     libllvm_path,
     load_mitsuba,
 )
-from wgputrace.render.lights import emitting_kinds  # noqa: E402
-from wgputrace.render.ray_count import count_rays  # noqa: E402
-from wgputrace.scene import Camera  # noqa: E402
-from wgputrace.scenes import scene_by_name  # noqa: E402
+from wgputrace.render.lights import emitting_kinds
+from wgputrace.render.ray_count import count_rays
+from wgputrace.scenes import scene_by_name
+from wgputrace.testing.oracles import record_corners
+from wgputrace.testing.references import load_reference
+from wgputrace.testing.traversal import closest_hit
 
 NAME = "traversal_ceiling"
 SCENE = "cornell"
@@ -114,48 +118,6 @@ WHAT = {
 }
 
 
-def _log(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
-def pixel_centre_rays(camera: Camera, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
-    """(origins, unit directions), float32 (width * height, 3), row 0 at the top: camera.wgsl's
-    camera_ray with the jitter at the pixel centre."""
-    right, up, forward = camera.image_plane(width, height)
-    x = (np.arange(width) + 0.5) / width * 2.0 - 1.0
-    y = (np.arange(height) + 0.5) / height * 2.0 - 1.0
-    directions = forward + x[None, :, None] * right - y[:, None, None] * up
-    directions = (directions / np.linalg.norm(directions, axis=-1, keepdims=True)).reshape(-1, 3)
-    origins = np.broadcast_to(np.asarray(camera.position, np.float64), directions.shape)
-    return origins.astype(np.float32), directions.astype(np.float32)
-
-
-@dataclass
-class Timed:
-    """One measured kind of work: `units` (paths or rays) per run, wall and process CPU seconds per run."""
-
-    units: int
-    wall: list[float] = field(default_factory=list)
-    cpu: list[float] = field(default_factory=list)
-
-    def add(self, wall: float, cpu: float) -> None:
-        self.wall.append(wall)
-        self.cpu.append(cpu)
-
-    def entry(self, what: str, unit: str) -> dict:
-        median = statistics.median(self.wall)
-        return {
-            "what": what,
-            "unit": unit,
-            f"{unit}_per_run": self.units,
-            "run_seconds": self.wall,
-            "run_process_cpu_seconds": self.cpu,
-            "median_seconds": median,
-            "median_process_cpu_seconds": statistics.median(self.cpu),
-            f"{unit}_per_second": self.units / median,
-        }
-
-
 class Embree:
     """Mitsuba's scene intersection of fixed rays, evaluated in full and waited for."""
 
@@ -167,19 +129,10 @@ class Embree:
         dr.eval(self.ray)  # the rays exist before any timing starts
 
     def intersect(self, preliminary: bool):
-        """One launch over every ray: (result, wall seconds, process CPU seconds)."""
-        dr, mi = self.mitsuba.dr, self.mitsuba.mi
-        dr.sync_thread()
-        wall, cpu = time.perf_counter(), time.process_time()
-        if preliminary:
-            hits = self.scene.ray_intersect_preliminary(self.ray, True)  # coherent=True, as for camera rays
-        else:
-            hits = self.scene.ray_intersect(self.ray, mi.RayFlags.All, True)
-        dr.eval(hits)  # drjit is lazy: every field of the result is computed here
-        dr.sync_thread()
-        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-        self.mitsuba.kernels += [k for k in dr.kernel_history() if k["type"] == dr.KernelType.JIT]
-        return hits, wall, cpu
+        """One launch over every ray, every field of the result evaluated: (result, wall seconds, process CPU seconds)."""
+        if preliminary:  # coherent=True, as for camera rays
+            return self.mitsuba.timed(lambda: self.scene.ray_intersect_preliminary(self.ray, True))
+        return self.mitsuba.timed(lambda: self.scene.ray_intersect(self.ray, self.mitsuba.mi.RayFlags.All, True))
 
 
 def hit_statistics(t: np.ndarray, hit: np.ndarray) -> dict:
@@ -233,7 +186,7 @@ def validate_traversal(renderer: Renderer, embree: Embree, origins: np.ndarray, 
     if failures:
         raise SystemExit("traversal validation failed, nothing timed:\n  " + "\n  ".join(failures))
     summary = {name: hit_statistics(t, hit) for name, (t, hit) in engines.items()}
-    _log(f"validated traversal: {json.dumps(summary)}")
+    log(f"validated traversal: {json.dumps(summary)}")
     return {
         "rays": "one through every pixel centre",
         "distance_rtol": DISTANCE_RTOL,
@@ -262,7 +215,7 @@ def validate_images(pairs: dict[str, tuple[np.ndarray, int, np.ndarray]]) -> dic
         checks[name] = check
     if failures:
         raise SystemExit("image validation failed, nothing timed:\n  " + "\n  ".join(failures))
-    _log(f"validated images: z within {z_critical:.2f}")
+    log(f"validated images: z within {z_critical:.2f}")
     return checks
 
 
@@ -293,7 +246,7 @@ def measure(args: argparse.Namespace, mitsuba: MitsubaSide, mitsuba_primary: Mit
     for _ in range(MITSUBA_WARMUP_RENDERS):
         theirs_full = mitsuba.render(SIZE, depth, args.spp)[0]
         theirs_primary = mitsuba_primary.render(SIZE, PRIMARY_DEPTH, args.primary_spp)[0]
-    _log(f"warm-ups: {time.perf_counter() - started:.1f} s")
+    log(f"warm-ups: {time.perf_counter() - started:.1f} s")
     validation = {
         "traversal": validate_traversal(primary, embree, origins, directions),
         "images": validate_images(
@@ -308,15 +261,12 @@ def measure(args: argparse.Namespace, mitsuba: MitsubaSide, mitsuba_primary: Mit
 
     paths, rays = SIZE * SIZE * args.spp, SIZE * SIZE * args.primary_spp
     timed = {name: Timed(paths if name in FULL_PATHS else rays) for name in WHAT}
-    full_acceleration = Acceleration(OURS_FULL, full)
+    timed_images: dict[str, np.ndarray] = {}
 
     def ours_full_run() -> tuple[float, float]:
         image, nonfinite, wall, cpu = fresh_image(full, args.spp, from_seed=True)
-        if nonfinite or (
-            full_acceleration.timed_image is not None and not np.array_equal(image, full_acceleration.timed_image)
-        ):
-            raise SystemExit(f"{OURS_FULL}: dropped samples ({nonfinite}) or an image unlike the previous run's")
-        full_acceleration.timed_image = image
+        if nonfinite or not np.array_equal(image, timed_images.setdefault(OURS_FULL, image)):
+            raise SystemExit(f"{OURS_FULL}: dropped samples ({nonfinite}) or an image unlike the first run's")
         return wall, cpu
 
     def embree_run(preliminary: bool) -> Callable[[], tuple[float, float]]:
@@ -337,16 +287,18 @@ def measure(args: argparse.Namespace, mitsuba: MitsubaSide, mitsuba_primary: Mit
     for repeat in range(args.repeats):
         for name, run in runs.items():
             timed[name].add(*run())
-        _log(f"round {repeat + 1}/{args.repeats}: " + ", ".join(f"{n} {t.wall[-1]:.2f} s" for n, t in timed.items()))
+        log(f"round {repeat + 1}/{args.repeats}: " + ", ".join(f"{n} {t.wall[-1]:.2f} s" for n, t in timed.items()))
     timed_kernels = mitsuba.kernel_report() | {"depth_1": mitsuba_primary.kernel_report()}
     compiled = timed_kernels["compiled"] + timed_kernels["depth_1"]["compiled"]
     if compiled:
         raise SystemExit(f"Mitsuba compiled {compiled} kernels during timed runs: the warm-up missed them")
 
-    full_acceleration.run_seconds = timed[OURS_FULL].wall
-    full_rays = ray_rates(counted_rays(full_acceleration, args.spp), full_acceleration.median_seconds)
+    full_rays = ray_rates(
+        counted_rays(full, args.spp, timed_images[OURS_FULL]), statistics.median(timed[OURS_FULL].wall)
+    )
+    units = {name: "paths" if name in FULL_PATHS else "rays" for name in timed}
     entries = {
-        name: timing.entry(WHAT[name].format(max_depth=depth), "paths" if name in FULL_PATHS else "rays")
+        name: {"what": WHAT[name].format(max_depth=depth), "unit": units[name], **timing.entry(units[name])}
         for name, timing in timed.items()
     }
     entries[OURS_FULL].update(full_rays)
@@ -398,12 +350,8 @@ CAMERA_RAY_BARS = (
 
 def plot(path: Path, result: dict) -> None:
     """Camera rays/s (ours against Embree) and paths/s (ours, the ceiling, Mitsuba)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=(13.0, 5.2))
-    FigureCanvasAgg(figure)
-    ray_axes, path_axes = figure.subplots(1, 2)
+    chart = figure(13.0, 5.2)
+    ray_axes, path_axes = chart.subplots(1, 2)
     measurements, ratios = result["measurements"], result["ratios"]
     rays = [measurements[name]["rays_per_second"] / 1e6 for name, _, _ in CAMERA_RAY_BARS]
     bars = ray_axes.bar(
@@ -444,19 +392,14 @@ def plot(path: Path, result: dict) -> None:
         axes.set_ylim(0, max(values) * 1.15)  # room for the labels above the bars
         axes.grid(axis="y", alpha=0.3)
         axes.set_axisbelow(True)
-    threads = result["threads"]
-    figure.suptitle(
-        f"Ceiling on {result['adapter']['adapter']} ({result['adapter']['backend']}) against Mitsuba "
-        f"{result['mitsuba']} {result['variant']} (Embree), {result['scene']} {result['width']}x{result['height']}, "
-        f"rev {result['git_revision']}\nthreads: llvmpipe {threads['llvmpipe']}, drjit {threads['drjit']}, "
-        f"{threads['cpu_count']} cores; load average {result['load_average_before_after']}",
-        fontsize=9,
+    title = (
+        f"Ceiling against Mitsuba {result['mitsuba']} {result['variant']} (Embree), {result['scene']} "
+        f"{result['width']}x{result['height']}; threads: {result['threads']}"
     )
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
+    save_figure(chart, path, result, title)
 
 
-def summary(result: dict, paths: dict[str, Path]) -> str:
+def summary(result: dict) -> str:
     lines = [f"traversal ceiling, {result['adapter']['adapter']}, rev {result['git_revision']}"]
     for name, entry in result["measurements"].items():
         unit = entry["unit"]
@@ -466,47 +409,31 @@ def summary(result: dict, paths: dict[str, Path]) -> str:
         alternates = (result[key][name] for key in ("ratios_median_of_rounds", "ratios_process_cpu"))
         lines.append(f"  {name}: {value:.4g} / " + " / ".join(f"{other:.4g}" for other in alternates))
     lines.append(f"  load average before, after: {result['load_average_before_after']}")
-    lines.append(f"  wrote {paths['json']} and {paths['png']}")
     return "\n".join(lines)
 
 
-def parse_arguments(argv: list[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spp", type=int, default=2, help="samples per pixel of each timed full render (default 2)")
+def main(argv: list[str] | None = None) -> int:
+    parser = argument_parser(__doc__, spp=2, repeats=3, seed=1)
     parser.add_argument(
         "--primary-spp",
         type=int,
         default=8,
         help="camera rays per pixel of each timed camera-ray run (max depth 1, Embree launches; default 8)",
     )
-    parser.add_argument("--repeats", type=int, default=3, help="timed rounds; medians (default 3)")
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
-    args = parser.parse_args(argv)
-    if min(args.spp, args.primary_spp, args.repeats) < 1:
-        parser.error(
-            f"--spp, --primary-spp and --repeats must be at least 1, got {args.spp}, {args.primary_spp}, {args.repeats}"
-        )
-    return args
-
-
-def main(argv: list[str] | None = None) -> int:
-    args = parse_arguments(argv)
+    args = parse(parser, argv, "primary_spp")
     # the suite's max depth: the reference's, as bench/versus_mitsuba.py
     args.max_depth = load_reference(SCENE).metadata["max_depth"]
     settings = {"scene": SCENE, "width": SIZE, "height": SIZE, "spp": args.spp, "max_depth": args.max_depth}
-    reason = skip_reason()
+    reason = mitsuba_missing()
     if reason:
-        write_result(f"{NAME}_skipped", {**settings, "skipped": reason}, out=args.out)
-        print(f"{NAME} skipped: {reason} (recorded in {result_stem(f'{NAME}_skipped', args.out)}.json)")
-        return 0
-    started, load_before = time.perf_counter(), load_average()
+        return record_skip(NAME, settings, reason, args.out)
+    run = Run()
     import drjit
 
     mi = load_mitsuba(LLVM_VARIANT)
     drjit.set_flag(drjit.JitFlag.KernelHistory, True)
     # one side per max depth: MitsubaSide keeps one scene per image size
-    measured = measure(args, MitsubaSide(mi, drjit), MitsubaSide(mi, drjit))
+    measured = measure(args, MitsubaSide(mi, drjit, SCENE), MitsubaSide(mi, drjit, SCENE))
     result = {
         **settings,
         "primary_spp": args.primary_spp,
@@ -516,21 +443,14 @@ def main(argv: list[str] | None = None) -> int:
         "drjit": drjit.__version__,
         "variant": LLVM_VARIANT,
         "libllvm": libllvm_path(),
-        "threads": {
-            # llvmpipe's default is one thread per core
-            "llvmpipe": int(os.environ.get("LP_NUM_THREADS") or os.cpu_count()),
-            "drjit": drjit.thread_count(),
-            "cpu_count": os.cpu_count(),
-        },
+        "threads": threads(drjit),
         "timing": "wall clock per run; ours: Renderer.render after restart()/reset(), image read-back not timed; "
         "Embree: primary_spp launches of the pixel-centre rays, each evaluated in full and waited for; "
         "Mitsuba path: mi.render evaluated; rounds interleave every kind",
         **measured,
-        "load_average_before_after": [load_before, load_average()],
-        "wall_seconds": time.perf_counter() - started,
     }
-    paths = write_result(NAME, result, out=args.out, plot=plot)
-    print(summary(json.loads(paths["json"].read_text()), paths))
+    paths = write_result(NAME, result, out=args.out, plot=plot, run=run)
+    print(summary(json.loads(paths["json"].read_text())))
     return 0
 
 

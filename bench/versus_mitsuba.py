@@ -1,8 +1,8 @@
 """Side by side with Mitsuba 3 in one process: paths/s on the Cornell box at 512x512, and the time
 each renderer needs to reach the same RMSE against the reference at 128x128.
 
-    python bench/versus_mitsuba.py                  (or: python -m bench.versus_mitsuba)
-    python bench/versus_mitsuba.py --spp 4 --repeats 3 --max-spp 256 --runs 1
+    python -m bench.versus_mitsuba
+    python -m bench.versus_mitsuba --spp 4 --repeats 3 --max-spp 256 --runs 1
 
 Mitsuba runs its `llvm_ad_rgb` variant (drjit's LLVM backend: needs libLLVM >= 16, Debian's
 libllvm19) with its `path` integrator on the scene wgputrace/reference/mitsuba_scene.py builds
@@ -17,9 +17,10 @@ Mesa's) point at an empty temporary folder when this process has not started drj
 before, so the first render compiles for real. Then, per part and renderer, a warm-up render at
 the timed size and spp (discarded); validation: VALIDATION_BATCHES independent images, averaged
 down to the reference's 128x128 where larger (exact for a box filter), Welch-tested per block and
-channel against the reference as tests/render does; then the timed renders. Mitsuba's seeds start at MITSUBA_SEED_START, far from the reference's seeds
-(0 .. passes - 1), and every render takes a new one; its kernel does not depend on seed, spp or
-size (drjit passes them in), which the kernel history confirms: timed renders compile nothing.
+channel against the reference as the render tests do; then the timed renders. Mitsuba's seeds
+start at MITSUBA_SEED_START, far from the reference's seeds (0 .. passes - 1), and every render
+takes a new one; its kernel does not depend on seed, spp or size (drjit passes them in), which the
+kernel history confirms: timed renders compile nothing.
 
 Paths/s: `repeats` renders of `spp` samples per pixel at 512x512, interleaved (ours, Mitsuba, ours,
 ...) so that drifting background load hits both; a fresh image each time, the median counts.
@@ -39,31 +40,47 @@ bench/results/versus_mitsuba_<adapter>.json and .png.
 from __future__ import annotations
 
 import argparse
-import importlib.util
-import itertools
 import os
 import statistics
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
-from types import ModuleType
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import RESULTS_DIR, load_average, result_stem, write_result  # noqa: E402
-from bench.convergence import FIT_MIN_SPP, checkpoints, curves, errors, fit_power_law, seconds_to_reach  # noqa: E402
-from bench.throughput import fresh_image  # noqa: E402
-from tests.render.image_statistics import Estimate, compare_blocks  # noqa: E402
-from tests.render.reference_images import STORAGE_RTOL, Reference, load_reference  # noqa: E402
-from tests.stats import sidak  # noqa: E402
-from wgputrace import Renderer  # noqa: E402
-from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, libllvm_path, load_mitsuba, mitsuba_scene  # noqa: E402
-from wgputrace.scenes import scene_by_name  # noqa: E402
+from bench.common import (
+    CHANNELS,
+    FIT_MIN_SPP,
+    MITSUBA_SEED_START,
+    MitsubaSide,
+    Run,
+    Timed,
+    add_max_spp,
+    argument_parser,
+    checkpoints,
+    curves,
+    errors,
+    figure,
+    fit_power_law,
+    fresh_image,
+    image_failures,
+    log,
+    mitsuba_missing,
+    parse,
+    record_skip,
+    result_stem,
+    save_figure,
+    seconds_to_reach,
+    threads,
+    write_result,
+)
+from wgputrace import Renderer
+from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, libllvm_path, load_mitsuba
+from wgputrace.scenes import scene_by_name
+from wgputrace.testing.image_statistics import Estimate, compare_blocks
+from wgputrace.testing.references import STORAGE_RTOL, Reference, load_reference
+from wgputrace.testing.stats import sidak
 
 NAME = "versus_mitsuba"
 SCENE = "cornell"
@@ -71,72 +88,13 @@ OURS, MITSUBA = "wgputrace", "mitsuba"
 THROUGHPUT_SIZE = 512
 CONVERGENCE_SIZE = 128  # the reference's: errors are measured pixel by pixel against it
 COMPILE_PROBE_SIZE = 8
-# Far above any reference seed (0 .. passes - 1): reusing one would correlate our comparison's
-# error with the reference's.
-MITSUBA_SEED_START = 1_000_000
 VALIDATION_BATCHES = 8
 # Samples per pixel of each validation batch, per image size: about 2 million paths per renderer
-# and size, the sample count tests/render/test_references.py tests the Cornell box with.
+# and size, the sample count the render tests test the Cornell box with.
 VALIDATION_SPP = {THROUGHPUT_SIZE: 1, CONVERGENCE_SIZE: 16}
-# Block sizes (at the reference's resolution) and family-wise level, as tests/render/test_references.py.
+# Block sizes (at the reference's resolution) and family-wise level, as the render tests use.
 VALIDATION_BLOCKS = (8, CONVERGENCE_SIZE)
 VALIDATION_SIGNIFICANCE = 1e-3
-CHANNELS = 3
-
-
-def _log(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
-def skip_reason() -> str | None:
-    """Why this benchmark cannot run here, or None."""
-    # found, not imported: importing starts drjit, which then no longer reads DRJIT_CACHE_DIR
-    if importlib.util.find_spec("mitsuba") is None:
-        return "mitsuba is not installed: pip install -e '.[reference]'"
-    if libllvm_path() is None:
-        return "Mitsuba's llvm_ad_rgb needs LLVM >= 16: install Debian's libllvm19 or set DRJIT_LIBLLVM_PATH"
-    return None
-
-
-@dataclass
-class MitsubaSide:
-    """Mitsuba, its scenes by size, and a seed that changes with every render."""
-
-    mi: ModuleType
-    dr: ModuleType
-    scenes: dict[int, object] = field(default_factory=dict)
-    seeds: itertools.count = field(default_factory=lambda: itertools.count(MITSUBA_SEED_START))
-    kernels: list[dict] = field(default_factory=list)  # drjit's history since the last kernel_report()
-
-    def scene(self, size: int, max_depth: int):
-        if size not in self.scenes:
-            self.scenes[size] = mitsuba_scene(self.mi, scene_by_name(SCENE), size, size, max_depth)
-        return self.scenes[size]
-
-    def render(self, size: int, max_depth: int, spp: int) -> tuple[np.ndarray, float, float]:
-        """A fresh image with a new seed: (image, wall seconds, process CPU seconds), evaluation included."""
-        scene = self.scene(size, max_depth)
-        self.dr.sync_thread()
-        wall, cpu = time.perf_counter(), time.process_time()
-        image = self.mi.render(scene, spp=spp, seed=next(self.seeds))
-        self.dr.eval(image)  # drjit is lazy: the kernel runs here
-        self.dr.sync_thread()
-        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-        self.kernels += [entry for entry in self.dr.kernel_history() if entry["type"] == self.dr.KernelType.JIT]
-        return np.asarray(image, dtype=np.float32), wall, cpu
-
-    def kernel_report(self) -> dict:
-        """The JIT kernels launched since the last report: compiled, loaded from disk, or reused from memory."""
-        kernels, self.kernels = self.kernels, []
-        compiled = [k for k in kernels if not k["cache_hit"]]
-        return {
-            "launches": len(kernels),
-            "compiled": len(compiled),
-            "loaded_from_disk_cache": sum(1 for k in kernels if k["cache_hit"] and k["cache_disk"]),
-            "reused_from_memory": sum(1 for k in kernels if k["cache_hit"] and not k["cache_disk"]),
-            "codegen_ms": sum(k["codegen_time"] for k in kernels),
-            "llvm_backend_ms": sum(k["backend_time"] for k in kernels),
-        }
 
 
 def empty_compile_caches(folder: Path) -> dict:
@@ -145,14 +103,12 @@ def empty_compile_caches(folder: Path) -> dict:
     not started yet in this process (the result says which)."""
     from wgputrace.gpu import device
 
-    empty = {}
-    if "drjit" not in sys.modules:
+    empty = {OURS: device._context is None, MITSUBA: "drjit" not in sys.modules}
+    if empty[MITSUBA]:
         os.environ["DRJIT_CACHE_DIR"] = str(folder / "drjit")
-        empty[MITSUBA] = True
-    if device._context is None:
+    if empty[OURS]:
         os.environ["MESA_SHADER_CACHE_DIR"] = str(folder / "mesa")
-        empty[OURS] = True
-    return {name: empty.get(name, False) for name in (OURS, MITSUBA)}
+    return empty
 
 
 def validate(label: str, batches: list[np.ndarray], reference: Reference, per_test: float) -> dict:
@@ -161,9 +117,7 @@ def validate(label: str, batches: list[np.ndarray], reference: Reference, per_te
     factor = estimate.mean.shape[0] // reference.estimate.mean.shape[0]
     if factor > 1:
         estimate = estimate.downsampled(factor)
-    failures = []
-    if not all(np.isfinite(batch).all() for batch in batches):
-        failures.append("NaN or infinite image values")
+    failures = [text for batch in batches for text in image_failures(batch, 0)][:1]
     worst = 1.0
     for block in VALIDATION_BLOCKS:
         reference_blocks = Estimate(reference.estimate.mean, np.zeros_like(reference.estimate.mean), np.inf)
@@ -179,108 +133,13 @@ def validate(label: str, batches: list[np.ndarray], reference: Reference, per_te
             )
     if failures:
         raise SystemExit(f"{label}: validation failed, nothing timed: {'; '.join(failures)}")
-    _log(f"validated {label}: smallest p-value {worst:.3g} (limit {per_test:.3g})")
+    log(f"validated {label}: smallest p-value {worst:.3g} (limit {per_test:.3g})")
     return {"batches": len(batches), "smallest_p_value": worst, "per_test_significance": per_test}
 
 
-def measure_compile(mitsuba: MitsubaSide, args: argparse.Namespace) -> dict:
-    """Each renderer's first render minus its second, at COMPILE_PROBE_SIZE and 1 spp: the shader
-    compile (or JIT trace and compile) and first-use set-up, with so little rendering in either
-    that background load hardly moves the difference. Both compiled kernels serve every size."""
-    size, depth = COMPILE_PROBE_SIZE, args.max_depth
-    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
-    first, second = fresh_image(ours, 1)[2], fresh_image(ours, 1)[2]
-    result = {OURS: {"first_render_seconds": first, "second_render_seconds": second, "compile_seconds": first - second}}
-    first = mitsuba.render(size, depth, 1)[1]
-    kernels = mitsuba.kernel_report()
-    second = mitsuba.render(size, depth, 1)[1]
-    mitsuba.kernel_report()
-    result[MITSUBA] = {
-        "first_render_seconds": first,
-        "second_render_seconds": second,
-        "compile_seconds": first - second,
-        "kernels": kernels,
-    }
-    _log(
-        f"compile: ours {result[OURS]['compile_seconds']:.2f} s, Mitsuba {result[MITSUBA]['compile_seconds']:.2f} s {kernels}"
-    )
-    return result
-
-
-def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float) -> dict:
-    size, depth = THROUGHPUT_SIZE, args.max_depth
-    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
-    first = {OURS: fresh_image(ours, args.spp)[2], MITSUBA: mitsuba.render(size, depth, args.spp)[1]}
-    warmup_kernels = mitsuba.kernel_report()
-    _log(f"warm-up {size}x{size}: ours {first[OURS]:.2f} s, Mitsuba {first[MITSUBA]:.2f} s")
-    spp = VALIDATION_SPP[size]
-    validation = {
-        OURS: validate(
-            f"ours {size}x{size}",
-            [fresh_image(ours, spp)[0] for _ in range(VALIDATION_BATCHES)],
-            reference,
-            per_test,
-        ),
-        MITSUBA: validate(
-            f"Mitsuba {size}x{size}",
-            [mitsuba.render(size, depth, spp)[0] for _ in range(VALIDATION_BATCHES)],
-            reference,
-            per_test,
-        ),
-    }
-    mitsuba.kernel_report()
-    wall = {OURS: [], MITSUBA: []}
-    cpu = {OURS: [], MITSUBA: []}
-    for repeat in range(args.repeats):
-        _, nonfinite, seconds, cpu_seconds = fresh_image(ours, args.spp)
-        if nonfinite:
-            raise SystemExit(
-                f"ours, timed run {repeat + 1}: the shader dropped {nonfinite} samples (non-finite or cut short)"
-            )
-        wall[OURS].append(seconds)
-        cpu[OURS].append(cpu_seconds)
-        image, seconds, cpu_seconds = mitsuba.render(size, depth, args.spp)
-        if not np.isfinite(image).all():
-            raise SystemExit(f"Mitsuba, timed run {repeat + 1}: NaN or infinite image values")
-        wall[MITSUBA].append(seconds)
-        cpu[MITSUBA].append(cpu_seconds)
-        _log(f"run {repeat + 1}/{args.repeats}: ours {wall[OURS][-1]:.2f} s, Mitsuba {seconds:.2f} s")
-    paths = size * size * args.spp
-    renderers = {}
-    for name in (OURS, MITSUBA):
-        median = statistics.median(wall[name])
-        renderers[name] = {
-            "run_seconds": wall[name],
-            "run_process_cpu_seconds": cpu[name],
-            "median_seconds": median,
-            "paths_per_second": paths / median,
-            "warmup_seconds": first[name],
-            "validation": validation[name],
-        }
-    renderers[MITSUBA]["warmup_kernels"] = warmup_kernels
-    renderers[MITSUBA]["timed_kernels"] = timed = mitsuba.kernel_report()
-    if timed["compiled"]:
-        raise SystemExit(f"Mitsuba compiled {timed['compiled']} kernels during timed renders: the warm-up missed them")
-    return {
-        "width": size,
-        "height": size,
-        "spp": args.spp,
-        "repeats": args.repeats,
-        "paths_per_run": paths,
-        "renderers": renderers,
-        "paths_per_second_ratio": renderers[OURS]["paths_per_second"] / renderers[MITSUBA]["paths_per_second"],
-        "process_cpu_ratio": statistics.median(cpu[MITSUBA]) / statistics.median(cpu[OURS]),
-    }
-
-
-def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float):
-    size, depth = CONVERGENCE_SIZE, args.max_depth
-    mean, variance = reference.estimate.mean, reference.estimate.variance
-    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
-    fresh_image(ours, 1)  # warm-up (the pipeline for this size), discarded
-    mitsuba.render(size, depth, 1)
-    warmup_kernels = mitsuba.kernel_report()
-    spp = VALIDATION_SPP[size]
+def validate_both(ours: Renderer, mitsuba: MitsubaSide, depth: int, reference: Reference, per_test: float) -> dict:
+    """Both renderers' images at `ours`' size against the reference, VALIDATION_BATCHES each."""
+    size, spp = ours.width, VALIDATION_SPP[ours.width]
     validation = {
         OURS: validate(
             f"ours {size}x{size}", [fresh_image(ours, spp)[0] for _ in range(VALIDATION_BATCHES)], reference, per_test
@@ -293,6 +152,72 @@ def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argpar
         ),
     }
     mitsuba.kernel_report()
+    return validation
+
+
+def measure_compile(mitsuba: MitsubaSide, args: argparse.Namespace) -> dict:
+    """Each renderer's first render minus its second, at COMPILE_PROBE_SIZE and 1 spp: the shader
+    compile (or JIT trace and compile) and first-use set-up, with so little rendering in either
+    that background load hardly moves the difference. Both compiled kernels serve every size."""
+    size, depth = COMPILE_PROBE_SIZE, args.max_depth
+    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    seconds = {OURS: [fresh_image(ours, 1)[2] for _ in range(2)], MITSUBA: [mitsuba.render(size, depth, 1)[1]]}
+    kernels = mitsuba.kernel_report()
+    seconds[MITSUBA].append(mitsuba.render(size, depth, 1)[1])
+    mitsuba.kernel_report()
+    result = {
+        name: {"first_render_seconds": first, "second_render_seconds": second, "compile_seconds": first - second}
+        for name, (first, second) in seconds.items()
+    }
+    result[MITSUBA]["kernels"] = kernels
+    log(f"compile: ours {result[OURS]['compile_seconds']:.2f} s, Mitsuba {result[MITSUBA]['compile_seconds']:.2f} s")
+    return result
+
+
+def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float) -> dict:
+    size, depth = THROUGHPUT_SIZE, args.max_depth
+    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    first = {OURS: fresh_image(ours, args.spp)[2], MITSUBA: mitsuba.render(size, depth, args.spp)[1]}
+    warmup_kernels = mitsuba.kernel_report()
+    log(f"warm-up {size}x{size}: ours {first[OURS]:.2f} s, Mitsuba {first[MITSUBA]:.2f} s")
+    validation = validate_both(ours, mitsuba, depth, reference, per_test)
+    paths = size * size * args.spp
+    timed = {OURS: Timed(paths), MITSUBA: Timed(paths)}
+    for repeat in range(args.repeats):
+        image, dropped, wall, cpu = fresh_image(ours, args.spp)
+        timed[OURS].add(wall, cpu)
+        failures = image_failures(image, dropped)
+        image, wall, cpu = mitsuba.render(size, depth, args.spp)
+        timed[MITSUBA].add(wall, cpu)
+        failures += [f"Mitsuba: {text}" for text in image_failures(image, 0)]
+        if failures:
+            raise SystemExit(f"timed run {repeat + 1}: {'; '.join(failures)}")
+        log(f"run {repeat + 1}/{args.repeats}: ours {timed[OURS].wall[-1]:.2f} s, Mitsuba {wall:.2f} s")
+    renderers = {
+        name: {**timed[name].entry(), "warmup_seconds": first[name], "validation": validation[name]} for name in timed
+    }
+    renderers[MITSUBA]["warmup_kernels"] = warmup_kernels
+    renderers[MITSUBA]["timed_kernels"] = mitsuba.compiled_nothing("timed renders")
+    return {
+        "width": size,
+        "height": size,
+        "spp": args.spp,
+        "repeats": args.repeats,
+        "paths_per_run": paths,
+        "renderers": renderers,
+        "paths_per_second_ratio": renderers[OURS]["paths_per_second"] / renderers[MITSUBA]["paths_per_second"],
+        "process_cpu_ratio": statistics.median(timed[MITSUBA].cpu) / statistics.median(timed[OURS].cpu),
+    }
+
+
+def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float):
+    size, depth = CONVERGENCE_SIZE, args.max_depth
+    mean, variance = reference.estimate.mean, reference.estimate.variance
+    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    fresh_image(ours, 1)  # warm-up (the pipeline for this size), discarded
+    mitsuba.render(size, depth, 1)
+    warmup_kernels = mitsuba.kernel_report()
+    validation = validate_both(ours, mitsuba, depth, reference, per_test)
     rows = []
     for run in range(args.runs):
         ours.reset()
@@ -303,23 +228,24 @@ def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argpar
             ours.render(checkpoint - ours.samples_per_pixel)
             seconds += time.perf_counter() - wall
             cpu_seconds += time.process_time() - cpu
-            if ours.dropped_samples:
-                raise SystemExit(
-                    f"ours, run {run + 1}: {ours.dropped_samples} dropped samples (non-finite or cut short)"
-                )
-            row = {"scene": SCENE, "integrator": OURS, "run": run + 1, "spp": checkpoint}
-            rows.append(row | {"seconds": seconds, "cpu_seconds": cpu_seconds} | errors(ours.image(), mean, variance))
-            image, wall, cpu = mitsuba.render(size, depth, checkpoint)
-            if not np.isfinite(image).all():
-                raise SystemExit(f"Mitsuba, run {run + 1}, {checkpoint} spp: NaN or infinite image values")
-            row = {"scene": SCENE, "integrator": MITSUBA, "run": run + 1, "spp": checkpoint}
-            rows.append(row | {"seconds": wall, "cpu_seconds": cpu} | errors(image, mean, variance))
-        _log(
+            image = ours.image()
+            theirs, wall, cpu = mitsuba.render(size, depth, checkpoint)
+            failures = image_failures(image, ours.dropped_samples) + image_failures(theirs, 0)
+            if failures:
+                raise SystemExit(f"run {run + 1}, {checkpoint} spp: {'; '.join(failures)}")
+            row = {"scene": SCENE, "run": run + 1, "spp": checkpoint}
+            rows.append(
+                row
+                | {"integrator": OURS, "seconds": seconds, "cpu_seconds": cpu_seconds}
+                | errors(image, mean, variance)
+            )
+            rows.append(
+                row | {"integrator": MITSUBA, "seconds": wall, "cpu_seconds": cpu} | errors(theirs, mean, variance)
+            )
+        log(
             f"run {run + 1}/{args.runs}: RMSE at {args.max_spp} spp ours {rows[-2]['rmse']:.4g}, Mitsuba {rows[-1]['rmse']:.4g}"
         )
-    timed = mitsuba.kernel_report()
-    if timed["compiled"]:
-        raise SystemExit(f"Mitsuba compiled {timed['compiled']} kernels during timed renders: the warm-up missed them")
+    timed_kernels = mitsuba.compiled_nothing("timed renders")
     # curves() groups by scene and "integrator": here that column names the renderer
     by_renderer = {curve["integrator"]: curve for curve in curves(rows).values()}
     # the same in process CPU time (both renderers' worker threads run in this process), which
@@ -336,7 +262,7 @@ def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argpar
         "per checkpoint at that spp; image read-backs not timed",
         "validation": validation,
         "warmup_kernels": warmup_kernels,
-        "timed_kernels": timed,
+        "timed_kernels": timed_kernels,
         "curves": by_renderer,
         "time_to_equal_rmse": time_to_equal_rmse(by_renderer[OURS], by_renderer[MITSUBA]),
         "process_cpu_time_to_equal_rmse": time_to_equal_rmse(by_renderer_cpu[OURS], by_renderer_cpu[MITSUBA]),
@@ -346,7 +272,7 @@ def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argpar
 
 def time_to_equal_rmse(ours: dict, theirs: dict) -> dict:
     """Times for both curves to reach a common RMSE, from power laws fitted to RMSE against time
-    (bench/convergence.py's fit); the level is the larger of the two fitted final RMSEs, which both
+    (bench/common.py's fit); the level is the larger of the two fitted final RMSEs, which both
     curves reach inside their measured time range."""
     fits = {OURS: fit_power_law(ours, "rmse"), MITSUBA: fit_power_law(theirs, "rmse")}
     final = {
@@ -365,12 +291,8 @@ def time_to_equal_rmse(ours: dict, theirs: dict) -> dict:
 
 
 def plot(path: Path, result: dict) -> None:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=(12.0, 5.0))
-    FigureCanvasAgg(figure)
-    error_axes, bar_axes = figure.subplots(1, 2, gridspec_kw={"width_ratios": [1.4, 1.0]})
+    chart = figure(12.0, 5.0)
+    error_axes, bar_axes = chart.subplots(1, 2, gridspec_kw={"width_ratios": [1.4, 1.0]})
     colors = {OURS: "#3b75af", MITSUBA: "#c4452c"}
     convergence = result["convergence"]
     equal = convergence["time_to_equal_rmse"]
@@ -409,70 +331,55 @@ def plot(path: Path, result: dict) -> None:
         fontsize=10,
     )
     bar_axes.grid(axis="y", alpha=0.3, zorder=0)
-    threads = result["threads"]
-    figure.suptitle(
-        f"wgputrace on {result['adapter']['adapter']} ({result['adapter']['backend']}) vs Mitsuba "
-        f"{result['mitsuba']} {result['variant']} (path), {result['scene']}, max depth {result['max_depth']}, "
-        f"rev {result['git_revision']}\nthreads: llvmpipe {threads['llvmpipe']}, drjit {threads['drjit']}, "
-        f"{threads['cpu_count']} cores; load average {result['load_average_before_after']}",
-        fontsize=9,
+    title = (
+        f"wgputrace vs Mitsuba {result['mitsuba']} {result['variant']} (path), {result['scene']}, max depth "
+        f"{result['max_depth']}; threads: {result['threads']}"
     )
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-
-
-def parse_arguments(argv: list[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spp", type=int, default=4, help="samples per pixel per timed 512x512 render (default 4)")
-    parser.add_argument("--repeats", type=int, default=3, help="timed 512x512 renders per renderer (default 3)")
-    parser.add_argument("--max-spp", type=int, default=256, help="last convergence checkpoint, a power of two")
-    parser.add_argument("--runs", type=int, default=1, help="convergence runs per renderer (default 1)")
-    parser.add_argument("--seed", type=int, default=1, help="our renderer's seed")
-    parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
-    args = parser.parse_args(argv)
-    if args.max_spp < FIT_MIN_SPP * 4 or args.max_spp & (args.max_spp - 1):
-        parser.error(f"--max-spp must be a power of two >= {FIT_MIN_SPP * 4}, got {args.max_spp}")
-    if min(args.spp, args.repeats, args.runs) < 1:
-        parser.error(f"--spp, --repeats and --runs must be at least 1, got {args.spp}, {args.repeats}, {args.runs}")
-    return args
+    save_figure(chart, path, result, title)
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = parse_arguments(argv)
+    parser = argument_parser(__doc__, spp=4, repeats=3, seed=1)
+    add_max_spp(parser, 256)
+    parser.add_argument("--runs", type=int, default=1, help="convergence runs per renderer (default 1)")
+    args = parse(parser, argv, "runs")
     reference = load_reference(SCENE)
     if (reference.metadata["width"], reference.metadata["height"]) != (CONVERGENCE_SIZE, CONVERGENCE_SIZE):
         raise SystemExit(
-            f"the {SCENE} reference is {reference.metadata['width']}x{reference.metadata['height']}, "
-            f"this benchmark measures errors at {CONVERGENCE_SIZE}x{CONVERGENCE_SIZE}"
+            f"the {SCENE} reference is not {CONVERGENCE_SIZE}x{CONVERGENCE_SIZE}: errors are measured at that size"
         )
     args.max_depth = reference.metadata["max_depth"]
-    settings = {"scene": SCENE, "width": THROUGHPUT_SIZE, "height": THROUGHPUT_SIZE, "spp": args.spp}
-    settings["max_depth"] = args.max_depth
-    reason = skip_reason()
+    settings = {
+        "scene": SCENE,
+        "width": THROUGHPUT_SIZE,
+        "height": THROUGHPUT_SIZE,
+        "spp": args.spp,
+        "max_depth": args.max_depth,
+    }
+    reason = mitsuba_missing()
     if reason:
-        write_result(f"{NAME}_skipped", {**settings, "skipped": reason}, out=args.out)
-        print(f"{NAME} skipped: {reason} (recorded in {result_stem(f'{NAME}_skipped', args.out)}.json)")
-        return 0
-    started = time.perf_counter()
-    load_before = load_average()
+        return record_skip(NAME, settings, reason, args.out)
+    run = Run()
     # before anything starts the GPU device or drjit
     caches = tempfile.TemporaryDirectory(prefix="versus-mitsuba-caches-")
     empty_caches = empty_compile_caches(Path(caches.name))
     import drjit
 
-    mitsuba = MitsubaSide(load_mitsuba(LLVM_VARIANT), drjit)
+    mitsuba = MitsubaSide(load_mitsuba(LLVM_VARIANT), drjit, SCENE)
     drjit.set_flag(drjit.JitFlag.KernelHistory, True)
     # Sidak over both parts, both renderers, every block size and channel
-    tests = 2 * 2 * CHANNELS * sum((CONVERGENCE_SIZE // block) ** 2 for block in VALIDATION_BLOCKS)
+    tests = 2 * 2 * len(CHANNELS) * sum((CONVERGENCE_SIZE // block) ** 2 for block in VALIDATION_BLOCKS)
     per_test = sidak(VALIDATION_SIGNIFICANCE, tests)
     compile_times = measure_compile(mitsuba, args)
     throughput = measure_throughput(mitsuba, reference, args, per_test)
     convergence = measure_convergence(mitsuba, reference, args, per_test)
     # Mitsuba compiles a few size-dependent kernels (film, reductions) at each new image size
-    warmups = (compile_times[MITSUBA]["kernels"], throughput["renderers"][MITSUBA]["warmup_kernels"])
-    compile_times[MITSUBA]["llvm_ms_all_warmups"] = sum(
-        kernels["codegen_ms"] + kernels["llvm_backend_ms"] for kernels in (*warmups, convergence["warmup_kernels"])
+    warmups = (
+        compile_times[MITSUBA]["kernels"],
+        throughput["renderers"][MITSUBA]["warmup_kernels"],
+        convergence["warmup_kernels"],
     )
+    compile_times[MITSUBA]["llvm_ms_all_warmups"] = sum(k["codegen_ms"] + k["llvm_backend_ms"] for k in warmups)
     result = {
         **settings,
         "integrators": {OURS: "mis", MITSUBA: "path"},
@@ -482,16 +389,10 @@ def main(argv: list[str] | None = None) -> int:
         "libllvm": libllvm_path(),
         "reference": reference.metadata,
         "mitsuba_seed_start": MITSUBA_SEED_START,
-        "threads": {
-            # llvmpipe's default is one thread per core
-            "llvmpipe": int(os.environ.get("LP_NUM_THREADS") or os.cpu_count()),
-            "drjit": drjit.thread_count(),
-            "cpu_count": os.cpu_count(),
-        },
-        "load_average_before_after": [load_before, load_average()],
+        "threads": threads(drjit),
         "compile_caches_empty_at_start": empty_caches,
         "validation": {
-            "test": "Welch t-test per block and channel against the reference (tests/render/image_statistics.py)",
+            "test": "Welch t-test per block and channel against the reference (wgputrace/testing/image_statistics.py)",
             "batches": VALIDATION_BATCHES,
             "spp_per_batch": VALIDATION_SPP,
             "blocks": VALIDATION_BLOCKS,
@@ -501,10 +402,9 @@ def main(argv: list[str] | None = None) -> int:
         "compile": compile_times,
         "throughput": throughput,
         "convergence": convergence,
-        "wall_seconds": time.perf_counter() - started,
     }
     caches.cleanup()
-    write_result(NAME, result, out=args.out, plot=plot)
+    write_result(NAME, result, out=args.out, plot=plot, run=run)
     # a skip recorded earlier no longer holds
     result_stem(f"{NAME}_skipped", args.out).with_suffix(".json").unlink(missing_ok=True)
     equal = convergence["time_to_equal_rmse"]
@@ -518,8 +418,7 @@ def main(argv: list[str] | None = None) -> int:
         f"(process CPU {convergence['process_cpu_time_to_equal_rmse']['ratio']:.3f})\n"
         f"compile apart: ours {compile_times[OURS]['compile_seconds']:.2f} s, Mitsuba "
         f"{compile_times[MITSUBA]['compile_seconds']:.2f} s ({compile_times[MITSUBA]['kernels']['compiled']} kernels; "
-        f"{compile_times[MITSUBA]['llvm_ms_all_warmups'] / 1e3:.2f} s of trace and LLVM compile over all sizes)\n"
-        f"wrote {result_stem(NAME, args.out)}.json and .png in {result['wall_seconds']:.0f} s"
+        f"{compile_times[MITSUBA]['llvm_ms_all_warmups'] / 1e3:.2f} s of trace and LLVM compile over all sizes)"
     )
     return 0
 

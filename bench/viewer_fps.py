@@ -1,7 +1,7 @@
 """Frames per second of the viewer in a real window, moving and at rest, at 640x480 and 1280x720.
 
-    python bench/viewer_fps.py               (or: python -m bench.viewer_fps)
-    python bench/viewer_fps.py --sizes 640x480 --seconds 10
+    python -m bench.viewer_fps
+    python -m bench.viewer_fps --sizes 640x480 --seconds 10
 
 Opens the viewer's glfw window (on a virtual X display started for the run when there is no
 DISPLAY) on the default scene. Each size runs: a warm-up (kernels compile, the first frames),
@@ -14,7 +14,6 @@ pixel reached. Writes bench/results/viewer_fps_<adapter>.json and .png.
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import sys
 import time
@@ -23,14 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bench.common import RESULTS_DIR, load_average, write_result  # noqa: E402
-from wgputrace.app.viewer import REST_SECONDS, Viewer, ViewerOptions  # noqa: E402
-from wgputrace.app.window import create_canvas, has_display, virtual_display  # noqa: E402
-from wgputrace.cli import parse_size  # noqa: E402
-from wgputrace.scenes import DEFAULT_SCENE  # noqa: E402
+from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
+from wgputrace.app.viewer import REST_SECONDS, Viewer, ViewerOptions
+from wgputrace.app.window import create_canvas, has_display
+from wgputrace.cli_arguments import parse_size
+from wgputrace.scenes import DEFAULT_SCENE
+from wgputrace.testing.display import virtual_display
 
 WARMUP_SECONDS = 4.0
 # The camera turns this many pixels' worth of mouse drag per frame while moving, to the right for
@@ -98,12 +95,8 @@ def phase(frames) -> dict:
 
 
 def plot(path: Path, result: dict) -> None:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=(7.0, 4.4))
-    FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
+    chart = figure(7.0, 4.4)
+    axes = chart.add_subplot()
     names = [f"{w}x{h}" for w, h in (entry["size"] for entry in result["sizes"])]
     x = np.arange(len(names))
     for offset, key, color in ((-0.2, "moving", "#d08030"), (0.2, "resting", "#3b75af")):
@@ -122,40 +115,30 @@ def plot(path: Path, result: dict) -> None:
     axes.set_ylim(0, max(result["target_fps"], *(e["moving"]["fps"] for e in result["sizes"])) * 1.35)
     axes.legend(loc="upper right")
     axes.grid(axis="y", alpha=0.3, zorder=0)
-    figure.suptitle(
-        f"wgputrace viewer on {result['adapter']['adapter']}, {DEFAULT_SCENE}, rev {result['git_revision']}\n"
-        f"load average before {result['load_average_before_after'][0]}",
-        fontsize=9,
-    )
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
+    save_figure(chart, path, result, f"wgputrace viewer, {DEFAULT_SCENE}", dpi=120)
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argument_parser(__doc__)
     parser.add_argument("--sizes", type=parse_size, nargs="+", default=[(640, 480), (1280, 720)])
     parser.add_argument("--seconds", type=float, default=10.0, help="length of each phase (default 10)")
     parser.add_argument("--fps", type=float, default=20.0, help="the viewer's target fps (default 20)")
-    parser.add_argument("--out", type=Path, default=RESULTS_DIR)
-    args = parser.parse_args(argv)
-    started, load_before = time.perf_counter(), load_average()
+    args = parse(parser, argv)
+    run = Run()
     with nullcontext() if has_display() else virtual_display():
         sizes = []
         for size in args.sizes:
             entry = run_size(size, args.seconds, args.fps)
             sizes.append(entry)
-            print(
+            log(
                 f"{size[0]}x{size[1]}: moving {entry['moving']['fps']:.1f} fps (traced "
                 f"{'x'.join(map(str, entry['moving']['median_traced_size']))}), resting {entry['resting']['fps']:.1f} fps, "
-                f"{entry['resting']['samples_per_second'] / 1e6:.3f} M samples/s",
-                file=sys.stderr,
-                flush=True,
+                f"{entry['resting']['samples_per_second'] / 1e6:.3f} M samples/s"
             )
         import glfw
 
         glfw.terminate()  # while the display is still there: glfw's exit handler would talk to it
     result = {
-        "load_average_before_after": [load_before, load_average()],
         "scene": DEFAULT_SCENE,
         "width": [size[0] for size in args.sizes],
         "height": [size[1] for size in args.sizes],
@@ -167,10 +150,8 @@ def main(argv: list[str] | None = None) -> int:
         "turn_pixels_per_frame": TURN_PIXELS_PER_FRAME,
         "turn_seconds": TURN_SECONDS,
         "sizes": sizes,
-        "wall_seconds": time.perf_counter() - started,
     }
-    paths = write_result("viewer_fps", result, out=args.out, plot=plot)
-    print(f"wrote {paths['json']} and .png")
+    write_result("viewer_fps", result, out=args.out, plot=plot, run=run)
     return 0
 
 

@@ -4,6 +4,8 @@
     python scripts/make_references.py                 # every reference scene
     python scripts/make_references.py cornell --passes 8 --variant scalar_rgb
 
+It imports wgputrace as installed (editable, from this checkout) and writes into that checkout.
+
 Each scene is built in Mitsuba from our own triangles, materials and camera
 (wgputrace/reference/mitsuba_scene.py) and rendered with Mitsuba's `path` integrator at the same
 max depth and a box pixel filter. Several passes with different seeds give a per-pixel mean and
@@ -26,14 +28,11 @@ from pathlib import Path
 
 import numpy as np
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
-if __package__ in (None, ""):
-    sys.path.insert(0, str(REPO_ROOT))
+from wgputrace.reference.mitsuba_scene import choose_variant, load_mitsuba, mitsuba_scene
+from wgputrace.scenes import scene_by_name
+from wgputrace.testing.checkout import checkout_root
 
-from wgputrace.reference.mitsuba_scene import choose_variant, load_mitsuba, mitsuba_scene  # noqa: E402
-from wgputrace.scenes import scene_by_name  # noqa: E402
-
-REFERENCE_DIR = REPO_ROOT / "tests" / "references"
+REFERENCE_DIR = checkout_root() / "tests" / "references"
 WIDTH = HEIGHT = 128
 FLOAT16_MAX = float(np.finfo(np.float16).max)
 

@@ -1,4 +1,5 @@
-"""bench/common.py's write_result: every result file carries the same metadata and the picture's settings."""
+"""bench/common.py: every result file carries the same metadata and the picture's settings; every
+benchmark's counts are checked alike."""
 
 from __future__ import annotations
 
@@ -6,14 +7,13 @@ import json
 
 import pytest
 
-from bench.common import SETTINGS_KEYS, write_result
-
-pytestmark = pytest.mark.gpu  # the adapter's description comes from the device
+from bench.common import SETTINGS_KEYS, Run, argument_parser, parse, write_result
 
 SETTINGS = {"scene": "cornell", "width": 8, "height": 4, "spp": 2, "max_depth": 9}
 METADATA_KEYS = ("benchmark", "git_revision", "adapter", "environment", "load_average_at_write")
 
 
+@pytest.mark.gpu  # the adapter's description comes from the device
 def test_a_result_carries_metadata_and_settings(gpu_context, tmp_path):
     plotted = {}
 
@@ -21,18 +21,32 @@ def test_a_result_carries_metadata_and_settings(gpu_context, tmp_path):
         plotted.update(result)
         path.write_bytes(b"png")
 
-    paths = write_result("example", {**SETTINGS, "value": 1.5}, out=tmp_path, plot=plot)
+    paths = write_result("example", {**SETTINGS, "value": 1.5}, out=tmp_path, plot=plot, run=Run())
     written = json.loads(paths["json"].read_text())
     assert all(key in written for key in METADATA_KEYS)
     assert written["benchmark"] == "example" and written["value"] == 1.5
     assert {key: written[key] for key in SETTINGS_KEYS} == SETTINGS
     assert written["adapter"]["adapter"] and written["environment"]["wgpu"]
+    # what lavapipe's speed depends on: the driver's version and the processor
+    assert written["environment"]["driver"] == written["adapter"]["description"] and written["environment"]["cpu"]
+    assert written["wall_seconds"] >= 0 and len(written["load_average_before_after"]) == 2
     # the file is named by benchmark and adapter, and the chart sees what the file holds
     assert paths["json"].name.startswith("example_") and paths["png"].with_suffix(".json") == paths["json"]
     assert plotted == written
 
 
+@pytest.mark.gpu
 def test_a_result_without_its_settings_is_refused(gpu_context, tmp_path):
     with pytest.raises(ValueError, match="lacks spp, max_depth"):
         write_result("example", {"scene": "cornell", "width": 8, "height": 4}, out=tmp_path)
     assert not list(tmp_path.iterdir())
+
+
+def test_counts_below_one_are_refused(capsys):
+    parser = argument_parser("A benchmark.\n\nMore.", spp=4, repeats=3)
+    parser.add_argument("--runs", type=int, default=1)
+    assert parse(parser, ["--spp", "2"], "runs").spp == 2
+    for argv in (["--spp", "0"], ["--repeats", "-1"], ["--runs", "0"]):
+        with pytest.raises(SystemExit):
+            parse(parser, argv, "runs")
+        assert f"{argv[0]} {argv[1]}" in capsys.readouterr().err

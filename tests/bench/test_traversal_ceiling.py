@@ -1,4 +1,4 @@
-"""bench/traversal_ceiling.py times Embree on rays it makes in numpy: they must be the rays our
+"""bench/traversal_ceiling.py times Embree on rays bench/common.py makes in numpy: they must be the rays our
 shipped camera_ray traces through the pixel centres."""
 
 from __future__ import annotations
@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bench.traversal_ceiling import pixel_centre_rays
-from tests.harness import frame_record, run_kernel
+from bench.common import pixel_centre_rays
 from wgputrace.scenes import scene_by_name
+from wgputrace.testing.harness import frame_record, run_kernel
 
 pytestmark = pytest.mark.gpu
 
