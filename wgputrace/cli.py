@@ -14,7 +14,11 @@ from .loaders import load_scene
 
 
 def argument_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="wgputrace", description="Monte Carlo path tracer on WGSL compute shaders.")
+    parser = argparse.ArgumentParser(
+        prog="wgputrace",
+        description="Monte Carlo path tracer on WGSL compute shaders.",
+        epilog="The benchmarks run from a source checkout: python -m bench",
+    )
     commands = parser.add_subparsers(dest="command", required=True)
 
     render = commands.add_parser("render", help="render a scene headless to .png, .exr or .npy")
