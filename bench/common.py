@@ -431,11 +431,11 @@ class MitsubaSide:
         self.seeds = itertools.count(self.seed_start)
 
     def scene(self, size: int, max_depth: int):
+        from wgputrace import load_scene
         from wgputrace.reference.mitsuba_scene import mitsuba_scene
-        from wgputrace.scenes import scene_by_name
 
         if size not in self.scenes:
-            self.scenes[size] = mitsuba_scene(self.mi, scene_by_name(self.scene_name), size, size, max_depth)
+            self.scenes[size] = mitsuba_scene(self.mi, load_scene(self.scene_name), size, size, max_depth)
         return self.scenes[size]
 
     def render(self, size: int, max_depth: int, spp: int) -> tuple[np.ndarray, float, float]:

@@ -45,8 +45,7 @@ from bench.common import (
     write_csv,
     write_result,
 )
-from wgputrace import Renderer
-from wgputrace.scenes import scene_by_name
+from wgputrace import Renderer, load_scene
 from wgputrace.testing.references import load_reference
 
 SCENES = ("cornell", "tiny_light")
@@ -75,7 +74,7 @@ def measure(scene: str, integrator: str, args: argparse.Namespace, z_critical: f
     rows, validation = [], None
     for run in range(args.runs):
         seed = args.seed + run
-        renderer = Renderer(scene_by_name(scene), width, height, seed=seed, max_depth=max_depth, integrator=integrator)
+        renderer = Renderer(load_scene(scene), width, height, seed=seed, max_depth=max_depth, integrator=integrator)
         if validation is None:
             validation = validate(renderer, reference_mean, z_critical)
             if validation["failures"]:

@@ -53,10 +53,9 @@ from bench.common import (
     sidak_critical_z,
     write_result,
 )
-from wgputrace import Diffuse, Glossy, Renderer, Scene
+from wgputrace import Diffuse, Glossy, Renderer, Scene, load_scene
 from wgputrace.bvh.binned_sah import build_bvh
 from wgputrace.gpu.pipeline import NO_TRIANGLE
-from wgputrace.scenes import scene_by_name
 from wgputrace.testing.oracles import bvh_closest_hit
 from wgputrace.testing.references import load_reference
 
@@ -111,7 +110,7 @@ VARIANTS = {
 
 
 def build_scene(variant: Variant) -> Scene:
-    scene = scene_by_name(SCENE)
+    scene = load_scene(SCENE)
     if variant.diffuse_glass:
         scene.shape(GLASS_SHAPE).material = Diffuse("glass made diffuse", color=(0.5, 0.5, 0.9))
     return scene
@@ -233,7 +232,7 @@ def measure(args: argparse.Namespace) -> tuple[dict, dict]:
             cpu_seconds[name].append(time.process_time() - cpu_start)
             seconds[name].append(time.perf_counter() - start)
         log(f"batch {batch + 1}/{args.batches} done, load {load_average()}")
-    masks = region_masks(scene_by_name(SCENE), width, height)
+    masks = region_masks(load_scene(SCENE), width, height)
     denominator = reference.estimate.mean**2 + RELATIVE_MSE_EPSILON
     results, maps = {}, {}
     for name in args.variants:

@@ -67,7 +67,7 @@ from bench.common import (
     threads,
     write_result,
 )
-from wgputrace import Renderer
+from wgputrace import Renderer, load_scene
 from wgputrace.gpu.pipeline import NO_TRIANGLE
 from wgputrace.reference.mitsuba_scene import (
     EMITTER_BACK_OFFSET_RELATIVE,
@@ -77,7 +77,6 @@ from wgputrace.reference.mitsuba_scene import (
 )
 from wgputrace.render.lights import emitting_kinds
 from wgputrace.render.ray_count import count_rays
-from wgputrace.scenes import scene_by_name
 from wgputrace.testing.oracles import record_corners
 from wgputrace.testing.references import load_reference
 from wgputrace.testing.traversal import closest_hit
@@ -232,7 +231,7 @@ def check_camera_rays_only(renderer: Renderer) -> dict:
 
 
 def measure(args: argparse.Namespace, mitsuba: MitsubaSide, mitsuba_primary: MitsubaSide) -> dict:
-    scene = scene_by_name(SCENE)
+    scene = load_scene(SCENE)
     depth = args.max_depth
     full = Renderer(scene, SIZE, SIZE, seed=args.seed, max_depth=depth)
     primary = Renderer(scene, SIZE, SIZE, seed=args.seed, max_depth=PRIMARY_DEPTH)

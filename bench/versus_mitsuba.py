@@ -75,9 +75,8 @@ from bench.common import (
     threads,
     write_result,
 )
-from wgputrace import Renderer
+from wgputrace import Renderer, load_scene
 from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, libllvm_path, load_mitsuba
-from wgputrace.scenes import scene_by_name
 from wgputrace.testing.image_statistics import Estimate, compare_blocks
 from wgputrace.testing.references import STORAGE_RTOL, Reference, load_reference
 from wgputrace.testing.stats import sidak
@@ -160,7 +159,7 @@ def measure_compile(mitsuba: MitsubaSide, args: argparse.Namespace) -> dict:
     compile (or JIT trace and compile) and first-use set-up, with so little rendering in either
     that background load hardly moves the difference. Both compiled kernels serve every size."""
     size, depth = COMPILE_PROBE_SIZE, args.max_depth
-    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    ours = Renderer(load_scene(SCENE), size, size, seed=args.seed, max_depth=depth)
     seconds = {OURS: [fresh_image(ours, 1)[2] for _ in range(2)], MITSUBA: [mitsuba.render(size, depth, 1)[1]]}
     kernels = mitsuba.kernel_report()
     seconds[MITSUBA].append(mitsuba.render(size, depth, 1)[1])
@@ -176,7 +175,7 @@ def measure_compile(mitsuba: MitsubaSide, args: argparse.Namespace) -> dict:
 
 def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float) -> dict:
     size, depth = THROUGHPUT_SIZE, args.max_depth
-    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    ours = Renderer(load_scene(SCENE), size, size, seed=args.seed, max_depth=depth)
     first = {OURS: fresh_image(ours, args.spp)[2], MITSUBA: mitsuba.render(size, depth, args.spp)[1]}
     warmup_kernels = mitsuba.kernel_report()
     log(f"warm-up {size}x{size}: ours {first[OURS]:.2f} s, Mitsuba {first[MITSUBA]:.2f} s")
@@ -213,7 +212,7 @@ def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argpars
 def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float):
     size, depth = CONVERGENCE_SIZE, args.max_depth
     mean, variance = reference.estimate.mean, reference.estimate.variance
-    ours = Renderer(scene_by_name(SCENE), size, size, seed=args.seed, max_depth=depth)
+    ours = Renderer(load_scene(SCENE), size, size, seed=args.seed, max_depth=depth)
     fresh_image(ours, 1)  # warm-up (the pipeline for this size), discarded
     mitsuba.render(size, depth, 1)
     warmup_kernels = mitsuba.kernel_report()

@@ -28,8 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from wgputrace import load_scene
 from wgputrace.reference.mitsuba_scene import choose_variant, load_mitsuba, mitsuba_scene
-from wgputrace.scenes import scene_by_name
 from wgputrace.testing.checkout import checkout_root
 
 REFERENCE_DIR = checkout_root() / "tests" / "references"
@@ -89,7 +89,7 @@ def make_reference(name: str, settings: ReferenceSettings, variant: str, out_dir
 
     mi = load_mitsuba(variant)
     start = time.perf_counter()
-    scene = mitsuba_scene(mi, scene_by_name(name), WIDTH, HEIGHT, settings.max_depth)
+    scene = mitsuba_scene(mi, load_scene(name), WIDTH, HEIGHT, settings.max_depth)
     mean, standard_error = render_passes(mi, scene, name, settings)
     seconds = time.perf_counter() - start
     metadata = {
