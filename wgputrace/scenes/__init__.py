@@ -1,5 +1,6 @@
-"""Scenes available by name on the command line: the default Cornell box and the test scenes,
-each chosen to hit a known failure of path tracers (see each family's module)."""
+"""The built-in scenes, by name (wgputrace.load_scene and the command line take these names): the
+default Cornell box and the test scenes, each chosen to hit a known failure of path tracers (see
+each family's module)."""
 
 from __future__ import annotations
 
