@@ -393,7 +393,7 @@ def plot(path: Path, result: dict) -> None:
         axes.set_axisbelow(True)
     title = (
         f"Ceiling against Mitsuba {result['mitsuba']} {result['variant']} (Embree), {result['scene']} "
-        f"{result['width']}x{result['height']}; threads: {result['threads']}"
+        f"{result['width']}x{result['height']}; threads {', '.join(f'{k} {v}' for k, v in result['threads'].items())}"
     )
     save_figure(chart, path, result, title)
 

@@ -332,7 +332,7 @@ def plot(path: Path, result: dict) -> None:
     bar_axes.grid(axis="y", alpha=0.3, zorder=0)
     title = (
         f"wgputrace vs Mitsuba {result['mitsuba']} {result['variant']} (path), {result['scene']}, max depth "
-        f"{result['max_depth']}; threads: {result['threads']}"
+        f"{result['max_depth']}; threads {', '.join(f'{k} {v}' for k, v in result['threads'].items())}"
     )
     save_figure(chart, path, result, title)
 
