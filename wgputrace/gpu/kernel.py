@@ -24,6 +24,8 @@ class Kernel:
     """What compute and render kernels share: the joined source, the declared groups by name, and
     bind groups made by binding name."""
 
+    pipeline: wgpu.GPUComputePipeline | wgpu.GPURenderPipeline
+
     def __init__(self, context: GpuContext, source: ShaderSource, groups: Sequence[BindGroup], label: str) -> None:
         self.context, self.source, self.label = context, source, label
         self.groups = {group.name: group for group in groups}
@@ -37,12 +39,15 @@ class Kernel:
             raise KeyError(f"kernel {self.label!r} declares no bind group {name!r} (it has {', '.join(self.groups)})")
         return self.groups[name]
 
-    def ordered(self, bind_groups: Mapping[str, wgpu.GPUBindGroup]) -> list[tuple[int, wgpu.GPUBindGroup]]:
-        """(index, bind group) for every declared group, from `bind_groups` by group name."""
+    def set_bind_groups(self, encoder, bind_groups: Mapping[str, wgpu.GPUBindGroup]) -> None:
+        """Set the pipeline and every declared group, from `bind_groups` by group name, on a
+        compute or render pass `encoder`."""
         missing = [name for name in self.groups if name not in bind_groups]
         if missing:
             raise KeyError(f"kernel {self.label!r} needs bind groups {', '.join(missing)}")
-        return [(group.index, bind_groups[name]) for name, group in self.groups.items()]
+        encoder.set_pipeline(self.pipeline)
+        for name, group in self.groups.items():
+            encoder.set_bind_group(group.index, bind_groups[name])
 
 
 def compile_shader(
@@ -157,9 +162,7 @@ def submit(
     for number, step in enumerate(passes, start=1):
         writes = timestamps.writes if timestamps is not None and number == len(passes) else None
         compute = encoder.begin_compute_pass(timestamp_writes=writes)
-        compute.set_pipeline(step.kernel.pipeline)
-        for index, group in step.kernel.ordered(step.bind_groups):
-            compute.set_bind_group(index, group)
+        step.kernel.set_bind_groups(compute, step.bind_groups)
         compute.dispatch_workgroups(*step.kernel.workgroups(step.size))
         compute.end()
     if timestamps is not None:

@@ -4,8 +4,8 @@ Every pipeline gets the generated file `generated/ray_count.wgsl`. Normally it d
 `count_ray`, which the shader compiler inlines away, and declares no binding, so the kernels that
 are timed carry no counter. The counting variant (`ray_count_hook(counting=True)`, compiled by
 `path_tracer_kernel(..., count_rays=True)`) adds one atomic increment per ray into a small
-storage buffer, bound alone in its own bind group (gpu/bindings.py RAY_COUNT_GROUP). Atomics are slow, so counts come from a separate,
-untimed run of the same samples (render/ray_count.py).
+storage buffer, bound alone in its own bind group (gpu/bindings.py RAY_COUNT_GROUP). Atomics are
+slow, so counts come from a separate, untimed run of the same samples (render/ray_count.py).
 """
 
 from __future__ import annotations

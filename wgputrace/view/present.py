@@ -122,12 +122,10 @@ class Presenter:
                 {"view": target.create_view(), "load_op": "clear", "store_op": "store", "clear_value": (0, 0, 0, 1)}
             ]
         )
-        render.set_pipeline(self._image_kernel.pipeline)
-        render.set_bind_group(0, group)
+        self._image_kernel.set_bind_groups(render, {"present": group})
         render.draw(3)
         if self._lines is not None:
-            render.set_pipeline(self._lines_kernel.pipeline)
-            render.set_bind_group(0, self._lines_group)
+            self._lines_kernel.set_bind_groups(render, {"box_lines": self._lines_group})
             render.draw(self._lines[1])
         render.end()
         device.queue.submit([encoder.finish()])
