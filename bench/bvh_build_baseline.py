@@ -29,10 +29,10 @@ import numpy as np
 
 from bench.common import (
     BIG_MESH_CELLS,
-    REPO_ROOT,
     Run,
     argument_parser,
     bvh_failures,
+    git,
     height_field,
     log,
     parse,
@@ -64,14 +64,13 @@ def soup(count: int) -> np.ndarray:
 
 def baseline_builder(revision: str) -> Callable[..., BVH]:
     """build_bvh as wgputrace/bvh/binned_sah.py defined it at `revision`."""
-    source = subprocess.run(
-        ["git", "show", f"{revision}:wgputrace/bvh/binned_sah.py"], cwd=REPO_ROOT, capture_output=True, text=True
-    )
-    if source.returncode:
-        raise SystemExit(f"cannot read the builder at revision {revision}: {source.stderr.strip()}")
+    try:
+        source = git("show", f"{revision}:wgputrace/bvh/binned_sah.py")
+    except subprocess.CalledProcessError as error:
+        raise SystemExit(f"cannot read the builder at revision {revision}: {error.stderr.strip()}") from None
     spec = importlib.util.spec_from_loader(f"binned_sah_{revision}", loader=None)
     module = importlib.util.module_from_spec(spec)
-    exec(compile(source.stdout, f"{revision}:wgputrace/bvh/binned_sah.py", "exec"), module.__dict__)
+    exec(compile(source, f"{revision}:wgputrace/bvh/binned_sah.py", "exec"), module.__dict__)
     return module.build_bvh
 
 
