@@ -15,6 +15,15 @@ DATA_DIR = Path(__file__).resolve().parent / "data"
 FAILURE_DIR = Path(__file__).resolve().parent / "failures"
 
 
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Every test that takes the device (gpu_context, directly or through another fixture) is
+    marked `gpu`; modules that reach the adapter another way (a Renderer, a subprocess) say so with
+    `pytestmark = pytest.mark.gpu`."""
+    for item in items:
+        if "gpu_context" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.gpu)
+
+
 @pytest.fixture(scope="session")
 def gpu_context():
     from wgputrace.gpu.device import gpu

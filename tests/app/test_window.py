@@ -9,17 +9,16 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from tests.stats import sidak, z_limit
 from wgputrace import Renderer, default_scene, load_image
 from wgputrace.app.controls import LOOK_RADIANS_PER_PIXEL, SPEED_STEP
 from wgputrace.app.viewer import REST_SECONDS
 from wgputrace.image_io import tonemap
+from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores
+from wgputrace.testing.running_app import START_SECONDS, RunningApp
+from wgputrace.testing.stats import sidak, z_limit
+from wgputrace.testing.xdriver import WHEEL_UP, XDriver
 
-from .image_stats import BLOCKS, CHANNELS, block_z_scores
-from .running_app import START_SECONDS, RunningApp
-from .xdriver import WHEEL_UP, XDriver
-
-pytestmark = pytest.mark.gpu
+pytestmark = [pytest.mark.gpu, pytest.mark.slow]
 
 WIDTH, HEIGHT = 128, 96
 TITLE = "wgputrace - cornell"

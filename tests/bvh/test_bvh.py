@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from wgputrace.bvh import BVH, build_bvh, build_flat
-from wgputrace.bvh.tree import ray_triangle_distance
+from wgputrace.gpu.pipeline import NO_TRIANGLE
+from wgputrace.testing.oracles import brute_force_closest_hit, bvh_closest_hit, ray_triangle
+from wgputrace.testing.scenes import geometric_peel_scene, random_rays, random_soup
 
 SEED = 20240611
 RAY_COUNT = 2000
-# Triangle soups live in [-1, 1]^3; corners scatter around a centre with this standard deviation.
-TRIANGLE_SIZE = 0.08
 # Default GPU traversal stack depth, which build_bvh's default max_depth protects.
 GPU_STACK_DEPTH = 64
 
@@ -21,27 +21,6 @@ GPU_STACK_DEPTH = 64
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(SEED)
-
-
-def random_soup(rng: np.random.Generator, count: int) -> np.ndarray:
-    centres = rng.uniform(-1.0, 1.0, size=(count, 1, 3))
-    return (centres + rng.normal(scale=TRIANGLE_SIZE, size=(count, 3, 3))).astype(np.float32)
-
-
-def random_rays(rng: np.random.Generator, count: int) -> tuple[np.ndarray, np.ndarray]:
-    """Origins around the soup; most rays aim into it, a quarter go anywhere."""
-    origins = rng.uniform(-3.0, 3.0, size=(count, 3))
-    directions = rng.uniform(-1.0, 1.0, size=(count, 3)) - origins
-    wild = rng.random(count) < 0.25
-    directions[wild] = rng.normal(size=(wild.sum(), 3))
-    return origins, directions
-
-
-def brute_force(triangles: np.ndarray, origins: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    t = ray_triangle_distance(triangles[None], origins[:, None], directions[:, None])
-    index = np.argmin(t, axis=1)
-    closest = t[np.arange(len(t)), index]
-    return closest, np.where(np.isfinite(closest), index, -1)
 
 
 def node_levels(bvh: BVH) -> np.ndarray:
@@ -121,21 +100,6 @@ def test_identical_centroids_are_split_by_position(rng):
     assert bvh.depth <= math.ceil(math.log2(count / max_leaf_size)) + 1
 
 
-def geometric_peel_scene(per_axis: int = 120, at_origin: int = 1000) -> np.ndarray:
-    """Tiny triangles at 2^-k along each axis plus a cluster at the origin.
-
-    Binned SAH peels only a few of them off per level, so the natural depth is far from logarithmic.
-    """
-    centres = np.zeros((3 * per_axis + at_origin, 3))
-    for axis in range(3):
-        centres[axis * per_axis : (axis + 1) * per_axis, axis] = 0.5 ** np.arange(per_axis)
-    size = np.maximum(np.abs(centres).max(axis=1), 1e-36) * 1e-2
-    vertices = np.repeat(centres[:, None, :], 3, axis=1)
-    vertices[:, 1, 0] += size
-    vertices[:, 2, 1] += size
-    return vertices.astype(np.float32)
-
-
 def test_max_depth_caps_a_pathologically_deep_tree():
     vertices = geometric_peel_scene()
     natural = build_bvh(vertices, max_depth=10 * GPU_STACK_DEPTH)
@@ -167,26 +131,28 @@ def test_traversal_matches_brute_force(rng, kind):
     reordered = vertices[bvh.triangle_order]
     origins, directions = random_rays(rng, RAY_COUNT)
 
-    t, index = bvh.closest_hit(reordered, origins, directions)
-    expected_t, expected_index = brute_force(reordered, origins, directions)
+    t, index = bvh_closest_hit(bvh, reordered, origins, directions)
+    expected_t, expected_index, _ = brute_force_closest_hit(reordered, origins, directions)
 
     np.testing.assert_array_equal(t, expected_t)
     np.testing.assert_array_equal(index, expected_index)
-    hit = index >= 0
+    hit = index != NO_TRIANGLE
     assert 0.2 < hit.mean() < 0.98, "rays should both hit and miss for the comparison to mean something"
     assert not degenerate[bvh.triangle_order[index[hit]]].any()
 
 
-def test_ray_triangle_distance_cases():
+def test_ray_triangle_oracle_cases():
+    """The oracle both traversal tests compare against: both faces count, only t > 0 is a hit, rays
+    in the plane and zero-area triangles never hit."""
     triangle = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     collinear = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [2.0, 2.0, 0.0]])
     down, up = np.array([0.0, 0.0, -2.0]), np.array([0.0, 0.0, 1.0])
-    assert ray_triangle_distance(triangle, [0.25, 0.25, 1.0], down) == pytest.approx(0.5)
-    assert ray_triangle_distance(triangle, [0.25, 0.25, -3.0], up) == pytest.approx(3.0)  # back face
-    assert ray_triangle_distance(triangle, [0.8, 0.8, 1.0], down) == np.inf  # outside the edge
-    assert ray_triangle_distance(triangle, [0.25, 0.25, 1.0], up) == np.inf  # behind the origin
-    assert ray_triangle_distance(triangle, [-1.0, 0.25, 0.0], [1.0, 0.0, 0.0]) == np.inf  # in its plane
-    assert ray_triangle_distance(collinear, [1.0, 1.0, 1.0], down) == np.inf  # zero area
+    assert ray_triangle([0.25, 0.25, 1.0], down, triangle).t == pytest.approx(0.5)
+    assert ray_triangle([0.25, 0.25, -3.0], up, triangle).t == pytest.approx(3.0)  # back face
+    assert ray_triangle([0.8, 0.8, 1.0], down, triangle).t == np.inf  # outside the edge
+    assert ray_triangle([0.25, 0.25, 1.0], up, triangle).t == np.inf  # behind the origin
+    assert ray_triangle([-1.0, 0.25, 0.0], [1.0, 0.0, 0.0], triangle).t == np.inf  # in its plane
+    assert ray_triangle([1.0, 1.0, 1.0], down, collinear).t == np.inf  # zero area
 
 
 def two_box_tree(kind: str) -> BVH:

@@ -6,8 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.bvh.test_bvh import brute_force, random_rays, random_soup
-from wgputrace.bvh import BVH, Refitter, build_bvh, build_flat
+from wgputrace.bvh import Refitter, build_bvh, build_flat
+from wgputrace.testing.oracles import brute_force_closest_hit, bvh_bounds_from_scratch, bvh_closest_hit
+from wgputrace.testing.scenes import random_rays, random_soup
 
 SEED = 20261123
 TRIANGLES = 3000
@@ -19,21 +20,6 @@ SAH_RTOL = 1e-12
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(SEED)
-
-
-def bounds_from_scratch(bvh: BVH, vertices_reordered: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Every node's bounds recomputed bottom-up (children have larger ids than their parent)."""
-    low = np.empty_like(bvh.bounds_min)
-    high = np.empty_like(bvh.bounds_max)
-    for node in range(bvh.node_count - 1, -1, -1):
-        first, count = int(bvh.left_or_first[node]), int(bvh.triangle_count[node])
-        if count:
-            corners = vertices_reordered[first : first + count].reshape(-1, 3)
-            low[node], high[node] = corners.min(axis=0), corners.max(axis=0)
-        else:
-            low[node] = np.minimum(low[first], low[first + 1])
-            high[node] = np.maximum(high[first], high[first + 1])
-    return low, high
 
 
 def moved_copy(rng, vertices_reordered: np.ndarray, positions: np.ndarray, offset) -> np.ndarray:
@@ -51,7 +37,7 @@ def test_refit_equals_recomputed_bounds_and_reports_exactly_the_changed_nodes(rn
     moved = moved_copy(rng, reordered, positions, (0.5, -0.3, 0.2))
     before_min, before_max = bvh.bounds_min.copy(), bvh.bounds_max.copy()
     touched = refitter.move(positions, moved[positions])
-    expected_min, expected_max = bounds_from_scratch(bvh, moved)
+    expected_min, expected_max = bvh_bounds_from_scratch(bvh, moved)
     np.testing.assert_array_equal(bvh.bounds_min, expected_min)
     np.testing.assert_array_equal(bvh.bounds_max, expected_max)
     changed = np.flatnonzero(np.any(before_min != expected_min, axis=1) | np.any(before_max != expected_max, axis=1))
@@ -82,8 +68,8 @@ def test_refit_tree_finds_the_same_closest_hits_as_brute_force(rng):
     moved = moved_copy(rng, reordered, positions, rng.normal(0, 0.4, 3))
     Refitter(bvh, reordered).move(positions, moved[positions])
     origins, directions = random_rays(rng, RAYS)
-    t, index = bvh.closest_hit(moved, origins, directions)
-    expected_t, expected_index = brute_force(moved, origins, directions)
+    t, index = bvh_closest_hit(bvh, moved, origins, directions)
+    expected_t, expected_index, _ = brute_force_closest_hit(moved, origins, directions)
     np.testing.assert_array_equal(index, expected_index)
     np.testing.assert_array_equal(t, expected_t)
 

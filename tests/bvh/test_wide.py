@@ -18,18 +18,16 @@ from wgputrace.bvh.wide import (
     WIDTH,
     collapse,
 )
+from wgputrace.testing.scenes import random_soup
 
 SOUP_TRIANGLES = 2_000
+# Corners scatter this far around their centre: large triangles whose boxes overlap.
+SOUP_TRIANGLE_SIZE = 0.1
 # A builder stopped at this depth leaves leaves of ~SOUP_TRIANGLES / 2^(depth - 1) triangles, far
 # over WIDE_LEAF_MAX: collapse must split them.
 SHALLOW_DEPTH = 4
 # A needle of coincident-ish triangles that SAH cannot separate well: a deep, lopsided tree.
 CHAIN_TRIANGLES = 3_000
-
-
-def soup(rng: np.random.Generator) -> np.ndarray:
-    centroids = rng.uniform(-1.0, 1.0, size=(SOUP_TRIANGLES, 1, 3))
-    return (centroids + rng.normal(scale=0.1, size=(SOUP_TRIANGLES, 3, 3))).astype(np.float32)
 
 
 def decode_leaves(refs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -41,7 +39,7 @@ def decode_leaves(refs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @pytest.mark.parametrize("max_depth", [BUILD_MAX_DEPTH, SHALLOW_DEPTH])
 def test_records_cover_every_triangle_and_record_once(rng, max_depth):
-    bvh = build_bvh(soup(rng), max_depth=max_depth, workers=1)
+    bvh = build_bvh(random_soup(rng, SOUP_TRIANGLES, SOUP_TRIANGLE_SIZE), max_depth=max_depth, workers=1)
     wide = collapse(bvh)
     first, count = decode_leaves(wide.refs)
     covered = np.zeros(SOUP_TRIANGLES, np.int64)
@@ -58,7 +56,7 @@ def test_records_cover_every_triangle_and_record_once(rng, max_depth):
 
 
 def test_each_slot_holds_the_box_of_its_binary_node(rng):
-    bvh = build_bvh(soup(rng), max_depth=BUILD_MAX_DEPTH, workers=1)
+    bvh = build_bvh(random_soup(rng, SOUP_TRIANGLES, SOUP_TRIANGLE_SIZE), max_depth=BUILD_MAX_DEPTH, workers=1)
     wide = collapse(bvh)
     used = wide.refs != WIDE_EMPTY
     assert np.array_equal(wide.slot_node != EMPTY_SLOT, used)
@@ -77,7 +75,7 @@ def test_each_slot_holds_the_box_of_its_binary_node(rng):
 
 
 def test_split_leaves_keep_the_box_of_the_leaf_they_came_from(rng):
-    bvh = build_bvh(soup(rng), max_depth=SHALLOW_DEPTH, workers=1)
+    bvh = build_bvh(random_soup(rng, SOUP_TRIANGLES, SOUP_TRIANGLE_SIZE), max_depth=SHALLOW_DEPTH, workers=1)
     wide = collapse(bvh)
     used = wide.refs != WIDE_EMPTY
     leaf = used & ((wide.refs & WIDE_LEAF) != 0)
@@ -102,7 +100,7 @@ def test_trees_of_the_renderers_depth_fit_the_stack(rng):
 
 
 def test_a_tree_over_the_stack_is_refused_with_the_count(rng):
-    bvh = build_bvh(soup(rng), max_depth=BUILD_MAX_DEPTH, workers=1)
+    bvh = build_bvh(random_soup(rng, SOUP_TRIANGLES, SOUP_TRIANGLE_SIZE), max_depth=BUILD_MAX_DEPTH, workers=1)
     need = collapse(bvh).max_stack
     with pytest.raises(ValueError, match=f"may hold {need} stack entries, over the shader's {need - 1}"):
         collapse(bvh, stack_size=need - 1)

@@ -9,6 +9,8 @@ import pytest
 
 from wgputrace import load_image
 
+pytestmark = pytest.mark.gpu  # every command here opens the adapter
+
 
 @pytest.mark.parametrize("suffix", [".png", ".exr", ".npy"])
 def test_render_writes_each_format(tmp_path, suffix, run_cli):

@@ -26,6 +26,7 @@ def scene_spec(kind: str, tmp_path, data_dir) -> tuple[str, int]:
     return ("tiny_light", 676) if kind == "name" else (str(data_dir / "cornell_trac0r.obj"), 676)
 
 
+@pytest.mark.gpu
 def test_render_a_scene_file(tmp_path, data_dir, run_cli):
     out = tmp_path / "obj.npy"
     result = run_cli("render", str(data_dir / "cornell_trac0r.obj"), "--spp", "1", "--size", "16x12", "-o", str(out))
@@ -43,6 +44,7 @@ def test_a_broken_scene_file_is_named_with_its_line(tmp_path, run_cli):
     assert f"wgputrace: error: {broken}:3: face vertex index 3 is out of range: 2 vertices" in result.stderr
 
 
+@pytest.mark.gpu
 def test_render_a_python_scene(tmp_path, data_dir, run_cli):
     spec, triangles = scene_spec("py", tmp_path, data_dir)
     out = tmp_path / "lit_box.npy"

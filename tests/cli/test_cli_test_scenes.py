@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from wgputrace import load_image
+
+pytestmark = pytest.mark.gpu
 
 
 def test_render_a_test_scene_by_name(tmp_path, run_cli):

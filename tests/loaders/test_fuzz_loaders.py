@@ -14,12 +14,10 @@ import trimesh
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tests.conftest import SHARED_SCENES
-from tests.fuzzing import fuzz_settings, time_limit
-from tests.loaders.gltf_files import gltf_document, write_glb
-from tests.loaders.test_gltf import BOX, BOX_INDICES, MATERIALS
 from wgputrace import Scene, SceneLoadError, load_scene, render
 from wgputrace.scene import DegenerateTrianglesWarning
+from wgputrace.testing.fuzzing import fuzz_settings, time_limit
+from wgputrace.testing.gltf_files import BOX, BOX_INDICES, MATERIALS, gltf_document, write_glb
 
 # Examples per test, chosen so the whole file stays within ~20 s on a 2-core CI machine (JSON
 # mutations are cheapest to check and reach the most code paths per example).
@@ -84,13 +82,14 @@ def test_random_obj_and_mtl_text(workdir, obj, mtl):
 
 
 @pytest.fixture(scope="module")
-def cornell_text() -> str:
-    return (SHARED_SCENES / "cornell_trac0r.obj").read_text()
+def cornell_text(data_dir) -> str:
+    return (data_dir / "cornell_trac0r.obj").read_text()
 
 
+@pytest.mark.gpu  # what loads is rendered
 @fuzz_settings(TEXT_EXAMPLES)
 @given(data=st.data())
-def test_mutated_cornell_obj(workdir, cornell_text, data):
+def test_mutated_cornell_obj(workdir, data_dir, cornell_text, data):
     lines = cornell_text.splitlines()
     for _ in range(data.draw(st.integers(1, 4))):
         index = data.draw(st.integers(0, len(lines) - 1))
@@ -107,7 +106,7 @@ def test_mutated_cornell_obj(workdir, cornell_text, data):
             lines[index] = " ".join(tokens)
     text = "\n".join(lines).encode()
     text = text[: data.draw(st.integers(0, len(text)))] if data.draw(st.booleans()) else text
-    (workdir / "cornell_trac0r.mtl").write_bytes((SHARED_SCENES / "cornell_trac0r.mtl").read_bytes())
+    (workdir / "cornell_trac0r.mtl").write_bytes((data_dir / "cornell_trac0r.mtl").read_bytes())
     (workdir / "mutated.obj").write_bytes(text)
     scene = outcome(workdir / "mutated.obj")
     if isinstance(scene, Scene):  # whatever loads renders, and no NaN reaches the image

@@ -10,25 +10,8 @@ import struct
 import numpy as np
 import pytest
 
-from tests.loaders.gltf_files import gltf_document, write_glb, write_gltf
-from wgputrace import Diffuse, Emitter, Glass, Glossy, SceneLoadError, SceneLoadWarning, load_scene, make_box
-
-BOX = make_box((0, 0, 0), (0, 0, 0), (1, 1, 1), Diffuse("unused")).vertices.reshape(-1, 3)
-BOX_INDICES = np.arange(len(BOX)).reshape(-1, 3)
-MATERIALS = [
-    {"name": "red", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1], "metallicFactor": 0.0}},
-    {
-        "name": "glass",
-        "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 1, 1], "metallicFactor": 0.0},
-        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.33}},
-    },
-    {
-        "name": "lamp",
-        "emissiveFactor": [1, 0.5, 0.25],
-        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}},
-    },
-    {"name": "gold", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.3, 1], "roughnessFactor": 0.5}},
-]
+from wgputrace import Diffuse, Emitter, Glass, Glossy, SceneLoadError, SceneLoadWarning, load_scene
+from wgputrace.testing.gltf_files import BOX, BOX_INDICES, MATERIALS, gltf_document, write_glb, write_gltf
 
 
 def box_document(count: int = 5, **extra) -> tuple[dict, bytes]:

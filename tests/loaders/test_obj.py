@@ -10,7 +10,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.conftest import SHARED_SCENES
 from wgputrace import (
     Diffuse,
     Emitter,
@@ -29,7 +28,6 @@ from wgputrace.scene import DegenerateTrianglesWarning
 SIZE = 24
 SEED = 11
 SPP = 2
-CORNELL_OBJ = SHARED_SCENES / "cornell_trac0r.obj"
 
 
 def write(directory: Path, name: str, text: str) -> Path:
@@ -38,9 +36,9 @@ def write(directory: Path, name: str, text: str) -> Path:
     return path
 
 
-def test_shared_cornell_obj_is_the_default_scene(gpu_context):
+def test_shared_cornell_obj_is_the_default_scene(gpu_context, data_dir):
     with pytest.warns(SceneLoadWarning) as caught:
-        loaded = load_scene(CORNELL_OBJ)
+        loaded = load_scene(data_dir / "cornell_trac0r.obj")
     assert [str(w.message).split(": ", 1)[1] for w in caught] == [
         f"shape '{box}' is closed but 3 of its 12 triangles were wound inwards; turned them outwards "
         "(Glass needs the inside behind the normal)"

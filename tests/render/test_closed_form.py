@@ -7,9 +7,14 @@ from statistics import NormalDist
 import numpy as np
 import pytest
 
-from tests.render.scenes import ENCLOSURE_RADIANCE, diffuse_sphere_in_emitter, glass_sphere_in_emitter, inside_emitter
 from wgputrace import UNLIMITED_DEPTH, Diffuse, Renderer, Shape, render, save_image
 from wgputrace.scene import DegenerateTrianglesWarning
+from wgputrace.testing.scenes import (
+    ENCLOSURE_RADIANCE,
+    diffuse_sphere_in_emitter,
+    glass_sphere_in_emitter,
+    inside_emitter,
+)
 
 SIZE = 24
 SEED = 7

@@ -1,12 +1,12 @@
 """White furnace: each non-emitting material with color 1 inside a closed emitter of uniform
-radiance L (tests/render/scenes.py) returns L times what the material keeps of the light.
+radiance L (wgputrace/testing/scenes.py) returns L times what the material keeps of the light.
 
 That is L exactly for diffuse and for lossless glass (a closed cube, unlimited depth: every path
 ends on the emitter; the eta^2 radiance scaling cancels on the way out, so a wrong scaling that
 cancels too goes unseen here: tests/shaders/test_bsdf.py checks the weight). Glossy is
 single-scattering GGX, which loses the light that its microfacets would reflect a second time,
 more so the rougher it is: it must return its directional albedo A(wi), the integral of the
-shipped bsdf_eval over the hemisphere (tests/shaders/bsdf_grid.py, on the GPU). A plane seen
+shipped bsdf_eval over the hemisphere (wgputrace/testing/bsdf_grid.py, on the GPU). A plane seen
 through a narrow camera fixes the angle of incidence; max_depth 2 lets one bounce, and a plane
 cannot be hit twice, so nothing but A enters.
 
@@ -19,13 +19,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.render.scenes import ENCLOSURE_RADIANCE, inside_emitter
-from tests.shaders.bsdf_grid import EVAL, integrate_bsdf, lobe_grid
-from tests.stats import sidak, z_limit
 from wgputrace import UNLIMITED_DEPTH, Camera, Diffuse, Glass, Glossy, Renderer, Scene, make_box, make_plane, save_image
 from wgputrace.render.scene_buffers import material_records
+from wgputrace.testing.bsdf_grid import EVAL, integrate_bsdf, lobe_grid
+from wgputrace.testing.scenes import ENCLOSURE_RADIANCE, inside_emitter
+from wgputrace.testing.stats import sidak, z_limit
 
-pytestmark = pytest.mark.gpu
+pytestmark = [pytest.mark.gpu, pytest.mark.slow]
 
 # Each render's seed: SEED plus the case's index, so that no two renders share random numbers.
 SEED = 9

@@ -16,14 +16,17 @@ import warnings
 from contextlib import contextmanager
 
 import numpy as np
+import pytest
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, precondition, rule
 
-from tests.fuzzing import fuzz_settings, time_limit
-from tests.harness import read_binding
 from wgputrace import Camera, Emitter, Glass, Renderer, Shape, default_scene
 from wgputrace.render.scene_sync import SceneMirror
 from wgputrace.scene import DegenerateTrianglesWarning, MaterialError, SceneError
+from wgputrace.testing.fuzzing import fuzz_settings, time_limit
+from wgputrace.testing.harness import read_binding
+
+pytestmark = pytest.mark.gpu
 
 SIZE = 8
 SEED = 9

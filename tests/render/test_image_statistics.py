@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
-from tests.render.image_statistics import Estimate, compare_blocks
-from tests.stats import sidak
+from wgputrace.testing.image_statistics import Estimate, compare_blocks
+from wgputrace.testing.stats import sidak
 
 
 def test_block_test_rejects_at_its_nominal_rate_on_pure_noise():

@@ -15,10 +15,12 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from tests.stats import sidak
 from wgputrace import Camera, Renderer, Scene
 from wgputrace.gpu.pipeline import INTEGRATORS
 from wgputrace.scene import cornell_box
+from wgputrace.testing.stats import sidak
+
+pytestmark = pytest.mark.slow
 
 SIZE = 4
 # A pinhole this narrow sees one point of the ceiling (the radiance changes by ~1e-3 across it).

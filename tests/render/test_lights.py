@@ -8,11 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import frame_record, run_kernel
-from tests.stats import chi_square, sidak
 from wgputrace.gpu.layout import MATERIAL, TRIANGLE
 from wgputrace.render.lights import LUMINANCE_WEIGHTS, alias_table, light_table
 from wgputrace.scene import Diffuse, Emitter
+from wgputrace.testing.harness import frame_record, run_kernel
+from wgputrace.testing.stats import chi_square, sidak
 
 SEED = 11
 SAMPLES = 200_000

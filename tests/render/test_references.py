@@ -31,17 +31,17 @@ from functools import cache
 import numpy as np
 import pytest
 
-from tests.render.image_statistics import Estimate, compare_blocks
-from tests.render.reference_images import (
-    REFERENCE_DIR,
+from wgputrace.testing.image_statistics import Estimate, compare_blocks
+from wgputrace.testing.references import (
     STORAGE_RTOL,
     BatchedRender,
     load_reference,
+    reference_dir,
     render_batches,
     worst_blocks,
     write_failure_images,
 )
-from tests.stats import sidak
+from wgputrace.testing.stats import sidak
 
 SIZE = 64
 # Block sizes tested: 8x8 finds local errors, the whole image small ones spread everywhere (a rare
@@ -125,6 +125,7 @@ def assert_same_expectation(
             )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", list(CASES))
 def test_matches_mitsuba_reference(gpu_context, failure_dir, scene):
     case = CASES[scene]
@@ -134,6 +135,7 @@ def test_matches_mitsuba_reference(gpu_context, failure_dir, scene):
     assert_same_expectation(f"{scene}_vs_mitsuba", ours, expected, expected.mean, STORAGE_RTOL, failure_dir)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", list(CASES))
 def test_no_nan_or_infinity(gpu_context, scene):
     render = rendered(scene)
@@ -141,6 +143,7 @@ def test_no_nan_or_infinity(gpu_context, scene):
     assert np.isfinite(render.batches).all()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scaled", SCALED)
 def test_scaled_cornell_box_gives_the_same_image(gpu_context, failure_dir, scaled):
     """Paired per batch with the unscaled box (same seed, so mostly the same paths): the batch
@@ -155,7 +158,7 @@ def test_scaled_cornell_box_gives_the_same_image(gpu_context, failure_dir, scale
 
 
 def test_references_are_small_and_match_their_settings():
-    paths = sorted(REFERENCE_DIR.glob("*.npz"))
+    paths = sorted(reference_dir().glob("*.npz"))
     total = sum(path.stat().st_size for path in paths)
     assert total < REFERENCES_MAX_BYTES, f"references take {total:,} bytes, more than {REFERENCES_MAX_BYTES:,}"
     assert {path.stem for path in paths} == {case.reference for case in CASES.values()}
@@ -168,6 +171,7 @@ def test_references_are_small_and_match_their_settings():
         assert np.isfinite(ref.estimate.mean).all() and np.isfinite(ref.estimate.variance).all()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene, integrator", list(INTEGRATOR_CASES))
 def test_each_integrator_matches_mitsuba_reference(gpu_context, failure_dir, scene, integrator):
     ref = reference(scene)

@@ -8,8 +8,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.bvh.test_refit import bounds_from_scratch
-from tests.harness import read_binding
 from wgputrace import Camera, Diffuse, Emitter, Glass, Renderer, Scene, default_scene, make_box, make_icosphere
 from wgputrace import model_matrix as place
 from wgputrace.bvh.wide import EMPTY_SLOT
@@ -19,6 +17,8 @@ from wgputrace.gpu.texels import TEXEL_BYTES
 from wgputrace.gpu.tracked_buffer import SPARE_FRACTION, UploadCount
 from wgputrace.render import scene_buffers, scene_sync
 from wgputrace.scene import SceneError
+from wgputrace.testing.harness import read_binding
+from wgputrace.testing.oracles import bvh_bounds_from_scratch
 
 SIZE = 24
 SEED = 5
@@ -97,7 +97,7 @@ def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell,
     # what the GPU holds
     records = renderer.records
     bvh, nodes, wide = records.acceleration, records.nodes, records.wide
-    expected_min, expected_max = bounds_from_scratch(bvh, triangle_corners(records.triangles))
+    expected_min, expected_max = bvh_bounds_from_scratch(bvh, triangle_corners(records.triangles))
     np.testing.assert_array_equal(bvh.bounds_min, expected_min)
     np.testing.assert_array_equal(bvh.bounds_max, expected_max)
     np.testing.assert_array_equal(nodes["children"], nodes_before["children"])

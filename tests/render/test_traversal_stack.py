@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import pytest
 
-from tests.bvh.test_bvh import geometric_peel_scene
 from wgputrace import Diffuse, Renderer, Shape, default_scene
 from wgputrace.gpu.pipeline import BVH_STACK_SIZE, STACK_SIZE_STEP, traversal_stack_size
+from wgputrace.testing.scenes import geometric_peel_scene
 
 SIZE = 16
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.conftest import SHARED_SCENES
 from wgputrace import default_scene
 
 # The OBJ stores float32 values printed to 9 digits; our generators compute in float64.
@@ -36,11 +35,8 @@ def canonical(triangles: np.ndarray) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def shared_obj():
-    path = SHARED_SCENES / "cornell_trac0r.obj"
-    if not path.exists():
-        pytest.fail(f"{path} is missing: the tests need ../shared/scenes beside the checkout")
-    return read_obj(path)
+def shared_obj(data_dir):
+    return read_obj(data_dir / "cornell_trac0r.obj")
 
 
 def test_triangles_equal_shared_obj(shared_obj):
@@ -70,8 +66,8 @@ def test_material_indices_not_copies():
     assert sorted(m.name for m in arrays.materials) == ["emissive", "glass", "glossy", "green", "red", "white"]
 
 
-def test_camera_matches_shared_conventions():
-    data = np.load(SHARED_SCENES / "cornell_trac0r.npz")
+def test_camera_matches_shared_conventions(data_dir):
+    data = np.load(data_dir / "cornell_trac0r.npz")
     camera = default_scene().camera
     right, up, forward = camera.basis()
     np.testing.assert_allclose(camera.position, data["camera_position"], atol=1e-6)
@@ -80,8 +76,8 @@ def test_camera_matches_shared_conventions():
     assert camera.vfov_degrees == pytest.approx(float(data["camera_vfov_deg"]), abs=1e-4)
 
 
-def test_materials_match_shared_table():
-    data = np.load(SHARED_SCENES / "cornell_trac0r.npz")
+def test_materials_match_shared_table(data_dir):
+    data = np.load(data_dir / "cornell_trac0r.npz")
     materials = {m.name: m for m in default_scene().materials}
     for index, name in enumerate(data["material_names"]):
         material = materials[str(name)]

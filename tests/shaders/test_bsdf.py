@@ -6,11 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import run_kernel
-from tests.shaders.reference import UNIT_ROUNDOFF, as_vec4, fresnel_dielectric
 from wgputrace import Diffuse, Glass, Glossy
 from wgputrace.gpu.layout import MATERIAL, GpuStruct
 from wgputrace.render.scene_buffers import material_records
+from wgputrace.testing.bsdf_grid import UNIT_LENGTH_TOLERANCE, incident_directions, refraction_indices, sin_theta
+from wgputrace.testing.harness import run_kernel
+from wgputrace.testing.oracles import UNIT_ROUNDOFF, as_vec4, fresnel_dielectric, relative_error
 
 pytestmark = pytest.mark.gpu
 
@@ -54,8 +55,6 @@ WEIGHT_TOLERANCE = 1e-4
 # differently (lavapipe: two calls of glossy_pdf on the same inputs differ by up to 7e-4 there).
 # Allow this many roundings of that size; a wrong formula is off by O(1), not by 1e-3.
 HALF_VECTOR_ROUNDINGS = 32
-# Sampled directions are built from sqrt, cos, sin and normalize: a few roundings off unit length.
-UNIT_LENGTH_TOLERANCE = 16 * UNIT_ROUNDOFF
 GLOSSY_ROUGHNESS = (0.05, 0.3, 1.0)  # GGX alpha = roughness (never clamped at these values)
 
 # Diffuse mean cosine: cos theta_o of a cosine-weighted sample has mean 2/3 and variance
@@ -100,14 +99,6 @@ def run_samples(context, materials: np.ndarray, wi: np.ndarray, u: np.ndarray) -
     return out[:count]
 
 
-def incident_directions(rng: np.random.Generator, cos_theta: np.ndarray) -> np.ndarray:
-    """Unit float32 directions with the given z (sign included) at random azimuths."""
-    cos_theta = np.asarray(cos_theta, np.float64)
-    phi = rng.uniform(0.0, 2.0 * np.pi, size=cos_theta.shape)
-    sin_theta = np.sqrt(np.maximum(0.0, 1.0 - cos_theta**2))
-    return np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), cos_theta], axis=-1).astype(np.float32)
-
-
 def uniforms(rng: np.random.Generator, count: int, lobe: float | np.ndarray | None = None) -> np.ndarray:
     """(count, 4) float32 random numbers in [0, 1); column 2, the lobe choice, fixed if given."""
     u = rng.random((count, 4), dtype=np.float32)
@@ -120,10 +111,6 @@ def incident_angles() -> np.ndarray:
     """Each cosine of COS_THETAS from above and below, SAMPLES_PER_ANGLE times."""
     signed = np.concatenate([np.array(COS_THETAS), -np.array(COS_THETAS)])
     return np.repeat(signed, SAMPLES_PER_ANGLE)
-
-
-def relative_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.abs(a - b) / np.maximum(np.abs(b), np.finfo(np.float32).tiny)
 
 
 def consistency_tolerance(material: Diffuse | Glossy, wi: np.ndarray, wo: np.ndarray) -> np.ndarray:
@@ -205,17 +192,6 @@ def glass_cases(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.nd
     cos_i = np.maximum(np.tile(cos, 2 * len(GLASS_IORS)), 1e-4) * side
     records = material_records([Glass(f"glass {n}", color=(0.9, 0.8, 0.7), ior=n) for n in GLASS_IORS])
     return np.repeat(records, 2 * GLASS_ANGLES), ior, incident_directions(rng, cos_i)
-
-
-def refraction_indices(ior: np.ndarray, wi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(eta_i, eta_t): the ior is inside, on the -z side; outside is 1."""
-    outside = wi[:, 2] >= 0.0
-    return np.where(outside, 1.0, ior), np.where(outside, ior, 1.0)
-
-
-def sin_theta(v: np.ndarray) -> np.ndarray:
-    v = v.astype(np.float64)
-    return np.hypot(v[:, 0], v[:, 1])
 
 
 def fresnel_tolerance(ior: np.ndarray, wi: np.ndarray) -> np.ndarray:

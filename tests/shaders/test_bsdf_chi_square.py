@@ -3,7 +3,7 @@
 0.01 to 1, incident angles down to grazing (cos theta = 1e-3) and from below. Glass's two delta
 lobes are tested by the frequency of each choice against Fresnel and by their exact directions.
 
-Expected counts integrate bsdf_pdf over the cells of tests/shaders/bsdf_grid.py. Samples the pdf
+Expected counts integrate bsdf_pdf over the cells of wgputrace/testing/bsdf_grid.py. Samples the pdf
 does not cover (none for diffuse; for glossy, microfacets that reflect below the horizon) come
 back invalid: a binomial test checks that bsdf_pdf integrates to the fraction of valid samples.
 """
@@ -13,16 +13,20 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.shaders.bsdf_grid import PDF, integrate_bsdf, lobe_grid, sample_bsdf
-from tests.shaders.reference import UNIT_ROUNDOFF, fresnel_dielectric
-from tests.shaders.test_bsdf import (
+from wgputrace import Diffuse, Glass, Glossy
+from wgputrace.render.scene_buffers import material_records
+from wgputrace.testing.bsdf_grid import (
+    PDF,
     UNIT_LENGTH_TOLERANCE,
     incident_directions,
+    integrate_bsdf,
+    lobe_grid,
     refraction_indices,
-    relative_error,
+    sample_bsdf,
     sin_theta,
 )
-from tests.stats import (
+from wgputrace.testing.oracles import UNIT_ROUNDOFF, fresnel_dielectric, relative_error
+from wgputrace.testing.stats import (
     MIN_EXPECTED,
     binomial_p_value,
     chi_square,
@@ -31,10 +35,8 @@ from tests.stats import (
     save_histograms,
     sidak,
 )
-from wgputrace import Diffuse, Glass, Glossy
-from wgputrace.render.scene_buffers import material_records
 
-pytestmark = pytest.mark.gpu
+pytestmark = [pytest.mark.gpu, pytest.mark.slow]
 
 # Each case draws its random numbers from numpy with the seed (SEED, its index).
 SEED = 42026

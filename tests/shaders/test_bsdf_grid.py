@@ -7,9 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.shaders.bsdf_grid import integrate, lobe_grid
-from tests.shaders.test_bsdf import incident_directions
 from wgputrace import Diffuse, Glossy
+from wgputrace.testing.bsdf_grid import incident_directions, integrate, lobe_grid
 
 # Error budget of the whole hemisphere in the tests below, relative to the integral: far below
 # what the chi-square and furnace tests ask, and far above float64 rounding.

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import run_kernel
+from wgputrace.testing.harness import run_kernel
 
 pytestmark = pytest.mark.gpu
 

@@ -7,8 +7,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import node_binding, run_kernel
-from tests.shaders.reference import (
+from wgputrace import Diffuse, Scene, Shape, make_box, make_icosphere
+from wgputrace.gpu.layout import BVH_NODE
+from wgputrace.gpu.pipeline import NO_TRIANGLE
+from wgputrace.render.scene_buffers import SceneRecords, scene_records
+from wgputrace.testing.harness import node_binding, run_kernel
+from wgputrace.testing.oracles import (
     EDGE_MARGIN,
     FLOAT_MAX,
     UNIT_ROUNDOFF,
@@ -21,10 +25,6 @@ from tests.shaders.reference import (
     triangle_records,
     unit_vectors,
 )
-from wgputrace import Diffuse, Scene, Shape, make_box, make_icosphere
-from wgputrace.gpu.layout import BVH_NODE
-from wgputrace.gpu.pipeline import NO_TRIANGLE
-from wgputrace.render.scene_buffers import SceneRecords, scene_records
 
 pytestmark = pytest.mark.gpu
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import run_kernel
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL
+from wgputrace.testing.harness import run_kernel
 
 pytestmark = pytest.mark.gpu
 

@@ -6,9 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.harness import frame_record, node_binding, run_kernel
-from tests.shaders.reference import (
-    as_vec4,
+from wgputrace import Diffuse, Scene, Shape, default_scene
+from wgputrace.gpu.layout import TRIANGLE
+from wgputrace.gpu.pipeline import NO_TRIANGLE
+from wgputrace.gpu.texels import texels_per_record, texture_shape
+from wgputrace.render.scene_buffers import ACCELERATIONS, SceneRecords, scene_records
+from wgputrace.testing.oracles import (
     brute_force_closest_hit,
     ray_triangle,
     record_corners,
@@ -16,11 +19,7 @@ from tests.shaders.reference import (
     triangle_normals,
     unit_vectors,
 )
-from wgputrace import Diffuse, Scene, Shape, default_scene
-from wgputrace.gpu.layout import TRIANGLE
-from wgputrace.gpu.pipeline import NO_TRIANGLE
-from wgputrace.gpu.texels import texels_per_record, texture_shape
-from wgputrace.render.scene_buffers import ACCELERATIONS, SceneRecords, scene_records
+from wgputrace.testing.traversal import closest_hit
 
 pytestmark = pytest.mark.gpu
 
@@ -35,36 +34,6 @@ GRID = 12
 GRID_TRIANGLE_RADIUS = 0.15
 GRID_JITTER = 0.1
 GRID_RAY_START = 0.2
-
-KERNEL = """
-//! include "{traversal}"
-fn compute(i: u32) -> vec2<f32> {{
-    let hit = closest_hit(Ray(inputs_0[i].xyz, inputs_1[i].xyz), FLOAT_MAX, NO_TRIANGLE);
-    return vec2<f32>(hit.t, bitcast<f32>(hit.triangle));
-}}
-"""
-
-
-def closest_hit(
-    context, records: SceneRecords, origins: np.ndarray, directions: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """(t, triangle) per ray from the shipped closest_hit of the traversal `records` were built for."""
-    kind = records.acceleration.kind
-    scene = {1: records.triangles, 2: node_binding(context, records)}
-    if kind == "flat":  # only the flat list reads the node count from the frame
-        scene[0] = frame_record(len(records.nodes))
-    out = run_kernel(
-        context,
-        KERNEL.format(traversal=f"traverse_{kind}.wgsl"),
-        [as_vec4(origins), as_vec4(directions)],
-        np.dtype((np.float32, 2)),
-        len(origins),
-        input_types=["vec4<f32>", "vec4<f32>"],
-        output_type="vec2<f32>",
-        scene=scene,
-    )
-    assert not np.isnan(out[:, 0]).any(), "closest_hit returned a NaN distance"
-    return out[:, 0].astype(np.float64), out[:, 1].view(np.uint32)
 
 
 def assert_matches_brute_force(context, records: SceneRecords, origins: np.ndarray, directions: np.ndarray) -> None:
