@@ -8,14 +8,13 @@ import numpy as np
 import pytest
 
 from wgputrace.bvh import BVH, build_bvh, build_flat
+from wgputrace.bvh.binned_sah import DEFAULT_MAX_DEPTH
 from wgputrace.gpu.pipeline import NO_TRIANGLE
 from wgputrace.testing.oracles import brute_force_closest_hit, bvh_closest_hit, ray_triangle
 from wgputrace.testing.scenes import geometric_peel_scene, random_rays, random_soup
 
 SEED = 20240611
 RAY_COUNT = 2000
-# Default GPU traversal stack depth, which build_bvh's default max_depth protects.
-GPU_STACK_DEPTH = 64
 
 
 @pytest.fixture
@@ -87,7 +86,7 @@ def test_build_bvh_tree_invariants(rng, triangle_count, max_leaf_size, bin_count
     vertices = random_soup(rng, triangle_count)
     bvh = build_bvh(vertices, bin_count=bin_count, max_leaf_size=max_leaf_size)
     assert bvh.kind == "bvh" and bvh.build_seconds >= 0.0
-    assert_valid_tree(bvh, vertices, max_leaf_size, GPU_STACK_DEPTH)
+    assert_valid_tree(bvh, vertices, max_leaf_size, DEFAULT_MAX_DEPTH)
 
 
 def test_identical_centroids_are_split_by_position(rng):
@@ -96,17 +95,17 @@ def test_identical_centroids_are_split_by_position(rng):
     corner = rng.normal(size=(count, 3)).astype(np.float32)
     vertices = np.stack([corner, -corner, np.zeros_like(corner)], axis=1)
     bvh = build_bvh(vertices, max_leaf_size=max_leaf_size)
-    assert_valid_tree(bvh, vertices, max_leaf_size, GPU_STACK_DEPTH)
+    assert_valid_tree(bvh, vertices, max_leaf_size, DEFAULT_MAX_DEPTH)
     assert bvh.depth <= math.ceil(math.log2(count / max_leaf_size)) + 1
 
 
 def test_max_depth_caps_a_pathologically_deep_tree():
     vertices = geometric_peel_scene()
-    natural = build_bvh(vertices, max_depth=10 * GPU_STACK_DEPTH)
-    assert natural.depth > GPU_STACK_DEPTH, "the scene no longer exercises the depth limit"
+    natural = build_bvh(vertices, max_depth=10 * DEFAULT_MAX_DEPTH)
+    assert natural.depth > DEFAULT_MAX_DEPTH, "the scene no longer exercises the depth limit"
     capped = build_bvh(vertices)
-    assert capped.depth == GPU_STACK_DEPTH
-    assert_valid_tree(capped, vertices, max_leaf_size=4, max_depth=GPU_STACK_DEPTH)
+    assert capped.depth == DEFAULT_MAX_DEPTH
+    assert_valid_tree(capped, vertices, max_leaf_size=4, max_depth=DEFAULT_MAX_DEPTH)
     shallow = build_bvh(vertices, max_depth=5)
     assert shallow.depth == 5
     assert_valid_tree(shallow, vertices, max_leaf_size=4, max_depth=5)
@@ -127,7 +126,7 @@ def test_traversal_matches_brute_force(rng, kind):
     degenerate = np.zeros(len(vertices), bool)
     degenerate[::50] = degenerate[1::50] = True
     bvh = build_bvh(vertices) if kind == "bvh" else build_flat(vertices, spatial_groups(vertices, 4))
-    assert_valid_tree(bvh, vertices, max_leaf_size=4, max_depth=GPU_STACK_DEPTH)
+    assert_valid_tree(bvh, vertices, max_leaf_size=4, max_depth=DEFAULT_MAX_DEPTH)
     reordered = vertices[bvh.triangle_order]
     origins, directions = random_rays(rng, RAY_COUNT)
 
@@ -208,7 +207,7 @@ def test_sah_cost_matches_the_previous_builder(rng):
     vertices = random_soup(rng, 20_000)
     bvh = build_bvh(vertices)
     assert bvh.sah_cost() == pytest.approx(PREVIOUS_BUILDER_SAH, rel=PREVIOUS_BUILDER_SAH_TOLERANCE)
-    assert_valid_tree(bvh, vertices, max_leaf_size=4, max_depth=GPU_STACK_DEPTH)
+    assert_valid_tree(bvh, vertices, max_leaf_size=4, max_depth=DEFAULT_MAX_DEPTH)
 
 
 @pytest.mark.filterwarnings("error::RuntimeWarning")  # an overflow in the split costs would blind them

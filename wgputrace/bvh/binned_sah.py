@@ -5,8 +5,9 @@ Parameters of `build_bvh`:
     max_leaf_size   4  a node with at most this many triangles becomes a leaf; a larger node is
                        always split, even where SAH would call a leaf cheaper, so the GPU's
                        per-leaf loop stays short (only max_depth can make a larger leaf)
-    max_depth      64  levels at most; a node on the last level becomes a leaf whatever its size,
-                       because the GPU traversal has a fixed 64-entry stack
+    max_depth      64  levels at most (DEFAULT_MAX_DEPTH); a node on the last level becomes a leaf
+                       whatever its size. The renderer builds with bvh/wide.py's BUILD_MAX_DEPTH,
+                       which bounds its GPU traversal stack
     workers      None  processes growing subtrees side by side (forked_subtrees.py); None: every
                        CPU this process may use (Linux; elsewhere 1). The tree does not depend on it
 
@@ -41,6 +42,8 @@ from wgputrace.bvh.tree import BVH, validated_vertices
 # on 1e6 triangles; 2^15 to 2^17 perform alike). A batch is the nodes whose ranges start in one
 # window of this size, so its last node may run past the window.
 BATCH_TRIANGLES = 1 << 16
+# Levels of a tree built without a max_depth of the caller's.
+DEFAULT_MAX_DEPTH = 64
 # One triangle while the tree is built: its box, the box's centre, and its input index.
 RECORD = np.dtype([("min", np.float32, 3), ("max", np.float32, 3), ("centroid", np.float32, 3), ("id", np.uint32)])
 # The same bytes as one opaque item: numpy gathers these with a plain copy (field by field for RECORD).
@@ -54,7 +57,7 @@ def build_bvh(
     *,
     bin_count: int = 16,
     max_leaf_size: int = 4,
-    max_depth: int = 64,
+    max_depth: int = DEFAULT_MAX_DEPTH,
     workers: int | None = None,
 ) -> BVH:
     """Build a BVH over (N, 3, 3) float32 triangles (triangle, corner, xyz)."""

@@ -24,9 +24,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-# Smaller builds take a few hundredths of a second, where a fork's cost shows. Above it forking
-# pays: `python bench/bvh_build.py --triangles 8000 16000 32000 --repeats 7` built 31,752
-# triangles in 0.064 s with two workers against 0.092 s with one (2-core development machine).
+# Smaller builds take a few hundredths of a second, where a fork's cost shows; above it forking
+# pays (`python -m bench.bvh_build --triangles 8000 16000 32000 --repeats 7`, bench/README.md's log).
 FORK_MIN_TRIANGLES = 1 << 14
 # A level is cut into groups once the largest group holds at most this multiple of a fair share.
 MAX_GROUP_IMBALANCE = 1.2
