@@ -10,7 +10,8 @@ from wgputrace import Diffuse, Scene, Shape, default_scene
 from wgputrace.gpu.layout import TRIANGLE
 from wgputrace.gpu.pipeline import NO_TRIANGLE
 from wgputrace.gpu.texels import texels_per_record, texture_shape
-from wgputrace.render.scene_buffers import ACCELERATIONS, SceneRecords, scene_records
+from wgputrace.render.scene_buffers import ACCELERATIONS, SceneRecords
+from wgputrace.render.scene_sync import scene_records
 from wgputrace.testing.oracles import (
     brute_force_closest_hit,
     ray_triangle,

@@ -1,7 +1,8 @@
 """A scene turned into GPU records: triangles in acceleration-structure order, nodes, materials.
 
 The BVH is built and kept binary (bvh/); the GPU gets it collapsed into 4-wide records
-(bvh/wide.py), the flat list its boxes as binary nodes."""
+(bvh/wide.py), the flat list its boxes as binary nodes. These are the pieces; scene_sync.py's
+SceneMirror puts them together, for the renderer and (`scene_records`) for tests alike."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import numpy as np
 from ..bvh import BVH, build_bvh, build_flat
 from ..bvh.wide import BUILD_MAX_DEPTH, WideBVH, collapse
 from ..gpu.layout import BVH_NODE, MATERIAL, TRIANGLE, WIDE_BVH_NODE
-from ..scene import Material, Scene, TriangleArrays
+from ..scene import Material, TriangleArrays
 
 ACCELERATIONS = ("bvh", "flat")
 
@@ -83,12 +84,3 @@ def triangle_records(vertices: np.ndarray, material_index: np.ndarray) -> np.nda
     triangles["v0"], triangles["v1"], triangles["v2"] = vertices[:, 0], vertices[:, 1], vertices[:, 2]
     triangles["material"] = material_index
     return triangles
-
-
-def scene_records(scene: Scene, acceleration: str = "bvh") -> SceneRecords:
-    arrays = scene.arrays()
-    structure = build_acceleration(arrays, acceleration)
-    order = structure.triangle_order
-    triangles = triangle_records(arrays.vertices[order], arrays.material_index[order])
-    nodes, wide = gpu_node_records(structure)
-    return SceneRecords(triangles, nodes, material_records(arrays.materials), structure, wide)

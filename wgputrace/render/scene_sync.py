@@ -240,3 +240,8 @@ class SceneMirror:
 
 def _union(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     return {name: np.union1d(a.get(name, []), b.get(name, [])).astype(np.int64) for name in a.keys() | b.keys()}
+
+
+def scene_records(scene: Scene, acceleration: str = "bvh") -> SceneRecords:
+    """The GPU records of `scene` exactly as a Renderer assembles them (the one assembly path)."""
+    return SceneMirror(scene, acceleration).records
