@@ -394,19 +394,10 @@ class Renderer:
         self.stats = RenderStats()
 
 
-def render(
-    scene: Scene,
-    spp: int = 64,
-    width: int = 512,
-    height: int = 512,
-    *,
-    seed: int = 1,
-    max_depth: int = 9,
-    accel: str = "bvh",
-    integrator: str = "mis",
-) -> np.ndarray:
-    """Render `scene` from scratch: the mean of `spp` samples per pixel, float32 (H, W, 3)."""
-    renderer = Renderer(scene, width, height, seed=seed, max_depth=max_depth, accel=accel, integrator=integrator)
+def render(scene: Scene, spp: int = 64, width: int = 512, height: int = 512, **options) -> np.ndarray:
+    """Render `scene` from scratch: the mean of `spp` samples per pixel, float32 (H, W, 3).
+    `options` are the Renderer's keyword arguments (seed, max_depth, accel, integrator, ...)."""
+    renderer = Renderer(scene, width, height, **options)
     renderer.render(spp)
     return renderer.image()
 
