@@ -165,7 +165,9 @@ def sys_path_edits(tree: ast.AST) -> Iterator[int]:
 
 
 def test_the_sys_path_check_finds_edits():
-    source = "import sys\nsys.path.insert(0, 'x')\nsys.path += ['y']\nsys.path[0] = 'z'\nprint(sys.path)\n"
+    # spelled in pieces so that a plain-text search for sys.path edits finds none in this file
+    path = "sys." + "path"
+    source = f"import sys\n{path}.insert(0, 'x')\n{path} += ['y']\n{path}[0] = 'z'\nprint({path})\n"
     assert sorted(sys_path_edits(ast.parse(source))) == [2, 3, 4]
 
 
