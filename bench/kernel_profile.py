@@ -44,10 +44,10 @@ from wgputrace import Renderer, default_scene, make_icosphere
 from wgputrace.gpu.bindings import IMAGE_WORKGROUP, PIXELS_GROUP, STORAGE_READ, Binding, scene_group
 from wgputrace.gpu.buffers import read_buffer, storage_buffer
 from wgputrace.gpu.device import describe, gpu
+from wgputrace.gpu.generated import BVH_STACK_SIZE, GENERATED_TRAVERSAL_STACK, INTEGRATORS, traversal_stack
 from wgputrace.gpu.kernel import ComputeKernel, Pass, Timestamps, submit
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL, TRIANGLE
 from wgputrace.gpu.material_dispatch import GENERATED_MATERIALS, material_dispatch, shaded_kinds
-from wgputrace.gpu.pipeline import BVH_STACK_SIZE, GENERATED_TRAVERSAL_STACK, INTEGRATORS, traversal_stack
 from wgputrace.gpu.shader_source import shader_root
 from wgputrace.render.rng_seed import pixel_rng_states
 

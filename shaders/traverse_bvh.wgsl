@@ -34,7 +34,7 @@ fn order_pair(a: ptr<function, vec2<u32>>, b: ptr<function, vec2<u32>>) {
 // A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
 // leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.
 // At most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits BVH_STACK_SIZE; the
-// renderer compiles only what its tree needs (gpu/pipeline.py traversal_stack_size). At module
+// renderer compiles only what its tree needs (gpu/generated.py traversal_stack_size). At module
 // scope because WGSL zero-fills a variable where it is declared: here once per invocation, in
 // traverse() at every traversal (`python -m bench.kernel_profile --variants function_stack`
 // measures the difference). traverse() is never re-entered.

@@ -16,7 +16,7 @@ import pytest
 from scipy import stats
 
 from wgputrace import Camera, Renderer, Scene
-from wgputrace.gpu.pipeline import INTEGRATORS
+from wgputrace.gpu.generated import INTEGRATORS
 from wgputrace.scene import cornell_box
 from wgputrace.testing.stats import sidak
 

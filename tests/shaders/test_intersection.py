@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Scene, Shape, make_box, make_icosphere
+from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import BVH_NODE
-from wgputrace.gpu.pipeline import NO_TRIANGLE
 from wgputrace.render.scene_buffers import SceneRecords
 from wgputrace.render.scene_sync import scene_records
 from wgputrace.testing.harness import node_binding, run_kernel

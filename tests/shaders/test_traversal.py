@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Scene, Shape, default_scene
+from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import TRIANGLE
-from wgputrace.gpu.pipeline import NO_TRIANGLE
 from wgputrace.gpu.texels import texels_per_record, texture_shape
 from wgputrace.render.scene_buffers import ACCELERATIONS, SceneRecords
 from wgputrace.render.scene_sync import scene_records

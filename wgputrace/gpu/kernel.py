@@ -12,7 +12,7 @@ import wgpu
 
 from .bindings import GENERATED_WORKGROUP, IMAGE_WORKGROUP, BindGroup, group_files, workgroup_constants
 from .device import GpuContext
-from .pipeline import standard_files
+from .generated import standard_files
 from .shader_source import ShaderSource, load_shader
 
 

@@ -19,16 +19,16 @@ import wgpu
 from ..gpu.bindings import BAND_GROUP, PIXELS_GROUP, RAY_COUNT_GROUP, scene_group
 from ..gpu.buffers import read_buffer, storage_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
-from ..gpu.kernel import ComputeKernel
-from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
-from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
-from ..gpu.pipeline import (
+from ..gpu.generated import (
     BVH_STACK_SIZE,
     GENERATED_TRAVERSAL_STACK,
     INTEGRATORS,
     traversal_stack,
     traversal_stack_size,
 )
+from ..gpu.kernel import ComputeKernel
+from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
+from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from ..gpu.texels import TrackedTexels, require_texels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
@@ -67,7 +67,7 @@ def path_tracer_kernel(
     that renders a band of rows (path_tracer_rows.wgsl, for the viewer). `material_kinds` limits
     the BSDF code compiled in to those kinds (gpu/material_dispatch.py). `count_rays` compiles the
     ray counters in (gpu/ray_count.py; render/ray_count.py runs them). `stack_size` sizes the BVH
-    traversal's stack (gpu/pipeline.py traversal_stack_size)."""
+    traversal's stack (gpu/generated.py traversal_stack_size)."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
