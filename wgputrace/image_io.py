@@ -1,13 +1,43 @@
 """Images to files: PNG (tone-mapped sRGB, 8 bit), EXR (linear float) or NPY (linear float32),
-chosen by the file's extension."""
+chosen by the file's extension, with text metadata: PNG text chunks, EXR string attributes, and
+for an .npy a sidecar JSON file named after it (`out.npy.json`, so it cannot be taken for another
+file's and sorts beside its image).
+
+Every file is written whole or not at all: into a hidden temporary file in the target's folder
+(`.out.png.<random>.tmp`; the same folder, so the same filesystem, where os.replace is atomic),
+renamed over the target once complete, and removed when anything (Ctrl-C included) stops the
+write. A reader of the target sees the old file or the new one, never a part."""
 
 from __future__ import annotations
 
+import json
+import os
+import secrets
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
 FORMATS = (".png", ".exr", ".npy")
+SIDECAR_SUFFIX = ".json"
+TEMPORARY_SUFFIX = ".tmp"
+
+# Header attributes the EXR writer sets itself (or OpenEXR derives from the pixels): metadata under
+# these names would be lost or break the file.
+_EXR_OWN_ATTRIBUTES = frozenset(
+    {
+        "channels",
+        "compression",
+        "dataWindow",
+        "displayWindow",
+        "lineOrder",
+        "pixelAspectRatio",
+        "screenWindowCenter",
+        "screenWindowWidth",
+        "type",
+    }
+)
 
 
 def linear_to_srgb(linear: np.ndarray) -> np.ndarray:
@@ -23,6 +53,12 @@ def tonemap(linear: np.ndarray, exposure: float = 1.0) -> np.ndarray:
     return np.round(linear_to_srgb(scaled) * 255.0).astype(np.uint8)
 
 
+def sidecar_path(path: str | Path) -> Path:
+    """Where the metadata of the .npy `path` is kept: `out.npy` -> `out.npy.json`."""
+    path = Path(path)
+    return path.with_name(path.name + SIDECAR_SUFFIX)
+
+
 def _check(image: np.ndarray) -> np.ndarray:
     image = np.asarray(image)
     if image.ndim != 3 or image.shape[2] != 3:
@@ -30,33 +66,106 @@ def _check(image: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(image, dtype=np.float32)
 
 
-def save_image(path: str | Path, image: np.ndarray, exposure: float = 1.0) -> Path:
-    """Write a linear (H, W, 3) image; the extension picks the format (.png, .exr, .npy)."""
-    path = Path(path)
-    image = _check(image)
+def _format(path: Path) -> str:
     suffix = path.suffix.lower()
     if suffix not in FORMATS:
         raise ValueError(f"{path}: unknown image format {suffix!r}; use one of {', '.join(FORMATS)}")
+    return suffix
+
+
+def _check_metadata(path: Path, metadata: Mapping[str, str] | None) -> dict[str, str]:
+    metadata = dict(metadata or {})
+    for key, value in metadata.items():
+        if not isinstance(key, str) or not isinstance(value, str):
+            raise ValueError(f"{path}: metadata must map str to str, got {key!r}: {value!r}")
+    clashes = sorted(_EXR_OWN_ATTRIBUTES & metadata.keys()) if path.suffix.lower() == ".exr" else []
+    if clashes:
+        raise ValueError(f"{path}: metadata key {clashes[0]!r} is an attribute the EXR header sets itself")
+    return metadata
+
+
+@contextmanager
+def _temporary_beside(target: Path) -> Iterator[Path]:
+    """A new hidden file in `target`'s folder; whatever is left of it when the block ends (by an
+    exception or not) is removed, so a block that renames it over `target` leaves nothing behind.
+    Opened with mode 0o666 like any new file (the umask applies), unlike mkstemp's 0o600, which
+    os.replace would pass on to the target."""
+    temporary = target.with_name(f".{target.name}.{secrets.token_hex(8)}{TEMPORARY_SUFFIX}")
+    os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+    try:
+        yield temporary
+    finally:
+        temporary.unlink(missing_ok=True)
+
+
+# Each writer writes the whole file at the temporary path it is given, whose name says nothing of
+# the format: the format is passed explicitly or implied by the writer.
+def _write_png(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+    from PIL import Image, PngImagePlugin
+
+    text = PngImagePlugin.PngInfo()
+    for key, value in metadata.items():
+        text.add_text(key, value)  # tEXt, or iTXt (UTF-8) for text outside Latin-1
+    Image.fromarray(tonemap(image, exposure), mode="RGB").save(path, format="PNG", pnginfo=text)
+
+
+def _write_exr(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+    import OpenEXR
+
+    header = {**metadata, "compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    with OpenEXR.File(header, {"RGB": image}) as exr:
+        exr.write(str(path))
+
+
+def _write_npy(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+    with open(path, "wb") as file:  # a file object: np.save would append ".npy" to the temporary's name
+        np.save(file, image)
+
+
+_WRITERS: dict[str, Callable[[Path, np.ndarray, float, dict[str, str]], None]] = {
+    ".png": _write_png,
+    ".exr": _write_exr,
+    ".npy": _write_npy,
+}
+
+
+def _replace_npy(temporary: Path, path: Path, metadata: dict[str, str]) -> None:
+    """Rename the written .npy `temporary` over `path` and put `metadata` in its sidecar (none when
+    empty). Two renames cannot be one atomic step, so the old sidecar goes first: an interruption
+    leaves an image without metadata, never one with another image's."""
+    sidecar = sidecar_path(path)
+    with _temporary_beside(sidecar) as sidecar_temporary:
+        sidecar_temporary.write_text(json.dumps(metadata, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+        sidecar.unlink(missing_ok=True)
+        os.replace(temporary, path)
+        if metadata:
+            os.replace(sidecar_temporary, sidecar)
+
+
+def save_image(
+    path: str | Path, image: np.ndarray, exposure: float = 1.0, metadata: Mapping[str, str] | None = None
+) -> Path:
+    """Write a linear (H, W, 3) image atomically; the extension picks the format (.png, .exr,
+    .npy). `metadata` (str to str) goes into the file, or for an .npy into its sidecar
+    `sidecar_path(path)` (an old sidecar is removed when there is none)."""
+    path = Path(path)
+    image = _check(image)
+    suffix = _format(path)
+    metadata = _check_metadata(path, metadata)
     path.parent.mkdir(parents=True, exist_ok=True)
-    if suffix == ".png":
-        from PIL import Image
-
-        Image.fromarray(tonemap(image, exposure), mode="RGB").save(path)
-    elif suffix == ".exr":
-        import OpenEXR
-
-        header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-        with OpenEXR.File(header, {"RGB": image}) as exr:
-            exr.write(str(path))
-    else:
-        np.save(path, image)
+    with _temporary_beside(path) as temporary:
+        _WRITERS[suffix](temporary, image, exposure, metadata)
+        if suffix == ".npy":
+            _replace_npy(temporary, path, metadata)
+        else:
+            os.replace(temporary, path)
     return path
 
 
 def load_image(path: str | Path) -> np.ndarray:
     """Read back what save_image wrote: linear float32 for .exr and .npy, decoded sRGB for .png."""
     path = Path(path)
-    suffix = path.suffix.lower()
+    suffix = _format(path)
     if suffix == ".npy":
         return _check(np.load(path))
     if suffix == ".exr":
@@ -64,9 +173,43 @@ def load_image(path: str | Path) -> np.ndarray:
 
         with OpenEXR.File(str(path)) as exr:
             return _check(exr.channels()["RGB"].pixels)
-    if suffix == ".png":
+    from PIL import Image
+
+    encoded = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
+    return _check(np.where(encoded <= 0.04045, encoded / 12.92, ((encoded + 0.055) / 1.055) ** 2.4))
+
+
+def read_text_metadata(path: str | Path) -> dict[str, str]:
+    """The text metadata of an image file: a PNG's text chunks, an EXR's string attributes, an
+    .npy's sidecar JSON ({} when it has none). Raises a one-line ValueError naming the file when
+    it does not exist or cannot be read as its extension says."""
+    path = Path(path)
+    suffix = _format(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: no such file")
+    if suffix == ".npy":
+        return _read_sidecar(sidecar_path(path))
+    try:
+        if suffix == ".exr":
+            import OpenEXR
+
+            with OpenEXR.File(str(path), header_only=True) as exr:  # its header() is emptied on close
+                return {key: value for key, value in exr.header().items() if isinstance(value, str)}
         from PIL import Image
 
-        encoded = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
-        return _check(np.where(encoded <= 0.04045, encoded / 12.92, ((encoded + 0.055) / 1.055) ** 2.4))
-    raise ValueError(f"{path}: unknown image format {suffix!r}; use one of {', '.join(FORMATS)}")
+        with Image.open(path, formats=["PNG"]) as png:
+            return {str(key): str(value) for key, value in png.text.items()}
+    except (OSError, RuntimeError) as error:  # PIL's UnidentifiedImageError is an OSError; OpenEXR's a RuntimeError
+        raise ValueError(f"{path}: not a readable {suffix[1:].upper()} file ({error})") from None
+
+
+def _read_sidecar(sidecar: Path) -> dict[str, str]:
+    if not sidecar.is_file():
+        return {}
+    try:
+        metadata = json.loads(sidecar.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ValueError(f"{sidecar}: not a JSON metadata file ({error})") from None
+    if not isinstance(metadata, dict) or not all(isinstance(value, str) for value in metadata.values()):
+        raise ValueError(f"{sidecar}: expected a JSON object of strings")
+    return metadata
