@@ -1,0 +1,146 @@
+"""How an image was made, kept in the image file (image_io.py puts it in PNG text chunks, EXR
+header attributes or an .npy's sidecar JSON), and read back by `wgputrace info FILE`.
+
+Every value is a string; each key is written as `wgputrace:<key>`:
+
+| key               | value                                                                   |
+|-------------------|-------------------------------------------------------------------------|
+| version           | wgputrace's version                                                     |
+| scene             | a built-in scene's name, a scene file's name, or `python` for a Scene   |
+|                   | built in Python                                                         |
+| scene_sha256      | a scene file's bytes hashed (not files it refers to: an .mtl, a .bin);  |
+|                   | for `python`, the scene as the GPU got it (triangles and materials      |
+|                   | records) and its camera, so equal scenes hash equal; absent for a       |
+|                   | built-in scene (the version fixes it)                                   |
+| width, height     | image size in pixels                                                    |
+| spp               | samples per pixel the image holds (fewer than asked when stopped)       |
+| seed              | the Renderer's seed                                                     |
+| integrator        | mis, nee or bsdf                                                        |
+| max_depth         | Mitsuba's max_depth (1: emitters seen directly only); -1 for no limit   |
+| accel             | bvh or flat                                                             |
+| adapter, backend  | the GPU adapter's name and its API (Vulkan, Metal, ...)                 |
+| render_seconds    | time spent in the path tracer's dispatches                              |
+| nonfinite_samples | samples dropped (counted as zero) for being NaN or infinite             |
+| cut_short_samples | samples dropped because the driver's loop budget may have cut them      |
+| stopped_by        | SIGINT, SIGTERM or time limit, when the render stopped before its spp   |
+| date              | when the metadata was made, UTC, ISO 8601                               |
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Mapping
+from datetime import datetime, timezone
+from importlib.metadata import version
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .image_io import read_text_metadata, sidecar_path
+from .loaders.resolve import scene_file
+
+if TYPE_CHECKING:
+    from .render import Renderer
+
+# One attribute per key rather than one JSON text: exrheader prints each attribute on its own line
+# (`wgputrace:spp (type string): "64"`), PIL's `Image.text` and exiftool list each text chunk, so
+# every value reads on its own. The prefix keeps our keys apart from other software's (as OIIO's
+# `oiio:ColorSpace`, ImageMagick's `png:...`).
+NAMESPACE = "wgputrace:"
+KEYS = (
+    "version",
+    "scene",
+    "scene_sha256",
+    "width",
+    "height",
+    "spp",
+    "seed",
+    "integrator",
+    "max_depth",
+    "accel",
+    "adapter",
+    "backend",
+    "render_seconds",
+    "nonfinite_samples",
+    "cut_short_samples",
+    "stopped_by",
+    "date",
+)
+PYTHON_SCENE = "python"
+
+
+def render_metadata(
+    renderer: Renderer, scene: str | Path | None, render_seconds: float, *, stopped_by: str | None = None
+) -> dict[str, str]:
+    """What `renderer` made, for save_image's `metadata`. `scene` is the spec the user gave (a
+    built-in name or a file, as load_scene takes it), or None for a Scene built in Python;
+    `stopped_by` says what ended the render early (SIGINT, SIGTERM, time limit)."""
+    info = renderer.context.adapter.info
+    values = {
+        "version": version("wgputrace"),
+        **_scene_identity(renderer, scene),
+        "width": renderer.width,
+        "height": renderer.height,
+        "spp": renderer.stats.samples_per_pixel,
+        "seed": renderer.seed,
+        "integrator": renderer.integrator,
+        "max_depth": renderer.max_depth,
+        "accel": renderer.accel,
+        "adapter": info["device"],
+        "backend": info["backend_type"],
+        "render_seconds": f"{render_seconds:.3f}",
+        "nonfinite_samples": renderer.nonfinite_samples,
+        "cut_short_samples": renderer.cut_short_samples,
+        **({"stopped_by": stopped_by} if stopped_by is not None else {}),
+        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+    }
+    return {NAMESPACE + key: str(value) for key, value in values.items()}
+
+
+def _scene_identity(renderer: Renderer, scene: str | Path | None) -> dict[str, str]:
+    if scene is None:
+        return {"scene": PYTHON_SCENE, "scene_sha256": _records_sha256(renderer)}
+    path = scene_file(scene)
+    if path is None:
+        return {"scene": str(scene)}
+    return {"scene": path.name, "scene_sha256": hashlib.sha256(path.read_bytes()).hexdigest()}
+
+
+def _records_sha256(renderer: Renderer) -> str:
+    """The scene as rendered: its GPU records as last uploaded (triangles in the BVH's order, which
+    a given scene and accel fix) and the camera, which lives in the frame uniform instead."""
+    camera = renderer.scene.camera
+    digest = hashlib.sha256()
+    digest.update(renderer.records.triangles.tobytes())
+    digest.update(renderer.records.materials.tobytes())
+    digest.update(np.array([*camera.position, *camera.forward, *camera.up, camera.vfov_degrees], np.float64).tobytes())
+    return digest.hexdigest()
+
+
+def read_metadata(path: str | Path) -> dict[str, str]:
+    """The wgputrace metadata of an image file save_image wrote, keys in the documented order.
+    Raises a one-line ValueError naming the file when it does not exist, cannot be read, or holds
+    none."""
+    path = Path(path)
+    ours = {key: value for key, value in read_text_metadata(path).items() if key.startswith(NAMESPACE)}
+    if not ours:
+        where = (
+            f"no {sidecar_path(path).name} beside it"
+            if path.suffix.lower() == ".npy"
+            else "written elsewhere, or saved without metadata"
+        )
+        raise ValueError(f"{path}: has no wgputrace metadata ({where})")
+    order = {NAMESPACE + key: index for index, key in enumerate(KEYS)}
+    # a stable sort: keys of a later version keep their order after the known ones
+    return dict(sorted(ours.items(), key=lambda item: order.get(item[0], len(order))))
+
+
+def format_metadata(metadata: Mapping[str, str]) -> str:
+    """Aligned `key  value` lines (keys without the namespace), as `wgputrace info FILE` prints them."""
+    rows = [(key.removeprefix(NAMESPACE), value) for key, value in metadata.items()]
+    width = max((len(key) for key, _ in rows), default=0)
+    return "\n".join(f"{key:<{width}}  {value}" for key, value in rows)
+
+
+__all__ = ["KEYS", "NAMESPACE", "format_metadata", "read_metadata", "render_metadata"]
