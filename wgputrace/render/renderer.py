@@ -9,6 +9,7 @@ Renderer of the edited scene makes with the same seed."""
 
 from __future__ import annotations
 
+import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -33,6 +34,7 @@ from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from ..gpu.texels import TrackedTexels, require_texels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..scene import Camera, Scene
+from .interrupts import Deferral, deferred_signals
 from .lights import LightTable
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
@@ -46,6 +48,33 @@ _UNLIMITED_DEPTH_GPU = 0xFFFFFFFF
 # frequent on slow adapters and submit overhead stays small on fast ones.
 _TARGET_SUBMIT_SECONDS = 0.25
 _MAX_DISPATCHES_PER_SUBMIT = 64
+
+
+class SubmitPlan:
+    """How many dispatches (samples per pixel) the next submit holds: the count doubles while a
+    submit takes under half of _TARGET_SUBMIT_SECONDS (up to _MAX_DISPATCHES_PER_SUBMIT), never
+    exceeds the samples left, and under a time budget never exceeds what the last measured time
+    per dispatch fits in the time remaining, so the last submit ends near the deadline instead of
+    up to _TARGET_SUBMIT_SECONDS after it."""
+
+    def __init__(self) -> None:
+        self.dispatches = 1
+        self.seconds_per_dispatch: float | None = None
+
+    def next(self, left: int | None = None, remaining_seconds: float | None = None) -> int:
+        """Dispatches for the next submit (0: none fits); `left`: samples still wanted (None: no
+        cap), `remaining_seconds`: time left in the budget (None: no budget)."""
+        count = self.dispatches if left is None else min(self.dispatches, left)
+        if remaining_seconds is not None and self.seconds_per_dispatch is not None:
+            count = min(count, max(int(remaining_seconds / self.seconds_per_dispatch), 0))
+        return count
+
+    def measured(self, dispatches: int, seconds: float) -> None:
+        """A submit of `dispatches` took `seconds`, waiting included."""
+        self.seconds_per_dispatch = seconds / dispatches
+        if seconds < _TARGET_SUBMIT_SECONDS / 2:
+            self.dispatches = min(2 * self.dispatches, _MAX_DISPATCHES_PER_SUBMIT)
+
 
 _kernels: dict[tuple, ComputeKernel] = {}
 
@@ -188,7 +217,7 @@ class Renderer:
             MATERIALS: TrackedBuffer(self.context, "materials", storage, self._mirror.materials, binding_limit=limit),
             LIGHTS: TrackedBuffer(self.context, "lights", storage, self._mirror.lights.entries, binding_limit=limit),
         }
-        self._dispatches_per_submit = 1
+        self._submits = SubmitPlan()
         self._device = device
         self._bind()
 
@@ -336,25 +365,58 @@ class Renderer:
         record["light_weight_total"] = self.lights.total_weight
         return record
 
-    def render(self, spp: int, progress: Callable[[int], None] | None = None) -> RenderStats:
-        """Add `spp` samples per pixel; `progress(n)` is called after every n samples finish."""
-        if spp < 0:
+    def render(
+        self,
+        spp: int | None = None,
+        progress: Callable[[int], None] | None = None,
+        *,
+        seconds: float | None = None,
+        stop: Callable[[], bool] | None = None,
+    ) -> RenderStats:
+        """Add `spp` samples per pixel; or, with `seconds`, as many as fit in that time (at least
+        one; `spp` then caps them); `stop()`, asked before every submit, ends the render early when
+        true. `progress(n)` is called after every n samples finish.
+
+        In the main thread a SIGINT (Ctrl-C) is answered after the submit in flight finished and
+        was counted, by raising `Interrupted` (a KeyboardInterrupt): `image()` is then the mean of
+        the complete samples and `samples_per_pixel` says how many. A second SIGINT raises
+        `Aborted` (a KeyboardInterrupt too) at once, which leaves the renderer as consistent."""
+        if spp is None and seconds is None and stop is None:
+            raise ValueError("render needs spp, seconds or stop to know when to end")
+        if spp is not None and spp < 0:
             raise ValueError(f"spp must be >= 0, got {spp}")
-        self.update()
-        done = 0
-        while done < spp:
-            batch = min(self._dispatches_per_submit, spp - done)
-            start = time.perf_counter()
-            self.kernel.dispatch((self.width, self.height), self._bind_groups, repeat=batch, wait=True)
-            seconds = time.perf_counter() - start
-            done += batch
-            self.stats.samples_per_pixel += batch
-            self.stats.render_seconds += seconds
-            if progress is not None:
-                progress(batch)
-            if seconds < _TARGET_SUBMIT_SECONDS / 2:
-                self._dispatches_per_submit = min(2 * self._dispatches_per_submit, _MAX_DISPATCHES_PER_SUBMIT)
+        if seconds is not None and not seconds > 0:
+            raise ValueError(f"seconds must be > 0, got {seconds}")
+        deadline = None if seconds is None else time.perf_counter() + seconds
+        with deferred_signals(signal.SIGINT) as deferral:
+            self.update()
+            done = 0
+            while True:
+                deferral.check()
+                if (spp is not None and done >= spp) or (stop is not None and stop()):
+                    break
+                remaining = None if deadline is None else deadline - time.perf_counter()
+                batch = self._submits.next(None if spp is None else spp - done, remaining)
+                if batch == 0 and done == 0:
+                    batch = 1  # a time budget gets at least one sample per pixel
+                if batch == 0:
+                    break
+                self._submit(batch, deferral)
+                done += batch
+                if progress is not None:
+                    progress(batch)
         return self.stats
+
+    def _submit(self, dispatches: int, deferral: Deferral) -> None:
+        """Run `dispatches` samples per pixel in one submit, wait for them and count them; no signal
+        can come between the submit and the count."""
+        with deferral.shield():
+            start = time.perf_counter()
+            self.kernel.dispatch((self.width, self.height), self._bind_groups, repeat=dispatches, wait=True)
+            seconds = time.perf_counter() - start
+            self.stats.samples_per_pixel += dispatches
+            self.stats.render_seconds += seconds
+        self._submits.measured(dispatches, seconds)
 
     def _accumulated(self) -> np.ndarray:
         return read_buffer(self.context, self._accumulation, ACCUMULATED_PIXEL.dtype, self.width * self.height)
