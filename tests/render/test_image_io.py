@@ -120,3 +120,18 @@ def test_reading_metadata_names_the_file_and_the_problem(tmp_path):
     sidecar_path(path).write_text("[1, 2]")
     with pytest.raises(ValueError, match=r"x\.npy\.json: expected a JSON object of strings"):
         read_text_metadata(path)
+
+
+def test_an_npy_interrupted_between_its_renames_has_no_metadata_rather_than_wrong(tmp_path, monkeypatch):
+    old = np.full((2, 2, 3), 0.25, np.float32)
+    path = save_image(tmp_path / "x.npy", old, metadata=METADATA)
+
+    def interrupted(source, target):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(image_io.os, "replace", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        save_image(path, np.ones((2, 2, 3), np.float32), metadata={"wgputrace:spp": "1"})
+    np.testing.assert_array_equal(load_image(path), old)
+    assert read_text_metadata(path) == {}
+    assert leftover_temporaries(tmp_path) == []
