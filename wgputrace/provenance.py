@@ -19,7 +19,8 @@ Every value is a string; each key is written as `wgputrace:<key>`:
 | max_depth         | Mitsuba's max_depth (1: emitters seen directly only); -1 for no limit   |
 | accel             | bvh or flat                                                             |
 | adapter, backend  | the GPU adapter's name and its API (Vulkan, Metal, ...)                 |
-| render_seconds    | time spent in the path tracer's dispatches                              |
+| render_seconds    | the render time the caller gives; the CLI's: the dispatches' time       |
+|                   | (RenderStats.render_seconds), no scene loading or setup                 |
 | nonfinite_samples | samples dropped (counted as zero) for being NaN or infinite             |
 | cut_short_samples | samples dropped because the driver's loop budget may have cut them      |
 | stopped_by        | SIGINT, SIGTERM or time limit, when the render stopped before its spp   |
