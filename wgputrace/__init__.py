@@ -6,8 +6,11 @@ img = wt.render(scene, spp=64, width=512, height=512, seed=1, max_depth=9)
 wt.save_image("out.exr", img)
 """
 
+from importlib.metadata import version
+
 from .image_io import load_image, save_image
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
+from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
 from .scene import Camera, Scene, Shape, make_box, make_icosphere, make_plane, model_matrix
 from .scene.materials import KINDS
@@ -16,7 +19,8 @@ from .scenes import default_scene
 # every material kind (Diffuse, Emitter, Glass, Glossy, and any module added to scene/materials/)
 globals().update(KINDS)
 
-__version__ = "0.1.0"
+# one source of the version: pyproject.toml, as installed
+__version__ = version("wgputrace")
 
 __all__ = [
     "UNLIMITED_DEPTH",
@@ -33,6 +37,7 @@ __all__ = [
     "make_icosphere",
     "make_plane",
     "model_matrix",
+    "read_metadata",
     "render",
     "save_image",
     *KINDS,
