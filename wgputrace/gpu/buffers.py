@@ -1,14 +1,29 @@
-"""Storage and uniform buffers created from numpy arrays, and read back into them."""
+"""Storage and uniform buffers created from numpy arrays, and read back into them.
+
+wgpu's errors while creating, filling or reading a buffer come out as GpuFailure naming the buffer
+and its size (gpu/device.py `reporting`)."""
 
 from __future__ import annotations
 
 import numpy as np
 import wgpu
 
-from .device import GpuContext
+from .device import GpuContext, reporting
 
 # wgpu buffers may not be empty, and writes must cover a multiple of 4 bytes.
 MIN_BUFFER_BYTES = 16
+
+
+def create_buffer(context: GpuContext, label: str, size: int, usage: int) -> wgpu.GPUBuffer:
+    """An uninitialised buffer of `size` bytes (callers check the device's limits first)."""
+    with reporting(f"creating buffer {label!r} of {size:,} B"):
+        return context.device.create_buffer(label=label, size=size, usage=usage)
+
+
+def write_buffer(context: GpuContext, buffer: wgpu.GPUBuffer, offset: int, data: np.ndarray) -> None:
+    """`queue.write_buffer` of `data` at byte `offset`."""
+    with reporting(f"writing {data.nbytes:,} B at byte {offset:,} of buffer {buffer.label!r} ({buffer.size:,} B)"):
+        context.device.queue.write_buffer(buffer, offset, data)
 
 
 def storage_buffer(context: GpuContext, label: str, data: np.ndarray, *, read_back: bool = False) -> wgpu.GPUBuffer:
@@ -18,22 +33,22 @@ def storage_buffer(context: GpuContext, label: str, data: np.ndarray, *, read_ba
     usage = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST
     if read_back:
         usage |= wgpu.BufferUsage.COPY_SRC
-    buffer = context.device.create_buffer(label=label, size=max(data.nbytes, MIN_BUFFER_BYTES), usage=usage)
+    buffer = create_buffer(context, label, max(data.nbytes, MIN_BUFFER_BYTES), usage)
     if data.nbytes:
-        context.device.queue.write_buffer(buffer, 0, data)
+        write_buffer(context, buffer, 0, data)
     return buffer
 
 
 def uniform_buffer(context: GpuContext, label: str, data: np.ndarray) -> wgpu.GPUBuffer:
     data = np.ascontiguousarray(data)
     context.require("max-uniform-buffer-binding-size", data.nbytes, f"uniform {label!r}")
-    buffer = context.device.create_buffer(
-        label=label, size=data.nbytes, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST
-    )
-    context.device.queue.write_buffer(buffer, 0, data)
+    buffer = create_buffer(context, label, data.nbytes, wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST)
+    write_buffer(context, buffer, 0, data)
     return buffer
 
 
 def read_buffer(context: GpuContext, buffer: wgpu.GPUBuffer, dtype: np.dtype, count: int) -> np.ndarray:
-    raw = context.device.queue.read_buffer(buffer, 0, count * np.dtype(dtype).itemsize)
+    size = count * np.dtype(dtype).itemsize
+    with reporting(f"reading back {size:,} B of buffer {buffer.label!r}"):
+        raw = context.device.queue.read_buffer(buffer, 0, size)
     return np.frombuffer(raw, dtype=dtype, count=count).copy()

@@ -3,12 +3,29 @@
 One device per process, created on first use with the adapter's own maxima for the limits a path
 tracer needs (some wgpu implementations default lower than what the hardware offers). Scenes
 check their needs against these limits and fail with a message naming the limit and both values.
+
+What wgpu-py 0.32 does with errors, and what we make of them:
+- A validation or out-of-memory error of a call (create_buffer, write_buffer, ...) is raised by
+  that call as wgpu.GPUValidationError / GPUOutOfMemoryError (subclasses of wgpu.GPUError), with
+  wgpu-native's multi-line message; its backend has no push_error_scope/pop_error_scope. Code that
+  creates or fills GPU memory runs under `reporting(what)`, which turns them into one-line
+  GpuFailure errors saying what was being done (which buffer, its size).
+- A lost device is only logged (logger "wgpu": "The WGPU device was lost (<reason>):\n<message>",
+  once wgpu-native processes events, e.g. at the next submit); `device.lost_async` raises
+  NotImplementedError. Every later call on it fails with "Parent device is lost". So
+  `GpuContext.lost_reason` asks the device for a tiny buffer and, when that fails, gives the
+  logged reason; `gpu()` makes a new device once the one it handed out is lost, so a viewer can
+  recreate its renderer (and whatever else held the old device) from `gpu()`.
 """
 
 from __future__ import annotations
 
+import logging
 import os
 import tempfile
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import wgpu
@@ -39,6 +56,48 @@ class DeviceLimitError(RuntimeError):
     """The scene or image needs more than the adapter offers."""
 
 
+class GpuFailure(RuntimeError):
+    """wgpu refused or lost work: a validation or out-of-memory error, or a lost device. The message
+    is one line: what was being done (which buffer, its size) and wgpu's words."""
+
+
+def one_line(message: str) -> str:
+    """wgpu-native's multi-line error text on one line: "Validation Error: In wgpuDeviceCreateBuffer,
+    label = 'x': Buffer size ... is greater than ..."."""
+    lines = (line.strip() for line in message.splitlines())
+    return ": ".join(line for line in lines if line and line != "Caused by:")
+
+
+@contextmanager
+def reporting(what: str) -> Iterator[None]:
+    """wgpu errors raised inside become a GpuFailure saying `what` was being done."""
+    try:
+        yield
+    except wgpu.GPUError as error:
+        raise GpuFailure(f"{what}: {one_line(error.message)}") from error
+
+
+class _DeviceLossLog(logging.Filter):
+    """Keeps the reason of the last device loss wgpu-py logged, and lets the record through."""
+
+    PREFIX = "The WGPU device was lost"
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.reason: str | None = None
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        message = record.getMessage()
+        if message.startswith(self.PREFIX):
+            self.reason = one_line(message[len(self.PREFIX) :].strip())
+        return True
+
+
+# The log does not say which device was lost: lost_reason only gives it for a device that fails.
+_device_losses = _DeviceLossLog()
+logging.getLogger("wgpu").addFilter(_device_losses)
+
+
 @dataclass(frozen=True)
 class GpuContext:
     adapter: wgpu.GPUAdapter
@@ -49,7 +108,24 @@ class GpuContext:
 
     def finish(self) -> None:
         """Block until every command submitted so far has run."""
-        self.device.queue.read_buffer(self.fence, 0, _FENCE_BYTES)
+        with reporting("waiting for the GPU to finish"):
+            self.device.queue.read_buffer(self.fence, 0, _FENCE_BYTES)
+
+    @property
+    def lost_reason(self) -> str | None:
+        """Why the device was lost ("(destroyed): Device lost", the driver's words), or None while it
+        works. Asks the device for a tiny buffer: a device that cannot make one is gone."""
+        try:
+            self.device.create_buffer(label="lost probe", size=_FENCE_BYTES, usage=wgpu.BufferUsage.COPY_DST).destroy()
+        except wgpu.GPUError as error:
+            return _device_losses.reason or one_line(error.message)
+        return None
+
+    @property
+    def shares_host_memory(self) -> bool:
+        """Whether the adapter's buffers are allocated from host memory (lavapipe, integrated GPUs),
+        so that GPU allocations count against the host's memory too."""
+        return self.adapter.info["adapter_type"] in ("CPU", "IntegratedGPU")
 
     @property
     def adapter_name(self) -> str:
@@ -62,15 +138,20 @@ class GpuContext:
         together); None where there is no such budget."""
         return LLVMPIPE_LOOP_ITERATION_LIMIT if "llvmpipe" in self.adapter.info["device"] else None
 
-    def require(self, limit: str, needed: int, what: str) -> None:
+    def require(self, limit: str, needed: int, what: str, *, largest: str = "") -> None:
+        """DeviceLimitError unless `needed` is within `limit`; `largest` says what the limit allows
+        in the caller's terms ("22,369,621 records"), added to the message."""
         available = self.device.limits[limit]
         if needed > available:
+            allows = f" ({largest} at most)" if largest else ""
             raise DeviceLimitError(
-                f"{what} needs {limit} = {needed:,} but the adapter {self.adapter_name} offers {available:,}"
+                f"{what} needs {limit} = {needed:,} but the adapter {self.adapter_name} offers {available:,}{allows}"
             )
 
 
 _context: GpuContext | None = None
+# Two threads asking first must not create two devices.
+_context_lock = threading.Lock()
 
 
 def _quiet_runtime_dir() -> None:
@@ -80,20 +161,28 @@ def _quiet_runtime_dir() -> None:
         os.environ["XDG_RUNTIME_DIR"] = tempfile.mkdtemp(prefix="wgputrace-xdg-")
 
 
-def gpu() -> GpuContext:
-    """The process-wide adapter and device, created on first call."""
-    global _context
-    if _context is None:
-        _quiet_runtime_dir()
-        adapter = wgpu.gpu.request_adapter_sync(power_preference="high-performance")
-        if adapter is None:
-            raise RuntimeError("wgpu found no adapter; on Debian install mesa-vulkan-drivers for a CPU fallback")
-        wanted = {name: adapter.limits[name] for name in LIMITS_WE_USE}
-        features = [f for f in ("timestamp-query",) if f in adapter.features]
+def new_context() -> GpuContext:
+    """A new adapter and device of their own; everything but tests wants `gpu()`'s."""
+    _quiet_runtime_dir()
+    adapter = wgpu.gpu.request_adapter_sync(power_preference="high-performance")
+    if adapter is None:
+        raise RuntimeError("wgpu found no adapter; on Debian install mesa-vulkan-drivers for a CPU fallback")
+    wanted = {name: adapter.limits[name] for name in LIMITS_WE_USE}
+    features = [f for f in ("timestamp-query",) if f in adapter.features]
+    with reporting(f"creating a device on {adapter.info['device']}"):
         device = adapter.request_device_sync(required_limits=wanted, required_features=features)
         fence = device.create_buffer(label="fence", size=_FENCE_BYTES, usage=wgpu.BufferUsage.COPY_SRC)
-        _context = GpuContext(adapter, device, fence)
-    return _context
+    return GpuContext(adapter, device, fence)
+
+
+def gpu() -> GpuContext:
+    """The process-wide adapter and device, created on first call, and created again once that
+    device is lost (objects made on the lost one stay unusable: make them again from this)."""
+    global _context
+    with _context_lock:
+        if _context is None or _context.lost_reason is not None:
+            _context = new_context()
+        return _context
 
 
 def describe() -> dict:

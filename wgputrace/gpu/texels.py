@@ -13,6 +13,7 @@ shift (`texel_at` in shaders/texels.wgsl) rather than a division. The WGSL loade
 drift. `TrackedTexels` follows a numpy array of records the way TrackedBuffer does: only rows
 that changed are written, and once the records outgrow the texture it is reallocated with spare
 capacity for the next small additions (not before: a scene as loaded costs only its records).
+wgpu's errors come out as GpuFailure naming the texture (gpu/device.py `reporting`).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import wgpu
 
-from .device import GpuContext
+from .device import GpuContext, reporting
 from .layout import TRIANGLE, WIDE_BVH_NODE, GpuStruct
 from .tracked_buffer import SPARE_FRACTION, UploadCount, contiguous_records, merged_runs
 
@@ -54,12 +55,18 @@ def texture_shape(texel_count: int) -> tuple[int, int]:
     return width, -(-count // width)
 
 
+def most_texel_records(context: GpuContext, dtype: np.dtype) -> int:
+    """How many records of `dtype` the tallest texture the adapter allows holds."""
+    return MAX_TEXEL_ROW * context.device.limits["max-texture-dimension-2d"] // texels_per_record(dtype)
+
+
 def require_texels(context: GpuContext, label: str, record_count: int, dtype: np.dtype) -> tuple[int, int]:
     """The (width, height) of a texture of `record_count` records, or a DeviceLimitError naming the
-    texture, its records and the adapter's height limit."""
+    texture, its records, the adapter's height limit and how many records fit."""
     width, height = texture_shape(record_count * texels_per_record(dtype))
     what = f"texture {label!r} ({record_count:,} records of {dtype.itemsize} B, {width} texels a row)"
-    context.require("max-texture-dimension-2d", height, what)
+    largest = f"{most_texel_records(context, dtype):,} records"
+    context.require("max-texture-dimension-2d", height, what, largest=largest)
     return width, height
 
 
@@ -129,18 +136,19 @@ class TrackedTexels:
         records = len(data) + (int(np.ceil(len(data) * SPARE_FRACTION)) if regrowth else 0)
         # Spare only as far as the tallest texture allowed: records that fit must not be refused
         # for want of room for the next additions.
-        tallest = MAX_TEXEL_ROW * self.context.device.limits["max-texture-dimension-2d"] // self.texels_per_record
-        records = max(len(data), min(records, tallest))
+        records = max(len(data), min(records, most_texel_records(self.context, self.dtype)))
         width, height = require_texels(self.context, self.label, records, self.dtype)
         if self.texture is not None:
             self.texture.destroy()
-        self.texture = self.context.device.create_texture(
-            label=self.label,
-            size=(width, height, 1),
-            format=wgpu.TextureFormat.rgba32uint,
-            # COPY_SRC: what was uploaded can be read back and checked against the host records
-            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST | wgpu.TextureUsage.COPY_SRC,
-        )
+        size = f"{width}x{height} texels ({width * height * TEXEL_BYTES:,} B)"
+        with reporting(f"creating texture {self.label!r} of {size}"):
+            self.texture = self.context.device.create_texture(
+                label=self.label,
+                size=(width, height, 1),
+                format=wgpu.TextureFormat.rgba32uint,
+                # COPY_SRC: what was uploaded can be read back and checked against the host records
+                usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST | wgpu.TextureUsage.COPY_SRC,
+            )
         self._view = self.texture.create_view()
         self.generation += 1
         self._write(0, data)
@@ -161,12 +169,13 @@ class TrackedTexels:
             else:
                 count, rows = width, (len(texels) - done) // width
             block = texels[done : done + count * rows]
-            self.context.device.queue.write_texture(
-                {"texture": self.texture, "origin": (column, row, 0)},
-                block,
-                {"offset": 0, "bytes_per_row": count * TEXEL_BYTES, "rows_per_image": rows},
-                (count, rows, 1),
-            )
+            with reporting(f"writing {block.nbytes:,} B at texel ({column}, {row}) of texture {self.label!r}"):
+                self.context.device.queue.write_texture(
+                    {"texture": self.texture, "origin": (column, row, 0)},
+                    block,
+                    {"offset": 0, "bytes_per_row": count * TEXEL_BYTES, "rows_per_image": rows},
+                    (count, rows, 1),
+                )
             self.uploads.bytes += block.nbytes
             self.uploads.calls += 1
             done += count * rows

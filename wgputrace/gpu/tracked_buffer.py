@@ -4,7 +4,7 @@ Rows given as changed are merged into runs of consecutive rows, and each run is 
 `queue.write_buffer`. A buffer is first allocated at the size of its records; growing past the
 capacity reallocates with spare capacity, so a scene that is being extended keeps its buffer (and
 the bind groups that point at it) for its next small additions, uploads everything, and bumps
-`generation` so the owner knows to rebind.
+`generation` so the owner knows to rebind. wgpu's errors come out as GpuFailure naming the buffer.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
-from .buffers import MIN_BUFFER_BYTES
+from .buffers import MIN_BUFFER_BYTES, create_buffer, write_buffer
 from .device import GpuContext
 
 # Headroom allocated beyond the current size, as a fraction of it, once records have outgrown their
@@ -70,18 +70,14 @@ class TrackedBuffer:
             self._write(start * data.itemsize, data[start:stop])
 
     def _allocate(self, data: np.ndarray) -> None:
-        what = f"buffer {self.label!r} ({len(data):,} records of {data.itemsize} B)"
-        self.context.require(self.binding_limit, data.nbytes, what)
-        self.context.require("max-buffer-size", data.nbytes, what)
+        require_records(self.context, self.label, len(data), data.itemsize, self.binding_limit)
         capacity = data.nbytes
         if self.spare and self.buffer is not None:
             spare_rows = int(np.ceil(len(data) * SPARE_FRACTION))
             capacity = min(data.nbytes + spare_rows * data.itemsize, self.context.device.limits[self.binding_limit])
         if self.buffer is not None:
             self.buffer.destroy()
-        self.buffer = self.context.device.create_buffer(
-            label=self.label, size=max(capacity, MIN_BUFFER_BYTES), usage=self.usage
-        )
+        self.buffer = create_buffer(self.context, self.label, max(capacity, MIN_BUFFER_BYTES), self.usage)
         self.generation += 1
         self.used_bytes = data.nbytes
         self._write(0, data)
@@ -89,9 +85,18 @@ class TrackedBuffer:
     def _write(self, offset: int, data: np.ndarray) -> None:
         if data.nbytes == 0:
             return
-        self.context.device.queue.write_buffer(self.buffer, offset, data)
+        write_buffer(self.context, self.buffer, offset, data)
         self.uploads.bytes += data.nbytes
         self.uploads.calls += 1
+
+
+def require_records(context: GpuContext, label: str, record_count: int, record_bytes: int, binding_limit: str) -> None:
+    """DeviceLimitError unless a buffer of `record_count` records fits both the binding limit and
+    the buffer size limit, naming the buffer, the limit and how many records it allows."""
+    what = f"buffer {label!r} ({record_count:,} records of {record_bytes} B)"
+    for limit in (binding_limit, "max-buffer-size"):
+        largest = f"{context.device.limits[limit] // record_bytes:,} records"
+        context.require(limit, record_count * record_bytes, what, largest=largest)
 
 
 def contiguous_records(data: np.ndarray, dtype: np.dtype, holder: str) -> np.ndarray:
