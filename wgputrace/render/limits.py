@@ -1,0 +1,215 @@
+"""Whether an image and a scene fit the adapter and the host, checked before anything is allocated.
+
+A request too large fails at once with one line naming the limit, the value asked for and the
+largest allowed, rather than minutes later in numpy ("Unable to allocate 74.5 GiB") or in wgpu.
+Every size here is derived from the records the renderer allocates (gpu/layout.py, the per-pixel
+random states), never written down as a byte count; the checks are arithmetic only, so sizes just
+below and just above each limit are cheap to try.
+
+An image of W x H pixels (render/renderer.py allocates these):
+
+| what                               | record                            | limits                                           |
+|------------------------------------|-----------------------------------|--------------------------------------------------|
+| the path tracer's dispatch         | IMAGE_WORKGROUP (gpu/bindings.py) | max-compute-workgroups-per-dimension             |
+| rng states, rng states at the seed | a pixel's state (rng_seed.py)     | max-buffer-size, max-storage-buffer-binding-size |
+| accumulation                       | ACCUMULATED_PIXEL                 | max-buffer-size, max-storage-buffer-binding-size |
+| the renderer and one image()       | `host_bytes`                      | host memory: MemAvailable of /proc/meminfo       |
+
+A scene, before its BVH is built (a build takes seconds for millions of triangles): its triangles
+and an upper bound of its 4-wide BVH records as texels (gpu/texels.py), or the flat list's boxes,
+its materials and its lights (one entry per emissive triangle, at most) in storage buffers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..gpu.bindings import IMAGE_WORKGROUP
+from ..gpu.device import DeviceLimitError, GpuContext
+from ..gpu.layout import ACCUMULATED_PIXEL, BVH_NODE, LIGHT, MATERIAL, TRIANGLE, WIDE_BVH_NODE
+from ..gpu.texels import require_texels
+from ..gpu.tracked_buffer import require_records
+from ..scene import Scene
+from .lights import emitting_kinds
+from .rng_seed import pixel_rng_states
+
+# The name the host's memory goes by where a device limit's name would stand.
+HOST_MEMORY = "available host memory (bytes)"
+RNG_STATE_BYTES = pixel_rng_states(0, 1)[0].nbytes
+# The renderer's buffers of one record per pixel, by label: bytes per pixel.
+PIXEL_BUFFERS = {
+    "rng states": RNG_STATE_BYTES,
+    "rng states at the seed": RNG_STATE_BYTES,
+    "accumulation": ACCUMULATED_PIXEL.size,
+}
+PIXEL_BUFFER_LIMITS = ("max-buffer-size", "max-storage-buffer-binding-size")
+# pixel_rng_states holds this many times its result at its peak: uint64 pixel indices and both
+# uint64 halves of every state, their stack and its copy (56 B per 16-byte state, measured with
+# tracemalloc; tests/gpu/test_limits.py keeps it true).
+SEEDING_PEAK_STATES = 3.5
+_RGB = 3
+_FLOAT64_RGB_BYTES = _RGB * np.dtype(np.float64).itemsize
+_FLOAT32_RGB_BYTES = _RGB * np.dtype(np.float32).itemsize
+
+
+@dataclass(frozen=True)
+class Need:
+    """`value` of `limit` (a device limit's name, or HOST_MEMORY) that `what` asks for."""
+
+    limit: str
+    value: int
+    what: str
+
+
+def available_host_memory() -> int | None:
+    """Bytes the host can give without swapping (MemAvailable of /proc/meminfo); None where the
+    file or the field is missing (not Linux, or an old kernel), and host memory goes unchecked."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        return None
+    return None
+
+
+def host_steps(pixels: int) -> dict[str, int]:
+    """Host memory each step of making a Renderer of `pixels` pixels and of one `image()` holds at
+    once, at most. wgpu stages every upload and read-back in a host-visible buffer of its size."""
+    rng = pixels * RNG_STATE_BYTES
+    accumulation = pixels * ACCUMULATED_PIXEL.size
+    return {
+        "seeding": int(SEEDING_PEAK_STATES * rng),
+        # the states are still held while the zeroed accumulation goes up through its staging copy
+        "uploading": rng + 2 * accumulation,
+        # wgpu's staging buffer, its bytearray copy, read_buffer's array
+        "reading back": 3 * accumulation,
+        # read_buffer's array, the float64 sum and mean, the float32 image
+        "averaging": accumulation + pixels * (2 * _FLOAT64_RGB_BYTES + _FLOAT32_RGB_BYTES),
+    }
+
+
+def host_bytes(context: GpuContext, pixels: int) -> int:
+    """Host memory a Renderer of `pixels` pixels and one `image()` need: their largest step, plus
+    the per-pixel buffers themselves where the adapter allocates from host memory."""
+    resident = pixels * sum(PIXEL_BUFFERS.values()) if context.shares_host_memory else 0
+    return resident + max(host_steps(pixels).values())
+
+
+def image_needs(context: GpuContext, width: int, height: int) -> list[Need]:
+    """What a `width` x `height` image asks of each limit, in the order they are checked."""
+    pixels = width * height
+    workgroups = [-(-size // group) for size, group in zip((width, height), IMAGE_WORKGROUP, strict=True)]
+    needs = [
+        Need("max-compute-workgroups-per-dimension", count, f"the path tracer's dispatch ({axis})")
+        for count, axis in zip(workgroups, ("workgroups across", "workgroups down"), strict=True)
+    ]
+    needs += [
+        Need(limit, pixels * record_bytes, f"buffer {label!r}")
+        for label, record_bytes in PIXEL_BUFFERS.items()
+        for limit in PIXEL_BUFFER_LIMITS
+    ]
+    needs.append(Need(HOST_MEMORY, host_bytes(context, pixels), "the renderer with one image() read-back"))
+    return needs
+
+
+def _first_excess(context: GpuContext, needs: list[Need], host_memory: int | None) -> tuple[Need, int] | None:
+    """The first need over its limit and that limit's value; host memory is skipped when unknown."""
+    for need in needs:
+        allowed = host_memory if need.limit == HOST_MEMORY else context.device.limits[need.limit]
+        if allowed is not None and need.value > allowed:
+            return need, allowed
+    return None
+
+
+def _largest_square(context: GpuContext, host_memory: int | None) -> int:
+    """The side of the largest square image within every limit (0 if none is): a bisection, as
+    every need grows with the side."""
+    fits, too_big = 0, min(IMAGE_WORKGROUP) * context.device.limits["max-compute-workgroups-per-dimension"] + 1
+    while too_big - fits > 1:
+        side = (fits + too_big) // 2
+        if _first_excess(context, image_needs(context, side, side), host_memory) is None:
+            fits = side
+        else:
+            too_big = side
+    return fits
+
+
+def largest_square_image(context: GpuContext) -> int:
+    """The side of the largest square image this adapter (and this host's free memory) can render."""
+    return _largest_square(context, available_host_memory())
+
+
+def check_image_size(context: GpuContext, width: int, height: int) -> None:
+    """DeviceLimitError, before anything is allocated, if a `width` x `height` image exceeds a
+    device limit or the host's available memory: names the limit, the value asked for, the
+    largest allowed, and the largest square image that fits."""
+    host_memory = available_host_memory()
+    excess = _first_excess(context, image_needs(context, width, height), host_memory)
+    if excess is None:
+        return
+    need, allowed = excess
+    offered_by = "this host" if need.limit == HOST_MEMORY else f"the adapter {context.adapter_name}"
+    side = _largest_square(context, host_memory)
+    raise DeviceLimitError(
+        f"a {width:,}x{height:,} image: {need.what} needs {need.limit} = {need.value:,} but {offered_by} "
+        f"offers {allowed:,}; the largest square image it can render is {side:,}x{side:,}"
+    )
+
+
+@dataclass(frozen=True)
+class SceneCounts:
+    """What a scene's GPU records number, known before its BVH is built."""
+
+    triangles: int
+    shapes: int
+    materials: int
+    emissive_triangles: int
+
+
+def scene_counts(scene: Scene) -> SceneCounts:
+    emitters = set(emitting_kinds())
+    return SceneCounts(
+        triangles=scene.triangle_count,
+        shapes=len(scene.shapes),
+        materials=len(scene.materials),
+        emissive_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.material.kind in emitters),
+    )
+
+
+def wide_record_bound(triangle_count: int) -> int:
+    """At most this many 4-wide BVH records (bvh/wide.py) for a tree over `triangle_count`
+    triangles: one record for a tree that is a single leaf, else (n - 1) // 3.
+
+    Why: leaves are never empty and every binary interior node holds more than the builder's
+    max_leaf_size = 4 triangles (render/scene_buffers.py builds with the default; the bound holds
+    for any size >= 3). A record is an interior node that adopted 2, 1 or 0 more (4, 3 or 2
+    children); one with fewer than 4 children has only leaves below it, so it holds a node with
+    two leaf children (itself or the one it adopted), a different one for each such record. With
+    I interior nodes, R4 + R3 + R2 records and b nodes with two leaf children: I = 3 R4 + 2 R3 + R2,
+    so R = I/3 + R3/3 + 2 R2/3 <= (I + 2b)/3; the two leaves of each of the b nodes hold >= 5
+    triangles and every other leaf >= 1, so I = leaves - 1 <= n - 3b - 1; together
+    R <= (n - 1 - b)/3. tests/gpu/test_limits.py checks it on built trees, lopsided ones too."""
+    return max(1, (triangle_count - 1) // 3)
+
+
+def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: str = "bvh") -> None:
+    """DeviceLimitError if records of these counts exceed a limit: triangles and BVH records as
+    texels, the flat list's boxes, materials and lights in storage buffers."""
+    require_texels(context, "triangles", counts.triangles, TRIANGLE.dtype)
+    storage = "max-storage-buffer-binding-size"
+    if acceleration == "bvh":
+        require_texels(context, "bvh nodes", wide_record_bound(counts.triangles), WIDE_BVH_NODE.dtype)
+    else:
+        require_records(context, "bvh nodes", counts.shapes, BVH_NODE.size, storage)
+    require_records(context, "materials", counts.materials, MATERIAL.size, storage)
+    require_records(context, "lights", counts.emissive_triangles, LIGHT.size, storage)
+
+
+def check_scene_size(context: GpuContext, scene: Scene, acceleration: str = "bvh") -> None:
+    """DeviceLimitError, before the BVH is built, if the scene's records cannot fit the adapter,
+    naming the texture or buffer, the limit, the value asked for and how many records it allows."""
+    check_scene_counts(context, scene_counts(scene), acceleration)
