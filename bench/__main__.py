@@ -4,6 +4,7 @@
     python -m bench --quick               (about 3 minutes: smaller images, fewer repeats and counts)
     python -m bench --gpu                 (on a GPU: more samples per timed run, which lasts milliseconds there)
     python -m bench --only scaling bvh_build
+    python -m bench --only soak           (not in the default run: 10 minutes of viewer, 10,000 library cycles)
 
 Run from the checkout's root (bench/ is not in the wheel); each benchmark also runs alone as
 `python -m bench.<name>`.
@@ -139,6 +140,47 @@ class Benchmark:
     gpu: tuple[str, ...]  # its arguments under --gpu: more work per timed run, which a GPU ends in milliseconds
     targets: Callable[[dict], list[Target]]
     skip_reason: Callable[[], str | None] = lambda: None
+    # runs only when named with --only (the soak: long, and about staying power rather than speed)
+    in_default_run: bool = True
+
+
+def soak_targets(result: dict) -> list[Target]:
+    limit = f"< {result['flat_growth_mib']:g} MiB"
+    rows = []
+    if result["viewer"] is not None:
+        viewer = result["viewer"]
+        trend = viewer["rss_trend"]
+        rows += [
+            Target(
+                "soak",
+                f"viewer RSS growth after warm-up ({trend['slope_kib_per_unit']:+.1f} KiB/min, {viewer['minutes']:g} min)",
+                f"{trend['fitted_growth_mib']:+.2f} MiB",
+                limit,
+                trend["flat"],
+            ),
+            Target("soak", "viewer failures", "; ".join(viewer["failures"]) or "none", "none", not viewer["failures"]),
+        ]
+    library = result["library"]
+    trend = library["rss_trend"]
+    growth = library["gpu_growth_after_warmup"]
+    return rows + [
+        Target(
+            "soak",
+            f"library RSS growth after warm-up ({trend['slope_kib_per_unit'] * 1000:+.1f} KiB/1000 cycles, "
+            f"{library['cycles_done']:,} cycles)",
+            f"{trend['fitted_growth_mib']:+.2f} MiB",
+            limit,
+            trend["flat"],
+        ),
+        Target(
+            "soak",
+            "library live wgpu buffers, textures after warm-up",
+            f"{growth['buffer_count']:+d}, {growth['texture_count']:+d}",
+            "+0, +0",
+            growth["buffer_count"] <= 0 and growth["texture_count"] <= 0,
+        ),
+        Target("soak", "library failures", "; ".join(library["failures"]) or "none", "none", not library["failures"]),
+    ]
 
 
 BENCHMARKS = (
@@ -182,6 +224,7 @@ BENCHMARKS = (
         traversal_ceiling_targets,
         skip_reason=mitsuba_missing,
     ),
+    Benchmark("soak", ("--minutes", "1", "--cycles", "1000"), (), soak_targets, in_default_run=False),
 )
 
 
@@ -243,7 +286,7 @@ def main(argv: list[str] | None = None) -> int:
     previous = result_stem("suite", args.out).with_suffix(".json")
     runs = json.loads(previous.read_text())["benchmarks"] if args.only and previous.exists() else {}
     for benchmark in BENCHMARKS:
-        if args.only and benchmark.name not in args.only:
+        if benchmark.name not in args.only if args.only else not benchmark.in_default_run:
             continue
         print(f"== {benchmark.name}", file=sys.stderr, flush=True)
         preset = "quick" if args.quick else "gpu" if args.gpu else None
