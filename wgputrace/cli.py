@@ -1,29 +1,65 @@
-"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY), `wgputrace info` and `wgputrace view`
-(the window). The benchmarks live in the source checkout, not in the package: `python -m bench`."""
+"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY), `wgputrace info [FILE]` and
+`wgputrace view` (the window). The benchmarks live in the source checkout, not in the package:
+`python -m bench`.
+
+Every error is one line on stderr, `--debug` adds its traceback. Exit status: 0 done; 2 bad use (the
+arguments, the scene, more than the device allows); 1 a failure while rendering or writing; 130 or
+143 stopped by SIGINT or SIGTERM. The first of those during a render stops it after the dispatch in
+flight and writes the samples done; a second aborts at once, writing nothing."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import signal
 import sys
 import time
+from pathlib import Path
 
-from .cli_arguments import add_scene_arguments, add_view_arguments
+from .cli_arguments import (
+    OneLineParser,
+    UsageError,
+    add_debug_argument,
+    add_scene_arguments,
+    add_view_arguments,
+    image_path,
+    positive_float,
+    positive_int,
+)
 from .image_io import FORMATS, save_image
 from .loaders import load_scene
+from .render.interrupts import Aborted, Interrupted, deferred_signals, exit_status, signal_name, signals_abort
+
+EXIT_FAILURE, EXIT_BAD_USE = 1, 2
+DEFAULT_SPP = 64
+# What stops a render early and is written into the file's metadata (stopped_by) and the summary
+STOPPING_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+TIME_LIMIT = "time limit"
 
 
 def argument_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="wgputrace",
         description="Monte Carlo path tracer on WGSL compute shaders.",
         epilog="The benchmarks run from a source checkout: python -m bench",
     )
+    add_debug_argument(parser)
     commands = parser.add_subparsers(dest="command", required=True)
 
     render = commands.add_parser("render", help="render a scene headless to .png, .exr or .npy")
     add_scene_arguments(render, size=(512, 512))
-    render.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
+    render.add_argument(
+        "--spp",
+        type=positive_int,
+        help=f"samples per pixel (default {DEFAULT_SPP}; with --time-limit, at most this many)",
+    )
+    render.add_argument(
+        "--time-limit",
+        type=positive_float,
+        metavar="SECONDS",
+        help="render until SECONDS are spent (at least one sample per pixel)",
+    )
     render.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
     render.add_argument(
         "--integrator",
@@ -31,19 +67,37 @@ def argument_parser() -> argparse.ArgumentParser:
         default="mis",
         help="direct light by BSDF sampling, light sampling, or both with MIS (default)",
     )
-    render.add_argument("-o", "--output", default="render.png", help=f"output file ({', '.join(FORMATS)})")
+    render.add_argument(
+        "-o", "--output", type=image_path, default="render.png", help=f"output file ({', '.join(FORMATS)})"
+    )
 
-    commands.add_parser("info", help="print the adapter, backend and the limits that matter")
-    add_view_arguments(commands.add_parser("view", help="open the interactive viewer (a window; see README)"))
+    info = commands.add_parser("info", help="print the adapter, backend and limits; or how an image file was made")
+    info.add_argument("file", nargs="?", type=Path, help="an image wgputrace wrote: print its metadata")
+    view = commands.add_parser("view", help="open the interactive viewer (a window; see README)")
+    add_view_arguments(view)
+    for command in (render, info, view):
+        add_debug_argument(command, default=argparse.SUPPRESS)
     return parser
 
 
-def _render(args: argparse.Namespace) -> int:
-    from tqdm import tqdm
+def _check_output(path: Path) -> None:
+    """Refuse an output that cannot be written before rendering for it (save_image makes the
+    folders that are missing)."""
+    if path.is_dir():
+        raise ValueError(f"{path}: is a folder; give an image file name")
+    existing = next(folder for folder in (path.parent, *path.parent.parents) if folder.exists())
+    if not existing.is_dir():
+        raise ValueError(f"{path}: cannot be written, {existing} is a file")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise ValueError(f"{path}: cannot be written, {existing} is not writable")
 
+
+def _render(args: argparse.Namespace) -> int:
     from .gpu.device import gpu
+    from .provenance import render_metadata
     from .render import Renderer
 
+    _check_output(args.output)
     load_start = time.perf_counter()
     scene = load_scene(args.scene)
     load_seconds = time.perf_counter() - load_start
@@ -54,14 +108,21 @@ def _render(args: argparse.Namespace) -> int:
         scene, width, height, seed=args.seed, max_depth=args.max_depth, accel=args.accel, integrator=args.integrator
     )
     setup_seconds = time.perf_counter() - start
-    with tqdm(total=args.spp, unit="spp", desc="rendering", file=sys.stderr, dynamic_ncols=True) as bar:
-
-        def progress(samples: int) -> None:
-            bar.update(samples)
-            bar.set_postfix_str(f"{renderer.stats.samples_per_second * width * height / 1e6:.2f} M samples/s")
-
-        stats = renderer.render(args.spp, progress)
-    path = save_image(args.output, renderer.image(), exposure=args.exposure)
+    spp = DEFAULT_SPP if args.spp is None and args.time_limit is None else args.spp
+    path = None
+    with deferred_signals(*STOPPING_SIGNALS) as deferral:
+        try:
+            stopped_by = _render_with_progress(renderer, spp, args.time_limit)
+            if renderer.samples_per_pixel:
+                metadata = render_metadata(renderer, args.scene, renderer.stats.render_seconds, stopped_by=stopped_by)
+                path = save_image(args.output, renderer.image(), exposure=args.exposure, metadata=metadata)
+        except Aborted as abort:
+            print(
+                f"wgputrace: second signal ({signal_name(abort.signal)}): aborted, {args.output} not written",
+                file=sys.stderr,
+            )
+            return exit_status(abort.signal)
+    stats = renderer.stats
     acceleration = renderer.records.acceleration
     print(f"adapter          {context.adapter_name}")
     print(
@@ -80,6 +141,7 @@ def _render(args: argparse.Namespace) -> int:
     print(
         f"render           {stats.samples_per_pixel} spp at {width}x{height} in {stats.render_seconds:.2f} s, "
         f"{stats.samples_per_second * width * height / 1e6:.3f} M samples/s"
+        + ("" if stopped_by is None else f", stopped by {stopped_by}")
     )
     if renderer.nonfinite_samples:
         print(f"non-finite       {renderer.nonfinite_samples} samples were NaN or infinite and counted as zero")
@@ -88,25 +150,87 @@ def _render(args: argparse.Namespace) -> int:
             f"cut short        {renderer.cut_short_samples} samples ran out of the driver's loop budget "
             "and were counted as zero"
         )
-    print(f"wrote            {path}")
+    print(f"wrote            {path} ({stats.samples_per_pixel} spp)" if path else "wrote            nothing")
+    if deferral.received is None:
+        return 0
+    held = f"{path} holds {stats.samples_per_pixel} spp" if path else f"no sample finished, {args.output} not written"
+    print(f"wgputrace: {signal_name(deferral.received)}: stopped, {held}", file=sys.stderr)
+    return exit_status(deferral.received)
+
+
+def _render_with_progress(renderer, spp: int | None, seconds: float | None) -> str | None:
+    """Render `spp` samples per pixel or for `seconds` under a progress bar; what stopped the render
+    before `spp` (SIGINT, SIGTERM, the time limit), or None."""
+    from tqdm import tqdm
+
+    pixels = renderer.width * renderer.height
+    with tqdm(total=spp, unit="spp", desc="rendering", file=sys.stderr, dynamic_ncols=True) as bar:
+
+        def progress(samples: int) -> None:
+            bar.update(samples)
+            bar.set_postfix_str(f"{renderer.stats.samples_per_second * pixels / 1e6:.2f} M samples/s")
+
+        try:
+            renderer.render(spp, progress, seconds=seconds)
+        except Interrupted as stop:
+            stopped_by = signal_name(stop.signal)
+        else:
+            stopped_by = None if seconds is None else TIME_LIMIT
+    return None if spp is not None and renderer.samples_per_pixel >= spp else stopped_by
+
+
+def _info(args: argparse.Namespace) -> int:
+    if args.file is None:
+        from .gpu.device import describe
+
+        print(json.dumps(describe(), indent=2))
+    else:
+        from .provenance import format_metadata, read_metadata
+
+        print(format_metadata(read_metadata(args.file)))
     return 0
 
 
-def _info() -> int:
-    from .gpu.device import describe
+def _run(args: argparse.Namespace) -> int:
+    if args.command == "view":
+        from .app import run  # the viewer's window and GPU code load only when it runs
 
-    print(json.dumps(describe(), indent=2))
-    return 0
+        return run(args)
+    return _render(args) if args.command == "render" else _info(args)
+
+
+def _failure(error: Exception) -> tuple[int, str]:
+    """The exit status and one-line message for an error that ended a command."""
+    from .gpu.device import DeviceLimitError
+
+    text = "; ".join(line.strip() for line in str(error).splitlines() if line.strip()) or type(error).__name__
+    if isinstance(error, ValueError | DeviceLimitError):  # SceneLoadError is a ValueError
+        return EXIT_BAD_USE, text
+    if isinstance(error, RuntimeError | OSError | MemoryError):  # GpuFailure is a RuntimeError
+        return EXIT_FAILURE, text
+    return EXIT_FAILURE, f"internal error: {type(error).__name__}: {text} (--debug shows where)"
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = argument_parser().parse_args(argv)
-    try:
-        if args.command == "view":
-            from .app import run  # the viewer's window and GPU code load only when it runs
-
-            return run(args)
-        return _render(args) if args.command == "render" else _info()
-    except (ValueError, RuntimeError) as error:
-        print(f"wgputrace: error: {error}", file=sys.stderr)
-        return 2
+    """Run the command line `argv` (default sys.argv[1:]); returns the exit status."""
+    debug = False
+    # until a render defers them, SIGINT and SIGTERM end a command at once, with a one-line message
+    with signals_abort(*STOPPING_SIGNALS):
+        try:
+            args = argument_parser().parse_args(argv)
+            debug = args.debug
+            return _run(args)
+        except UsageError as error:
+            print(error, file=sys.stderr)
+            return EXIT_BAD_USE
+        except SystemExit as done:  # --help
+            return 0 if done.code is None else int(done.code)
+        except Aborted as abort:
+            print(f"wgputrace: {signal_name(abort.signal)}: aborted", file=sys.stderr)
+            return exit_status(abort.signal)
+        except Exception as error:
+            if debug:
+                raise
+            status, message = _failure(error)
+            print(f"wgputrace: error: {message}", file=sys.stderr)
+            return status
