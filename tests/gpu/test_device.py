@@ -1,14 +1,57 @@
-"""The device module: one device, limits checked with messages naming the limit and both values."""
+"""The device module: one device, also when two threads ask first at once, made again once lost;
+limits checked with messages naming the limit and both values."""
 
 from __future__ import annotations
 
+import threading
+
 import pytest
 
-from wgputrace.gpu.device import DeviceLimitError, describe, gpu
+from wgputrace.gpu import device
+from wgputrace.gpu.device import DeviceLimitError, describe, gpu, new_context
 
 
 def test_one_device_per_process(gpu_context):
     assert gpu() is gpu_context
+
+
+@pytest.mark.gpu
+def test_two_threads_asking_first_get_one_device(monkeypatch):
+    monkeypatch.setattr(device, "_context", None)
+    made = []
+
+    def counted_new_context():
+        made.append(new_context())
+        return made[-1]
+
+    monkeypatch.setattr(device, "new_context", counted_new_context)
+    both_ready = threading.Barrier(2)
+    contexts = [None, None]
+
+    def ask(index: int) -> None:
+        both_ready.wait()
+        contexts[index] = gpu()
+
+    threads = [threading.Thread(target=ask, args=(index,)) for index in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert len(made) == 1
+    assert contexts[0] is contexts[1] is made[0]
+
+
+@pytest.mark.gpu
+def test_a_lost_device_is_replaced(monkeypatch):
+    """What the viewer relies on to recreate its renderer after a device loss."""
+    lost = new_context()
+    monkeypatch.setattr(device, "_context", lost)
+    assert gpu() is lost and lost.lost_reason is None
+    lost.device.destroy()
+    replacement = gpu()
+    assert lost.lost_reason is not None
+    assert replacement is not lost and replacement.lost_reason is None
+    assert gpu() is replacement
 
 
 def test_limit_error_names_limit_and_values(gpu_context):
@@ -19,6 +62,11 @@ def test_limit_error_names_limit_and_values(gpu_context):
     assert "max-storage-buffer-binding-size" in message
     assert f"{limit + 4:,}" in message and f"{limit:,}" in message
     assert "triangles" in message
+
+
+def test_limit_error_says_what_the_limit_allows(gpu_context):
+    with pytest.raises(DeviceLimitError, match=r"offers [\d,]+ \(12 records at most\)$"):
+        gpu_context.require("max-texture-dimension-2d", 10**9, "texture 'nodes'", largest="12 records")
 
 
 def test_describe_reports_adapter_and_limits(gpu_context):
