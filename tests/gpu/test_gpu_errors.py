@@ -19,6 +19,8 @@ pytestmark = pytest.mark.gpu
 
 STORAGE = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST
 WORDS = np.arange(4, dtype=np.uint32)
+# buffer sizes are u64
+U64_END = 2**64
 
 
 def failure(call, *args) -> GpuFailure:
@@ -31,6 +33,8 @@ def failure(call, *args) -> GpuFailure:
 
 def test_buffer_beyond_max_buffer_size_names_label_size_and_wgpu_words(gpu_context):
     size = gpu_context.device.limits["max-buffer-size"] + 4
+    if size >= U64_END:
+        pytest.skip("max-buffer-size is the largest u64: no larger buffer can be asked for")
     message = str(failure(create_buffer, gpu_context, "too big", size, STORAGE))
     assert message.startswith(f"creating buffer 'too big' of {size:,} B: Validation Error: ")
     assert "greater than the maximum buffer size" in message
