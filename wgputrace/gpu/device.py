@@ -12,7 +12,9 @@ What wgpu-py 0.32 does with errors, and what we make of them:
   GpuFailure errors saying what was being done (which buffer, its size).
 - A lost device is only logged (logger "wgpu": "The WGPU device was lost (<reason>):\n<message>",
   once wgpu-native processes events, e.g. at the next submit); `device.lost_async` raises
-  NotImplementedError. Every later call on it fails with "Parent device is lost". So
+  NotImplementedError. Every later call on it fails with "Parent device is lost", except
+  queue.submit, where wgpu-native aborts the whole process (SIGABRT) instead: ask before submitting
+  work that was encoded while the device lived. So
   `GpuContext.lost_reason` asks the device for a tiny buffer and, when that fails, gives the
   logged reason; `gpu()` makes a new device once the one it handed out is lost, so a viewer can
   recreate its renderer (and whatever else held the old device) from `gpu()`.
