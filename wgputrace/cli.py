@@ -117,10 +117,7 @@ def _render(args: argparse.Namespace) -> int:
                 metadata = render_metadata(renderer, args.scene, renderer.stats.render_seconds, stopped_by=stopped_by)
                 path = save_image(args.output, renderer.image(), exposure=args.exposure, metadata=metadata)
         except Aborted as abort:
-            print(
-                f"wgputrace: second signal ({signal_name(abort.signal)}): aborted, {args.output} not written",
-                file=sys.stderr,
-            )
+            _tell(f"wgputrace: second signal ({signal_name(abort.signal)}): aborted, {args.output} not written")
             return exit_status(abort.signal)
     stats = renderer.stats
     acceleration = renderer.records.acceleration
@@ -154,7 +151,7 @@ def _render(args: argparse.Namespace) -> int:
     if deferral.received is None:
         return 0
     held = f"{path} holds {stats.samples_per_pixel} spp" if path else f"no sample finished, {args.output} not written"
-    print(f"wgputrace: {signal_name(deferral.received)}: stopped, {held}", file=sys.stderr)
+    _tell(f"wgputrace: {signal_name(deferral.received)}: stopped, {held}")
     return exit_status(deferral.received)
 
 
@@ -199,11 +196,16 @@ def _run(args: argparse.Namespace) -> int:
     return _render(args) if args.command == "render" else _info(args)
 
 
+def _tell(message: str) -> None:
+    """Print `message` to stderr on one line (wgpu's errors, and names a user typed, may hold line breaks)."""
+    print("; ".join(line.strip() for line in message.splitlines() if line.strip()), file=sys.stderr)
+
+
 def _failure(error: Exception) -> tuple[int, str]:
-    """The exit status and one-line message for an error that ended a command."""
+    """The exit status and message for an error that ended a command."""
     from .gpu.device import DeviceLimitError
 
-    text = "; ".join(line.strip() for line in str(error).splitlines() if line.strip()) or type(error).__name__
+    text = str(error) or type(error).__name__
     if isinstance(error, ValueError | DeviceLimitError):  # SceneLoadError is a ValueError
         return EXIT_BAD_USE, text
     if isinstance(error, RuntimeError | OSError | MemoryError):  # GpuFailure is a RuntimeError
@@ -221,16 +223,16 @@ def main(argv: list[str] | None = None) -> int:
             debug = args.debug
             return _run(args)
         except UsageError as error:
-            print(error, file=sys.stderr)
+            _tell(str(error))
             return EXIT_BAD_USE
         except SystemExit as done:  # --help
             return 0 if done.code is None else int(done.code)
         except Aborted as abort:
-            print(f"wgputrace: {signal_name(abort.signal)}: aborted", file=sys.stderr)
+            _tell(f"wgputrace: {signal_name(abort.signal)}: aborted")
             return exit_status(abort.signal)
         except Exception as error:
             if debug:
                 raise
             status, message = _failure(error)
-            print(f"wgputrace: error: {message}", file=sys.stderr)
+            _tell(f"wgputrace: error: {message}")
             return status

@@ -47,3 +47,22 @@ def test_info_prints_adapter_and_limits(run_cli):
     info = json.loads(result.stdout)
     assert info["adapter"] and info["backend"]
     assert "max-storage-buffer-binding-size" in info["limits"]
+
+
+def test_time_limit_and_info_of_the_file(tmp_path, run_cli):
+    out = tmp_path / "limited.npy"
+    result = run_cli("render", "--size", "8x8", "--time-limit", "0.2", "--seed", "3", "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    assert "stopped by time limit" in result.stdout
+    info = run_cli("info", str(out))
+    assert info.returncode == 0, info.stderr
+    fields = dict(line.split(maxsplit=1) for line in info.stdout.splitlines())
+    assert int(fields["spp"]) >= 1 and fields["seed"] == "3" and fields["stopped_by"] == "time limit"
+    assert f"wrote            {out} ({fields['spp']} spp)" in result.stdout
+
+
+def test_debug_shows_the_traceback(run_cli):
+    quiet = run_cli("render", "nowhere")
+    assert quiet.returncode == 2 and len(quiet.stderr.splitlines()) == 1
+    loud = run_cli("--debug", "render", "nowhere")
+    assert loud.returncode == 1 and "Traceback" in loud.stderr and "SceneLoadError" in loud.stderr

@@ -159,8 +159,10 @@ class Renderer:
     ) -> None:
         if width < 1 or height < 1:
             raise ValueError(f"image size must be at least 1x1, got {width}x{height}")
-        if max_depth != UNLIMITED_DEPTH and max_depth < 1:
-            raise ValueError(f"max_depth must be >= 1 (or -1 for no limit), got {max_depth}")
+        if max_depth != UNLIMITED_DEPTH and not 1 <= max_depth < _UNLIMITED_DEPTH_GPU:
+            raise ValueError(
+                f"max_depth must be from 1 to {_UNLIMITED_DEPTH_GPU - 1:,} (or -1 for no limit), got {max_depth}"
+            )
         self.context = gpu()
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before the BVH build, which takes seconds for millions of triangles
