@@ -113,6 +113,17 @@ class GpuContext:
         with reporting("waiting for the GPU to finish"):
             self.device.queue.read_buffer(self.fence, 0, _FENCE_BYTES)
 
+    def submit(self, encoder: wgpu.GPUCommandEncoder, what: str) -> None:
+        """Finish `encoder` and submit it, after making sure the device lives: wgpu-native aborts the
+        process on a submit to a lost device, where every other call raises."""
+        with reporting(f"encoding {what}"):
+            commands = encoder.finish()
+        lost = self.lost_reason
+        if lost is not None:
+            raise GpuFailure(f"submitting {what}: the device was lost: {lost}")
+        with reporting(f"submitting {what}"):
+            self.device.queue.submit([commands])
+
     @property
     def lost_reason(self) -> str | None:
         """Why the device was lost ("(destroyed): Device lost", the driver's words), or None while it

@@ -98,7 +98,7 @@ def copy_texture(context: GpuContext, source: wgpu.GPUTexture, target: wgpu.GPUT
     """The top-left `size` pixels of `source` into `target` (same format)."""
     encoder = context.device.create_command_encoder()
     encoder.copy_texture_to_texture({"texture": source}, {"texture": target}, (size[0], size[1], 1))
-    context.device.queue.submit([encoder.finish()])
+    context.submit(encoder, f"a copy of texture {source.label!r}")
 
 
 def read_texture(
@@ -117,7 +117,7 @@ def read_texture(
         {"buffer": buffer, "bytes_per_row": row_bytes, "rows_per_image": height},
         (width, height, 1),
     )
-    context.device.queue.submit([encoder.finish()])
+    context.submit(encoder, f"a read-back of texture {texture.label!r}")
     buffer.map_sync(wgpu.MapMode.READ)
     rows = np.frombuffer(buffer.read_mapped(), np.uint8).reshape(height, row_bytes)[:, : width * texel_bytes].copy()
     buffer.unmap()

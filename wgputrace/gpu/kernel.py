@@ -167,6 +167,6 @@ def submit(
         compute.end()
     if timestamps is not None:
         encoder.resolve_query_set(timestamps.query_set, 0, 2, timestamps.buffer, 0)
-    context.device.queue.submit([encoder.finish()])
+    context.submit(encoder, ", ".join(dict.fromkeys(step.kernel.label for step in passes)))
     if wait:
         context.finish()

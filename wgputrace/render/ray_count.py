@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..gpu.buffers import read_buffer, storage_buffer
+from ..gpu.buffers import read_buffer, storage_buffer, write_buffer
 from ..gpu.ray_count import RAY_KINDS
 from .renderer import Renderer
 
@@ -57,7 +57,7 @@ def count_rays(renderer: Renderer, spp: int) -> RayCounts:
     bind_groups = {**renderer.bind_groups, "ray_count": kernel.bind("ray_count", ray_counts=counter)}
     totals = np.zeros(len(RAY_KINDS), np.uint64)
     for _ in range(spp):
-        context.device.queue.write_buffer(counter, 0, zeros)
+        write_buffer(context, counter, 0, zeros)
         kernel.dispatch((renderer.width, renderer.height), bind_groups)
         totals += read_buffer(context, counter, np.uint32, len(RAY_KINDS))
     renderer.stats.samples_per_pixel += spp

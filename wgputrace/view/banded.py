@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from ..gpu.bindings import IMAGE_WORKGROUP
-from ..gpu.buffers import uniform_buffer
+from ..gpu.buffers import uniform_buffer, write_buffer
 from ..gpu.layout import ACCUMULATED_PIXEL
 from ..render.renderer import Renderer
 from ..scene import Camera
@@ -53,7 +53,7 @@ class BandedRenderer:
     def _warm_up(self) -> None:
         # llvmpipe compiles a pipeline at its first dispatch, which would count as seconds per
         # sample; a band starting below the last row compiles it and touches no pixel
-        self.context.device.queue.write_buffer(self._band, 0, np.array([self.full_size[1]], np.uint32))
+        write_buffer(self.context, self._band, 0, np.array([self.full_size[1]], np.uint32))
         self.kernel.dispatch((1, 1), self._bind_groups, wait=True)
 
     @property
@@ -75,13 +75,12 @@ class BandedRenderer:
         record = self.renderer._frame_record()
         record["width"], record["height"] = width, height
         record["camera_right"], record["camera_up"], record["camera_forward"] = camera.image_plane(width, height)
-        device = self.context.device
         resources = self.renderer.resources
-        device.queue.write_buffer(resources["frame"], 0, record)
-        encoder = device.create_command_encoder()
+        write_buffer(self.context, resources["frame"], 0, record)
+        encoder = self.context.device.create_command_encoder()
         # only the pixels that will be traced: clearing 10 MB per frame while moving costs time
         encoder.clear_buffer(resources["accumulation"], 0, width * height * ACCUMULATED_PIXEL.size)
-        device.queue.submit([encoder.finish()])
+        self.context.submit(encoder, "the viewer's restart")
         self.size, self.samples_per_pixel, self.rows_done = (width, height), 0, 0
         self._touched = (0, height)
 
@@ -115,7 +114,7 @@ class BandedRenderer:
 
     def _dispatch(self, first_row: int, band_rows: int, passes: int) -> float:
         width, height = self.size
-        self.context.device.queue.write_buffer(self._band, 0, np.array([first_row], np.uint32))
+        write_buffer(self.context, self._band, 0, np.array([first_row], np.uint32))
         start = time.perf_counter()
         self.kernel.dispatch((width, band_rows), self._bind_groups, repeat=passes, wait=True)
         seconds = time.perf_counter() - start

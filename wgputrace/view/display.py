@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gpu.bindings import scene_group
-from ..gpu.buffers import uniform_buffer
+from ..gpu.buffers import uniform_buffer, write_buffer
 from ..gpu.graphics import copy_texture, image_texture, read_texture
 from ..gpu.kernel import ComputeKernel, Pass, submit
 from .banded import BandedRenderer
@@ -150,9 +150,10 @@ class Display:
     def _refilter(self) -> None:
         """Demodulate the current mean and run the a-trous passes into `filtered`."""
         width, height = self.banded.size
-        queue = self.context.device.queue
         radiance = ViewSettings()
-        queue.write_buffer(self._resolve_params, 0, self._resolve_params_record(radiance, ResolveMode.DEMODULATED, 0.0))
+        write_buffer(
+            self.context, self._resolve_params, 0, self._resolve_params_record(radiance, ResolveMode.DEMODULATED, 0.0)
+        )
         size = self.banded.size
         passes = [Pass(self._resolve_kernel, size, self._resolve_groups["demodulated"])]
         for k in range(FILTER_PASSES):
@@ -160,7 +161,7 @@ class Display:
             record["width"], record["height"], record["step"] = width, height, 1 << k
             record["normal_power"], record["depth_sigma"] = FILTER_NORMAL_POWER, FILTER_DEPTH_SIGMA
             record["albedo_sigma"] = FILTER_ALBEDO_SIGMA
-            queue.write_buffer(self._atrous_params[k], 0, record)
+            write_buffer(self.context, self._atrous_params[k], 0, record)
             passes.append(Pass(self._atrous_kernel, size, self._atrous_groups[k]))
         submit(self.context, passes)
         self._filtered_at = self.banded.samples_done
@@ -189,7 +190,7 @@ class Display:
             touched = (0, self.banded.size[1])
         if touched is not None:
             record = self._resolve_params_record(settings, mode, weight, touched[0])
-            self.context.device.queue.write_buffer(self._resolve_params, 0, record)
+            write_buffer(self.context, self._resolve_params, 0, record)
             rows = (self.banded.size[0], touched[1] - touched[0])
             self._resolve_kernel.dispatch(rows, self._resolve_groups["resolved"])
         self._resolved_as = shown_as

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..gpu.buffers import storage_buffer, uniform_buffer
+from ..gpu.buffers import storage_buffer, uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
 from ..gpu.graphics import RenderKernel, read_texture, rgba8_texture, target_texture, write_rgba8
 from ..scene import Camera
@@ -99,7 +99,7 @@ class Presenter:
         matrix = camera_clip_matrix(camera, width, height, scene_size)
         record["row_x"], record["row_y"], record["row_z"], record["row_w"] = matrix
         record["color"] = BOX_COLOR
-        self.context.device.queue.write_buffer(self._lines_params, 0, record)
+        write_buffer(self.context, self._lines_params, 0, record)
 
     def draw(self, target, image, image_size: tuple[int, int], exposure: float, *, overlay: bool = True) -> None:
         """Draw `image` (the texture Display.render returned, image_size pixels from its top-left
@@ -113,10 +113,9 @@ class Presenter:
             params["overlay_x"], params["overlay_y"] = self._overlay_position
         params["overlay_visible"] = int(show_overlay)
         params["exposure"] = exposure
-        device = self.context.device
-        device.queue.write_buffer(self._params, 0, params)
+        write_buffer(self.context, self._params, 0, params)
         group = self._image_kernel.bind("present", params=self._params, image=image, overlay=self._overlay)
-        encoder = device.create_command_encoder()
+        encoder = self.context.device.create_command_encoder()
         render = encoder.begin_render_pass(
             color_attachments=[
                 {"view": target.create_view(), "load_op": "clear", "store_op": "store", "clear_value": (0, 0, 0, 1)}
@@ -128,7 +127,7 @@ class Presenter:
             self._lines_kernel.set_bind_groups(render, {"box_lines": self._lines_group})
             render.draw(self._lines[1])
         render.end()
-        device.queue.submit([encoder.finish()])
+        self.context.submit(encoder, "presenting the picture")
 
     def screenshot(self, image, image_size: tuple[int, int], size: tuple[int, int], exposure: float) -> np.ndarray:
         """What `draw` shows on a target of `size`, without the overlay, as (height, width, 3) uint8 sRGB."""
