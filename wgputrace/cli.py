@@ -16,6 +16,7 @@ import signal
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .cli_arguments import (
     OneLineParser,
@@ -30,6 +31,9 @@ from .cli_arguments import (
 from .image_io import FORMATS, save_image
 from .loaders import load_scene
 from .render.interrupts import Aborted, Interrupted, deferred_signals, exit_status, signal_name, signals_abort
+
+if TYPE_CHECKING:
+    from .render import Renderer
 
 EXIT_FAILURE, EXIT_BAD_USE = 1, 2
 DEFAULT_SPP = 64
@@ -47,7 +51,12 @@ def argument_parser() -> argparse.ArgumentParser:
     add_debug_argument(parser)
     commands = parser.add_subparsers(dest="command", required=True)
 
-    render = commands.add_parser("render", help="render a scene headless to .png, .exr or .npy")
+    render = commands.add_parser(
+        "render",
+        help="render a scene headless to .png, .exr or .npy",
+        description="Ctrl-C (SIGINT) or SIGTERM stops after the dispatch in flight and writes the samples done "
+        "(exit 130 or 143); a second one aborts at once and writes nothing.",
+    )
     add_scene_arguments(render, size=(512, 512))
     render.add_argument(
         "--spp",
@@ -110,6 +119,8 @@ def _render(args: argparse.Namespace) -> int:
     setup_seconds = time.perf_counter() - start
     spp = DEFAULT_SPP if args.spp is None and args.time_limit is None else args.spp
     path = None
+    # From here a first SIGINT or SIGTERM ends the render after the dispatch in flight and the
+    # samples done are still written; a second aborts at once, and save_image leaves no partial file.
     with deferred_signals(*STOPPING_SIGNALS) as deferral:
         try:
             stopped_by = _render_with_progress(renderer, spp, args.time_limit)
@@ -155,7 +166,7 @@ def _render(args: argparse.Namespace) -> int:
     return exit_status(deferral.received)
 
 
-def _render_with_progress(renderer, spp: int | None, seconds: float | None) -> str | None:
+def _render_with_progress(renderer: Renderer, spp: int | None, seconds: float | None) -> str | None:
     """Render `spp` samples per pixel or for `seconds` under a progress bar; what stopped the render
     before `spp` (SIGINT, SIGTERM, the time limit), or None."""
     from tqdm import tqdm
