@@ -36,7 +36,8 @@ def options_from(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    """Open the window and run until it closes; 2 with a message when no window can be opened."""
+    """Open the window and run until it closes: 0, or 1 when the device was lost and no new one
+    could be started; 2 with a message when no window can be opened."""
     from .viewer import Viewer
     from .window import NoDisplayError, create_canvas, run_loop
 
@@ -46,9 +47,9 @@ def run(args: argparse.Namespace) -> int:
     except NoDisplayError as error:
         print(f"wgputrace view: error: {error}", file=sys.stderr)
         return 2
-    Viewer(canvas, options)
+    viewer = Viewer(canvas, options)
     run_loop()
-    return 0
+    return viewer.exit_status
 
 
 def notebook_viewer(scene: str = DEFAULT_SCENE, size: tuple[int, int] = (480, 360), **options):

@@ -6,6 +6,12 @@ on the GPU; nothing is read back to Python except for screenshots. While the cam
 viewer traces a reduced resolution, one sample per pixel, chosen so a frame holds the target
 frame time; once the camera has rested for REST_SECONDS it traces the full resolution, adding as
 many samples (or rows of a sample) per frame as fit the same budget.
+
+What fails keeps the picture: a scene file that does not load, or a scene (or window size) the
+device cannot hold (DeviceLimitError, GpuFailure), is reported in the overlay and on the console
+while the viewer keeps showing what it showed. A lost device is replaced by a new one (gpu()) and
+everything drawn on it made again; where no new device can be had, the viewer says why in one
+line and closes with exit status 1.
 """
 
 from __future__ import annotations
@@ -18,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..bvh.levels import box_edges, node_levels
-from ..gpu.device import gpu
+from ..gpu.device import DeviceLimitError, GpuFailure, gpu, reporting
 from ..gpu.graphics import image_texture
 from ..image_io import save_image
 from ..loaders import SceneLoadError, load_scene, scene_file
@@ -115,11 +121,9 @@ class SceneView:
 class Viewer:
     def __init__(self, canvas, options: ViewerOptions) -> None:
         self.canvas, self.options = canvas, options
-        self.context = gpu()
         self.surface = canvas.get_context("wgpu")
-        target_format = self.surface.get_preferred_format(self.context.adapter)
-        self.surface.configure(device=self.context.device, format=target_format)
-        self.presenter = Presenter(self.context, target_format)
+        self._start_device()
+        self.exit_status = 0  # 1 once the device was lost and no new one could be started
         self.settings = ViewSettings(filter_enabled=options.filter)
         self.exposure = options.exposure
         self.show_info = options.info
@@ -130,9 +134,11 @@ class Viewer:
         self.errors: list[str] = []
         self.status = ""
         self._status_until = 0.0
-        # what a frame shows with no scene loaded: one black pixel
-        self._black = image_texture(self.context, "black", 1, 1, IMAGE_FORMAT)
         self.scene = None
+        # a reloaded scene not shown yet: it replaces `scene` once the device has taken its view
+        self._incoming = None
+        # a window size at which the device refused `scene`'s view: not tried again until it changes
+        self._refused_size: tuple[int, int] | None = None
         self.view: SceneView | None = None
         self.controller: FlyCamera | None = None
         self._scene_time = _modified_time(options.scene)
@@ -153,24 +159,62 @@ class Viewer:
         )
         canvas.request_draw(self.draw)
 
+    # device
+
+    def _start_device(self) -> None:
+        """Take gpu()'s device and make what draws on it: the surface's configuration, the
+        presenter, the black frame shown with no scene."""
+        self.context = gpu()
+        target_format = self.surface.get_preferred_format(self.context.adapter)
+        self.surface.configure(device=self.context.device, format=target_format)
+        self.presenter = Presenter(self.context, target_format)
+        self._black = image_texture(self.context, "black", 1, 1, IMAGE_FORMAT)
+
+    def _replace_device(self, reason: str) -> None:
+        """After a device loss: a new device and, at the next frame, the scene's view made on it
+        (camera, settings and scene kept); or, where none can be started, one line and close."""
+        print(f"wgputrace view: the GPU device was lost ({reason}); starting a new one", file=sys.stderr, flush=True)
+        try:
+            self._start_device()
+        except RuntimeError as error:  # GpuFailure, or no adapter at all
+            print(
+                f"wgputrace view: error: the GPU device was lost ({reason}) and no new one could be started: {error}",
+                file=sys.stderr,
+                flush=True,
+            )
+            self.exit_status = 1
+            self.canvas.close()
+            return
+        self.view, self._refused_size = None, None
+        self._show_status(f"the GPU device was lost ({reason}) and replaced")
+
     # scene and size
+
+    def _report(self, message: str) -> None:
+        """A failure in red in the overlay and on the console; the scene shown, if any, stays."""
+        print(f"wgputrace view: {message}", file=sys.stderr, flush=True)
+        shown = [f"still showing the previous scene ({self.options.scene})"] if self.view is not None else []
+        self.errors = [message] + shown
+        self._next_overlay = 0.0
 
     def _load_scene(self) -> None:
         try:
             scene = load_scene(self.options.scene)
         except SceneLoadError as error:
-            message = f"scene not loaded: {error}"
-            print(f"wgputrace view: {message}", file=sys.stderr, flush=True)
-            self.errors = [message] + (
-                [f"still showing the previous scene ({self.options.scene})"] if self.scene else []
-            )
-            self._next_overlay = 0.0
+            self._report(f"scene not loaded: {error}")
             return
+        if self.scene is None:
+            self._adopt(scene)  # nothing shown yet, so nothing to keep
+        else:
+            self._incoming = scene
+
+    def _adopt(self, scene) -> None:
+        """Show `scene` from now on, from its own camera; its view is made at the next frame's size."""
         self.errors = []
-        self.scene = scene
+        self.scene, self._incoming = scene, None
         self.controller = FlyCamera(scene.camera, scene.bounds())
         self.settings.depth_scale = self.controller.scene_size
-        self.view = None  # rebuilt at the next frame's size
+        self.view, self._refused_size = None, None
         self._next_overlay = 0.0
 
     def _poll_scene_file(self, now: float) -> None:
@@ -184,9 +228,26 @@ class Viewer:
             self._load_scene()
 
     def _ensure_view(self, size: tuple[int, int]) -> None:
-        if self.view is not None and (self.view.renderer.width, self.view.renderer.height) == size:
+        """A view of the incoming scene, or of the scene shown at a new window size; where the
+        device refuses it, the view (and scene) shown before stay."""
+        incoming = self._incoming is not None
+        shown_size = None if self.view is None else (self.view.renderer.width, self.view.renderer.height)
+        if not incoming and size in (shown_size, self._refused_size):
             return
-        self.view = SceneView(self.scene, size, self.options)
+        try:
+            view = SceneView(self._incoming if incoming else self.scene, size, self.options)
+        except (DeviceLimitError, GpuFailure) as error:
+            if isinstance(error, GpuFailure) and self.context.lost_reason is not None:
+                raise  # draw() replaces the device, then the view is made again
+            if incoming:
+                self._incoming = None
+            else:
+                self._refused_size = size
+            self._report(f"scene not shown at {size[0]}x{size[1]}: {error}")
+            return
+        if incoming:
+            self._adopt(self._incoming)
+        self.view, self._refused_size = view, None
         self._update_boxes()
         # start as if the camera had just moved: a reduced picture first, then the full one
         self._restart(time.perf_counter(), moving=True)
@@ -293,7 +354,17 @@ class Viewer:
             self._last_change = now
 
     def draw(self) -> None:
-        """One frame: move, trace what fits the budget, resolve, present."""
+        """One frame: move, trace what fits the budget, resolve, present; a lost device is replaced."""
+        try:
+            with reporting("drawing a frame"):
+                self._draw_frame()
+        except GpuFailure:
+            reason = self.context.lost_reason
+            if reason is None:
+                raise
+            self._replace_device(reason)
+
+    def _draw_frame(self) -> None:
         start = time.perf_counter()
         self._poll_scene_file(start)
         texture = self.surface.get_current_texture()
@@ -302,6 +373,7 @@ class Viewer:
         image, image_size = self._black, (1, 1)
         if self.scene is not None and min(size) > 0:  # a minimized window has no pixels to trace
             self._ensure_view(size)
+        if self.view is not None:
             moved = self.controller.move(start) or self._camera_changed
             self._camera_changed = False
             if moved:
@@ -372,6 +444,12 @@ class Viewer:
         max_width = max(size[0] - 2 * OVERLAY_POSITION[0], 1)
         self.presenter.set_overlay(text_overlay(lines, self.errors, max_width), OVERLAY_POSITION)
 
+    def _show_status(self, message: str) -> None:
+        """A line under the overlay's information for STATUS_SECONDS."""
+        self.status = message
+        self._status_until = time.perf_counter() + STATUS_SECONDS
+        self._next_overlay = 0.0
+
     def screenshot(self) -> tuple[Path, Path] | None:
         """Save what the window shows (without the overlay) as PNG, and the linear image as EXR."""
         if self.view is None:
@@ -390,8 +468,7 @@ class Viewer:
         png = stem.with_suffix(".png")
         Image.fromarray(pixels).save(png)
         exr = save_image(stem.with_suffix(".exr"), linear)
-        self.status = f"saved {png.name} and {exr.name} at {banded.samples_done:.2f} spp"
-        self._status_until = time.perf_counter() + STATUS_SECONDS
+        self._show_status(f"saved {png.name} and {exr.name} at {banded.samples_done:.2f} spp")
         camera = self.controller.camera()
         print(
             f"wgputrace view: saved {png} and {exr}: {banded.samples_done:.3f} spp at "

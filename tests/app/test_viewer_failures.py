@@ -1,0 +1,121 @@
+"""The viewer survives what fails (offscreen, no window needed): a reloaded scene the device cannot
+hold is reported in the picture and on the console while the scene it had stays; a lost device is
+replaced and the picture comes back; where no new device can be started, the viewer says why in
+one line and closes with exit status 1."""
+
+from __future__ import annotations
+
+import os
+import time
+
+import numpy as np
+import pytest
+
+from wgputrace.app.viewer import Viewer, ViewerOptions
+from wgputrace.gpu import device as gpu_device
+
+pytestmark = pytest.mark.gpu
+
+SIZE = (96, 72)
+# max-texture-dimension-2d as this test pretends the device offers it: the small scene's triangle
+# texture (4 triangles, 6 rows) fits, the default scene's (676 triangles, 64 rows) does not.
+SMALL_TEXTURE_LIMIT = 16
+SMALL = """import wgputrace as wt
+
+
+def scene():
+    lamp = wt.Emitter("lamp")
+    white = wt.Diffuse("white")
+    return wt.Scene(
+        [
+            wt.make_plane((0, 1, 2), (-1.5707963, 0, 0), (1, 1), lamp, "lamp"),
+            wt.make_plane((0, 0, 2), (0, 0, 0), (4, 4), white, "floor"),
+        ],
+        wt.Camera.looking_at((0, 1, 0), (0, 0.5, 2)),
+    )
+"""
+DEFAULT = "import wgputrace as wt\n\n\ndef scene():\n    return wt.default_scene()\n"
+
+
+# The overlay's error text is drawn in (255, 90, 90): red well above green and blue.
+def red_text(frame: np.ndarray) -> np.ndarray:
+    pixels = frame[..., :3].astype(int)
+    return (pixels[..., 0] > 200) & (pixels[..., 1] < 150) & (pixels[..., 2] < 150)
+
+
+def offscreen_viewer(scene: str, tmp_path) -> Viewer:
+    from wgputrace.app.window import create_canvas
+
+    canvas = create_canvas(SIZE, "test", offscreen=True)
+    return Viewer(canvas, ViewerOptions(scene=scene, size=SIZE, screenshot_dir=tmp_path))
+
+
+def rewrite(path, text: str) -> None:
+    path.write_text(text)
+    later = time.time() + 1
+    os.utime(path, (later, later))  # a new modification time even within the file system's resolution
+
+
+def frames(viewer: Viewer, count: int) -> np.ndarray:
+    """Draw `count` frames; the last one's pixels."""
+    for _ in range(count):
+        frame = np.asarray(viewer.canvas.draw())
+    return frame
+
+
+@pytest.fixture
+def own_device(monkeypatch):
+    """gpu() hands out a device of this test's own (and a new one each time it is lost): losing
+    it leaves the session's device to the other tests."""
+    monkeypatch.setattr(gpu_device, "_context", gpu_device.new_context())
+
+
+def test_a_reloaded_scene_beyond_the_device_limits_is_reported_and_the_scene_shown_stays(
+    gpu_context, monkeypatch, tmp_path, capsys
+):
+    monkeypatch.setitem(gpu_context.device.limits, "max-texture-dimension-2d", SMALL_TEXTURE_LIMIT)
+    path = tmp_path / "scene.py"
+    path.write_text(SMALL)
+    viewer = offscreen_viewer(str(path), tmp_path)
+    frames(viewer, 2)
+    shown, view = viewer.scene, viewer.view
+    assert view is not None and viewer.errors == []
+
+    rewrite(path, DEFAULT)
+    viewer._next_scene_poll = 0.0  # do not wait for the next poll
+    frame = frames(viewer, 2)
+    assert viewer.scene is shown and viewer.view is view, "the scene shown was replaced"
+    assert "max-texture-dimension-2d" in viewer.errors[0] and "still showing the previous scene" in viewer.errors[1]
+    refusal = [line for line in capsys.readouterr().err.splitlines() if "scene not shown" in line]
+    assert len(refusal) == 1 and "max-texture-dimension-2d" in refusal[0], "reported once, on one line"
+    assert red_text(frame).sum() > 20, "the error is not in the picture"
+    assert frame[..., :3].max() > 0
+
+    rewrite(path, SMALL)
+    viewer._next_scene_poll = 0.0
+    frame = frames(viewer, 3)
+    assert viewer.scene is not shown and viewer.errors == [] and not red_text(frame).any()
+
+
+def test_a_lost_device_is_replaced_and_without_a_new_one_the_viewer_closes_saying_why(
+    own_device, monkeypatch, tmp_path, capsys
+):
+    viewer = offscreen_viewer("cornell", tmp_path)
+    frames(viewer, 2)
+    lost = viewer.context
+    lost.device.destroy()
+    frame = frames(viewer, 4)
+    assert viewer.context is not lost and viewer.context.lost_reason is None
+    assert viewer.exit_status == 0 and not viewer.canvas.get_closed()
+    assert frame[..., :3].max() > 0, "no picture after the device was replaced"
+    assert "the GPU device was lost" in capsys.readouterr().err
+
+    def no_adapter():
+        raise RuntimeError("wgpu found no adapter")
+
+    monkeypatch.setattr(gpu_device, "new_context", no_adapter)
+    viewer.context.device.destroy()
+    viewer.canvas.draw()
+    assert viewer.exit_status == 1 and viewer.canvas.get_closed()
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "the GPU device was lost" in last and "no new one could be started: wgpu found no adapter" in last
