@@ -18,7 +18,7 @@ import numpy as np
 import wgpu
 
 from ..gpu.bindings import BAND_GROUP, PIXELS_GROUP, RAY_COUNT_GROUP, scene_group
-from ..gpu.buffers import read_buffer, storage_buffer
+from ..gpu.buffers import read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.generated import (
     BVH_STACK_SIZE,
@@ -28,14 +28,15 @@ from ..gpu.generated import (
     traversal_stack_size,
 )
 from ..gpu.kernel import ComputeKernel
-from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, TRIANGLE
+from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
-from ..gpu.texels import TrackedTexels, require_texels
+from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..scene import Camera, Scene
 from .interrupts import Deferral, deferred_signals
 from .lights import LightTable
+from .limits import check_image_size, check_scene_size
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
 from .scene_sync import LIGHTS, MATERIALS, NODES, TRIANGLES, SceneMirror
@@ -165,8 +166,9 @@ class Renderer:
             )
         self.context = gpu()
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
-        # before the BVH build, which takes seconds for millions of triangles
-        require_texels(self.context, "triangles", scene.triangle_count, TRIANGLE.dtype)
+        # before anything is allocated and before the BVH build, which takes seconds for millions of triangles
+        check_image_size(self.context, width, height)
+        check_scene_size(self.context, scene, accel)
         self._mirror = SceneMirror(scene, accel)
         self.accel = accel
         loop_limit = self.context.loop_iteration_limit
@@ -187,8 +189,6 @@ class Renderer:
         self._kinds = shaded_kinds(self._mirror.material_kinds)
         self._stack_size = self._needed_stack_size()
         self.kernel = self.kernel_variant()
-        for count in self.kernel.workgroups((width, height))[:2]:
-            self.context.require("max-compute-workgroups-per-dimension", count, f"a {width}x{height} image")
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
         self._frame = TrackedBuffer(
@@ -307,7 +307,7 @@ class Renderer:
         encoder = self._device.create_command_encoder()
         encoder.clear_buffer(self._accumulation)
         encoder.copy_buffer_to_buffer(self._rng_at_seed, 0, self._rng, 0, self._rng.size)
-        self._device.queue.submit([encoder.finish()])
+        self.context.submit(encoder, "restarting accumulation")
         self.stats = RenderStats()
 
     def kernel_variant(self, **options) -> ComputeKernel:
@@ -454,7 +454,7 @@ class Renderer:
 
     def reset(self) -> None:
         """Forget all samples (the random sequence continues, so new samples are independent)."""
-        self._device.queue.write_buffer(self._accumulation, 0, ACCUMULATED_PIXEL.zeros(self.width * self.height))
+        write_buffer(self.context, self._accumulation, 0, ACCUMULATED_PIXEL.zeros(self.width * self.height))
         self.stats = RenderStats()
 
 
