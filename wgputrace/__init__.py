@@ -8,6 +8,7 @@ wt.save_image("out.exr", img)
 
 from importlib.metadata import version
 
+from .gpu.device import DeviceLimitError, GpuFailure
 from .image_io import load_image, save_image
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
@@ -25,6 +26,8 @@ __version__ = version("wgputrace")
 __all__ = [
     "UNLIMITED_DEPTH",
     "Camera",
+    "DeviceLimitError",
+    "GpuFailure",
     "Renderer",
     "Scene",
     "SceneLoadError",
