@@ -289,7 +289,9 @@ def soak_library(cycles: int, cap_kib: int) -> dict:
                 log(
                     f"library cycle {cycle:,}: rss {rows[-1]['rss_kib'] / 1024:.1f} MiB, {rows[-1]['buffer_count']} buffers"
                 )
-    done = rows[-1]["cycle"] + 1 if rows else 0
+            if rows[-1]["rss_kib"] > cap_kib:
+                break
+    done = cycle + 1 if exception is None else cycle
     measured = [row for row in rows if row["cycle"] >= rows[-1]["cycle"] * WARMUP_FRACTION]
     gpu_growth = {
         key: measured[-1][key] - measured[0][key]
