@@ -7,6 +7,8 @@
 //! include "mis.wgsl"
 //! include "accumulate.wgsl"
 //! include "loop_budget.wgsl"
+// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (gpu/path_guides.py)
+//! include "generated/path_guides.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
 
@@ -104,6 +106,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         let triangle = scene_triangle(hit.triangle);
         let material = materials[triangle.material];
         let normal = triangle_normal(triangle);
+        guide_vertex(material, normal, ray.direction);
         if material_emits(material) {
             // emission shines from both sides
             let emitted = material_emitted(material);
@@ -157,6 +160,7 @@ fn render_pixel(xy: vec2<u32>) {
         accumulation[pixel] = drop_cut_short_sample(accumulation[pixel]);
     } else {
         accumulation[pixel] = accumulate_sample(accumulation[pixel], radiance);
+        accumulate_guides(pixel, radiance);
     }
     rng_states[pixel] = rng_state;
 }

@@ -127,6 +127,12 @@ class BindGroup:
             raise KeyError(f"bind group {self.name!r} has no binding {binding.name!r} (it has {', '.join(names)})")
         return replace(self, bindings=tuple(binding if b.name == binding.name else b for b in self.bindings))
 
+    def extended(self, binding: Binding) -> BindGroup:
+        """This group with `binding` added after its own (a declared variant that binds more)."""
+        if any(b.name == binding.name for b in self.bindings):
+            raise KeyError(f"bind group {self.name!r} already has a binding {binding.name!r}")
+        return replace(self, bindings=(*self.bindings, binding))
+
     def layout(self, context: GpuContext) -> wgpu.GPUBindGroupLayout:
         """The bind group layout, made once per device, so every kernel declaring this group shares it."""
         key = (id(context.device), self)
@@ -199,6 +205,16 @@ PIXELS_GROUP = BindGroup(
         Binding("accumulation", STORAGE_READ_WRITE, ACCUMULATED_PIXEL),
     ),
 )
+# The denoiser's guides (shaders/path_guides.wgsl): two Kahan sums per pixel, the albedo's at 2 * pixel
+# and the normal's at 2 * pixel + 1, bound only in the variant of the path tracer that makes them.
+_GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
+
+
+def pixels_group(guides: bool) -> BindGroup:
+    """The pixels group, with the guide sums where the path tracer accumulates guides."""
+    return PIXELS_GROUP.extended(_GUIDE_SUMS) if guides else PIXELS_GROUP
+
+
 # The viewer's band of rows (path_tracer_rows.wgsl): the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
 # Rays counted by kind (gpu/ray_count.py), only in the counting variant of the path tracer.

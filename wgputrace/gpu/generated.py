@@ -6,6 +6,7 @@ from ..bvh.wide import STACK_SIZE as WIDE_STACK_SIZE
 from ..bvh.wide import WIDE_COUNT_BITS, WIDE_EMPTY, WIDE_LEAF, WIDE_LEAF_MAX
 from .layout import ALL_STRUCTS
 from .material_dispatch import GENERATED_MATERIALS, material_dispatch, material_kind_constants
+from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from .texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
 
@@ -57,11 +58,13 @@ def generated_structs() -> str:
 
 def standard_files() -> dict[str, str]:
     """The generated files every kernel gets unless it replaces them: structs and ids, the material
-    dispatch for every kind, no ray counting, the texel loaders and the largest traversal stack."""
+    dispatch for every kind, no ray counting, no denoiser guides, the texel loaders and the largest
+    traversal stack."""
     return {
         GENERATED_STRUCTS: generated_structs(),
         GENERATED_MATERIALS: material_dispatch(),
         GENERATED_RAY_COUNT: ray_count_hook(counting=False),
+        GENERATED_PATH_GUIDES: path_guides_hook(guides=False),
         GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),
         GENERATED_TRAVERSAL_STACK: traversal_stack(),
     }

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
-from ..gpu.bindings import BAND_GROUP, PIXELS_GROUP, RAY_COUNT_GROUP, scene_group
+from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, pixels_group, scene_group
 from ..gpu.buffers import read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.generated import (
@@ -30,6 +30,7 @@ from ..gpu.generated import (
 from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
+from ..gpu.path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
@@ -89,6 +90,7 @@ def path_tracer_kernel(
     rows: bool = False,
     material_kinds: frozenset[int] = ALL_KINDS,
     count_rays: bool = False,
+    guides: bool = False,
     stack_size: int = BVH_STACK_SIZE,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
@@ -96,8 +98,9 @@ def path_tracer_kernel(
     (for measurements such as bench/glossy_light_sampling.py). `rows` compiles the entry point
     that renders a band of rows (path_tracer_rows.wgsl, for the viewer). `material_kinds` limits
     the BSDF code compiled in to those kinds (gpu/material_dispatch.py). `count_rays` compiles the
-    ray counters in (gpu/ray_count.py; render/ray_count.py runs them). `stack_size` sizes the BVH
-    traversal's stack (gpu/generated.py traversal_stack_size)."""
+    ray counters in (gpu/ray_count.py; render/ray_count.py runs them). `guides` compiles in the
+    denoiser's albedo and normal guides (gpu/path_guides.py) and binds their sums in the pixels
+    group. `stack_size` sizes the BVH traversal's stack (gpu/generated.py traversal_stack_size)."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
@@ -110,11 +113,12 @@ def path_tracer_kernel(
         rows,
         kinds,
         count_rays,
+        guides,
         stack_size,
     )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
-        groups = (scene_group(acceleration), PIXELS_GROUP, *((BAND_GROUP,) if rows else ()))
+        groups = (scene_group(acceleration), pixels_group(guides), *((BAND_GROUP,) if rows else ()))
         _kernels[key] = ComputeKernel(
             context,
             "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
@@ -123,11 +127,12 @@ def path_tracer_kernel(
                 "acceleration.wgsl": traversal,
                 GENERATED_MATERIALS: material_dispatch(kinds),
                 GENERATED_RAY_COUNT: ray_count_hook(count_rays),
+                GENERATED_PATH_GUIDES: path_guides_hook(guides, kinds),
                 GENERATED_TRAVERSAL_STACK: traversal_stack(stack_size),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
-            f"{', counting rays' if count_rays else ''})",
+            f"{', counting rays' if count_rays else ''}{', guides' if guides else ''})",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -144,7 +149,11 @@ class RenderStats:
 
 
 class Renderer:
-    """Keeps the device and the scene's buffers; each `render` call adds samples to the mean."""
+    """Keeps the device and the scene's buffers; each `render` call adds samples to the mean.
+
+    With `guides` (or `guides_enabled` set later), every sample also adds the albedo and shading
+    normal the denoiser takes as guides (`guides()`); without, the path tracer compiles no guide
+    code and the renderer allocates no guide buffer."""
 
     def __init__(
         self,
@@ -157,6 +166,7 @@ class Renderer:
         accel: str = "bvh",
         integrator: str = "mis",
         shader_overrides: dict[str, float] | None = None,
+        guides: bool = False,
     ) -> None:
         if width < 1 or height < 1:
             raise ValueError(f"image size must be at least 1x1, got {width}x{height}")
@@ -188,6 +198,7 @@ class Renderer:
         self._shader_overrides = shader_overrides
         self._kinds = shaded_kinds(self._mirror.material_kinds)
         self._stack_size = self._needed_stack_size()
+        self._guides = guides
         self.kernel = self.kernel_variant()
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
@@ -206,6 +217,7 @@ class Renderer:
         self._accumulation = storage_buffer(
             self.context, "accumulation", ACCUMULATED_PIXEL.zeros(pixels), read_back=True
         )
+        self._guide_sums = self._new_guide_sums() if guides else None
         # COPY_SRC: what was uploaded can be read back and checked against the host records
         storage = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST | wgpu.BufferUsage.COPY_SRC
         limit = "max-storage-buffer-binding-size"
@@ -253,8 +265,8 @@ class Renderer:
     def gpu_image_bytes(self) -> dict[str, int]:
         """Bytes allocated on the GPU for the image, by buffer: they grow with the pixels, not the
         scene (the frame uniform is a fixed 80 bytes)."""
-        buffers = (self._frame.buffer, self._rng, self._rng_at_seed, self._accumulation)
-        return {buffer.label: buffer.size for buffer in buffers}
+        buffers = (self._frame.buffer, self._rng, self._rng_at_seed, self._accumulation, self._guide_sums)
+        return {buffer.label: buffer.size for buffer in buffers if buffer is not None}
 
     @property
     def gpu_bytes_per_triangle(self) -> float:
@@ -298,21 +310,58 @@ class Renderer:
         scene = {name: buffer.resource for name, buffer in self._scene_buffers.items()}
         self._bind_groups = {
             "scene": self.kernel.bind("scene", frame=self._frame.buffer, **scene),
-            "pixels": self.kernel.bind("pixels", rng_states=self._rng, accumulation=self._accumulation),
+            "pixels": self.kernel.bind("pixels", **self._pixel_resources()),
         }
+
+    def _pixel_resources(self) -> dict[str, wgpu.GPUBuffer]:
+        """What the pixels group binds: the guide sums too where guides are on."""
+        resources = {"rng_states": self._rng, "accumulation": self._accumulation}
+        if self._guide_sums is not None:
+            resources["guide_sums"] = self._guide_sums
+        return resources
+
+    def _new_guide_sums(self) -> wgpu.GPUBuffer:
+        """Zeroed guide sums: two Kahan sums per pixel, the albedo's and the normal's (gpu/bindings.py pixels_group)."""
+        return storage_buffer(
+            self.context, "guide sums", ACCUMULATED_PIXEL.zeros(2 * self.width * self.height), read_back=True
+        )
+
+    @property
+    def guides_enabled(self) -> bool:
+        """Whether every sample also accumulates the denoiser's guides (`guides()`)."""
+        return self._guides
+
+    @guides_enabled.setter
+    def guides_enabled(self, enabled: bool) -> None:
+        """Switch the guides on or off: compiles or chooses the kernel variant, allocates or frees
+        the guide sums, and restarts accumulation (the samples so far have no guides to match)."""
+        enabled = bool(enabled)
+        if enabled == self._guides:
+            return
+        self._guides = enabled
+        if enabled:
+            self._guide_sums = self._new_guide_sums()
+        else:
+            self._guide_sums.destroy()
+            self._guide_sums = None
+        self.kernel = self.kernel_variant()
+        self._bind()
+        self.restart()
 
     def restart(self) -> None:
         """Forget all samples and put every pixel's random sequence back at the seed, on the GPU: the
         samples that follow repeat the first ones bit for bit."""
         encoder = self._device.create_command_encoder()
         encoder.clear_buffer(self._accumulation)
+        if self._guide_sums is not None:
+            encoder.clear_buffer(self._guide_sums)
         encoder.copy_buffer_to_buffer(self._rng_at_seed, 0, self._rng, 0, self._rng.size)
         self.context.submit(encoder, "restarting accumulation")
         self.stats = RenderStats()
 
     def kernel_variant(self, **options) -> ComputeKernel:
         """This renderer's path tracer (acceleration, integrator, overrides, material kinds, stack
-        size) compiled with other `path_tracer_kernel` options, e.g. count_rays=True."""
+        size, guides on or off) compiled with other `path_tracer_kernel` options, e.g. count_rays=True."""
         return path_tracer_kernel(
             self.context,
             self.accel,
@@ -320,7 +369,7 @@ class Renderer:
             self._shader_overrides,
             material_kinds=self._kinds,
             stack_size=self._stack_size,
-            **options,
+            **{"guides": self._guides, **options},
         )
 
     @property
@@ -346,9 +395,10 @@ class Renderer:
     @property
     def resources(self) -> dict[str, object]:
         """What the bind groups hold, by binding name (the frame uniform, the scene's buffers and
-        texel views, rng_states, accumulation), for kernels that read them elsewhere (the viewer's)."""
+        texel views, rng_states, accumulation, and guide_sums where guides are on), for kernels that
+        read them elsewhere (the viewer's)."""
         scene = {name: buffer.resource for name, buffer in self._scene_buffers.items()}
-        return {"frame": self._frame.buffer, **scene, "rng_states": self._rng, "accumulation": self._accumulation}
+        return {"frame": self._frame.buffer, **scene, **self._pixel_resources()}
 
     def set_camera(self, camera: Camera) -> None:
         """Look through `camera` from now on: uploads only the frame uniform, restarts accumulation."""
@@ -425,10 +475,29 @@ class Renderer:
 
     def image(self) -> np.ndarray:
         """The mean of all samples so far: float32 (height, width, 3), linear radiance, row 0 on top."""
-        pixels = self._accumulated()
-        total = pixels["sum"][:, :3].astype(np.float64) - pixels["compensation"][:, :3]
-        mean = total / max(self.stats.samples_per_pixel, 1)
-        return mean.astype(np.float32).reshape(self.height, self.width, 3)
+        return self._mean(self._accumulated()).reshape(self.height, self.width, 3)
+
+    def _mean(self, sums: np.ndarray) -> np.ndarray:
+        """float32 (n, 3): the means of n Kahan sums (ACCUMULATED_PIXEL records) over the samples so far."""
+        total = sums["sum"][:, :3].astype(np.float64) - sums["compensation"][:, :3]
+        return (total / max(self.stats.samples_per_pixel, 1)).astype(np.float32)
+
+    def guides(self) -> dict[str, np.ndarray]:
+        """The denoiser's guides, means over the same samples as `image()` (a sample it dropped adds
+        zero to them too): "albedo" in [0, 1] and "normal" in [-1, 1], float32 (height, width, 3).
+        Each sample gives the albedo and the shading normal (world space, facing the camera's ray)
+        of its path's first vertex that is not a mirror or glass (shaders/path_guides.wgsl); zero
+        where it escaped or ended before one. Normals are means, not renormalised: Open Image
+        Denoise takes them as they are."""
+        if self._guide_sums is None:
+            raise ValueError("guides are off: make the Renderer with guides=True or set guides_enabled = True first")
+        pixels = self.width * self.height
+        sums = read_buffer(self.context, self._guide_sums, ACCUMULATED_PIXEL.dtype, 2 * pixels).reshape(pixels, 2)
+        shape = (self.height, self.width, 3)
+        # the float32 means of values within the bounds can round past them by an ulp
+        albedo = np.clip(self._mean(sums[:, 0]), 0.0, 1.0).reshape(shape)
+        normal = np.clip(self._mean(sums[:, 1]), -1.0, 1.0).reshape(shape)
+        return {"albedo": albedo, "normal": normal}
 
     @property
     def nonfinite_samples(self) -> int:
@@ -455,6 +524,8 @@ class Renderer:
     def reset(self) -> None:
         """Forget all samples (the random sequence continues, so new samples are independent)."""
         write_buffer(self.context, self._accumulation, 0, ACCUMULATED_PIXEL.zeros(self.width * self.height))
+        if self._guide_sums is not None:
+            write_buffer(self.context, self._guide_sums, 0, ACCUMULATED_PIXEL.zeros(2 * self.width * self.height))
         self.stats = RenderStats()
 
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..gpu.bindings import IMAGE_WORKGROUP
 from ..gpu.buffers import uniform_buffer, write_buffer
+from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL
 from ..render.renderer import Renderer
 from ..scene import Camera
@@ -37,8 +38,6 @@ class BandedRenderer:
         self.renderer = renderer
         self.context = renderer.context
         self.full_size = (renderer.width, renderer.height)
-        # the renderer's own path tracer (material kinds, overrides), compiled once more with this entry point
-        self.kernel = renderer.kernel_variant(rows=True)
         self._band = uniform_buffer(self.context, "band first row", np.zeros(1, np.uint32))
         self._band_group = self.kernel.bind("band", band_first_row=self._band)
         self.size = self.full_size
@@ -55,6 +54,12 @@ class BandedRenderer:
         # sample; a band starting below the last row compiles it and touches no pixel
         write_buffer(self.context, self._band, 0, np.array([self.full_size[1]], np.uint32))
         self.kernel.dispatch((1, 1), self._bind_groups, wait=True)
+
+    @property
+    def kernel(self) -> ComputeKernel:
+        """The renderer's own path tracer as it is now (material kinds, overrides, guides on or off),
+        compiled once more with the band-of-rows entry point (cached per variant)."""
+        return self.renderer.kernel_variant(rows=True)
 
     @property
     def _bind_groups(self) -> dict:
@@ -80,6 +85,8 @@ class BandedRenderer:
         encoder = self.context.device.create_command_encoder()
         # only the pixels that will be traced: clearing 10 MB per frame while moving costs time
         encoder.clear_buffer(resources["accumulation"], 0, width * height * ACCUMULATED_PIXEL.size)
+        if "guide_sums" in resources:
+            encoder.clear_buffer(resources["guide_sums"], 0, 2 * width * height * ACCUMULATED_PIXEL.size)
         self.context.submit(encoder, "the viewer's restart")
         self.size, self.samples_per_pixel, self.rows_done = (width, height), 0, 0
         self._touched = (0, height)
