@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set up wgputrace on a fresh Debian/Ubuntu machine: system packages, then a virtual environment
-# in .venv with the package and its test extras. Safe to run again.
+# in .venv with the package and its test, bench and denoise extras. Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -22,4 +22,5 @@ fi
 
 python3 -m venv .venv
 .venv/bin/python -m pip install -q --upgrade pip
-.venv/bin/python -m pip install -q ".[test,bench]"
+# denoise: Intel Open Image Denoise, so that its tests (tests/denoise) run rather than skip
+.venv/bin/python -m pip install -q ".[test,bench,denoise]"
