@@ -8,13 +8,15 @@ What OIDN gets, and why:
   [-1, 1] of the first non-specular hit, averaged over the same samples as the image (so they are
   anti-aliased like it). OIDN takes a normal only beside an albedo.
 - Our guides are noisy wherever a pixel's samples disagree about what they see: behind glass (each
-  sample refracts or reflects at random) and at edges. OIDN offers two
-  ways with noisy guides: pass them as noisy (`cleanAux` off), or denoise each with its own `RT`
-  filter first and pass the results as clean (`cleanAux` on). We always prefilter: against the
-  Mitsuba references at 128x128, 1 to 16 spp, guides passed as noisy came out 3 to 6 dB below
-  colour-only denoising on the glass scene (OIDN copies their noise into the picture) and 0.2 to
-  1.3 dB below prefiltered guides on the Cornell box and the glossy spheres, at every quality.
-  Prefiltering costs two more filter runs (see bench/ for the cost per megapixel).
+  sample refracts or reflects at random) and at edges. OIDN offers two ways with noisy guides:
+  pass them as noisy (`cleanAux` off), or denoise each with its own `RT` filter first and pass
+  the results as clean (`cleanAux` on). We always prefilter: against the Mitsuba references at
+  128x128 and 1, 4 and 16 spp, guides passed as noisy came out 2 to 5.4 dB below colour-only
+  denoising on the glass scene (OIDN copies their noise into the picture), where prefiltered ones
+  matched it, and prefiltered guides did as well as noisy ones or better on the Cornell box and
+  the glossy spheres (-0.05 to +1.3 dB), at every quality. The price: two more filter runs, and
+  at "high" a larger network for clean guides: on two CPU cores guided denoising cost about 7
+  times colour-only at "high" and 3 times at "balanced" and "fast".
 - Never a non-finite or negative pixel: one NaN spreads through the network's receptive field
   (three-gpu-pathtracer issue 777), so every input is checked here first and a bad one is a
   ValueError naming the array and its first bad pixel.
