@@ -3,14 +3,17 @@ what a missing pyoidn says."""
 
 from __future__ import annotations
 
+import importlib
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 
-from wgputrace import denoise as denoise_module
 from wgputrace.denoise import DenoiserMissing, denoise, denoiser_available, denoiser_device
+
+# The module itself: `wgputrace.denoise` as an attribute is the function once the package exports it.
+denoise_module = importlib.import_module("wgputrace.denoise")
 
 SIZE = 8
 
