@@ -21,7 +21,7 @@ CHECKOUT = PACKAGE.parent
 # Lowest first; a module may import its own layer and the ones below. The key is the first name
 # below `wgputrace` ("" for the package itself, whose __init__ is the public API).
 LAYERS: tuple[frozenset[str], ...] = (
-    frozenset({"scene", "bvh", "image_io"}),  # pure numpy
+    frozenset({"scene", "bvh", "image_io", "denoise"}),  # pure numpy (denoise: and pyoidn)
     frozenset({"loaders", "scenes", "reference"}),  # scenes from files and names, and to Mitsuba
     frozenset({"gpu"}),  # the only layer that talks to wgpu's device
     frozenset({"render", "provenance", ""}),

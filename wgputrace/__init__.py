@@ -8,6 +8,7 @@ wt.save_image("out.exr", img)
 
 from importlib.metadata import version
 
+from .denoise import DenoiserMissing, denoise
 from .gpu.device import DeviceLimitError, GpuFailure
 from .image_io import load_image, save_image
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
@@ -26,6 +27,7 @@ __version__ = version("wgputrace")
 __all__ = [
     "UNLIMITED_DEPTH",
     "Camera",
+    "DenoiserMissing",
     "DeviceLimitError",
     "GpuFailure",
     "Renderer",
@@ -34,6 +36,7 @@ __all__ = [
     "SceneLoadWarning",
     "Shape",
     "default_scene",
+    "denoise",
     "load_image",
     "load_scene",
     "make_box",
