@@ -1,7 +1,9 @@
 """Images to files: PNG (tone-mapped sRGB, 8 bit), EXR (linear float) or NPY (linear float32),
 chosen by the file's extension, with text metadata: PNG text chunks, EXR string attributes, and
 for an .npy a sidecar JSON file named after it (`out.npy.json`, so it cannot be taken for another
-file's and sorts beside its image).
+file's and sorts beside its image). An EXR can carry more images as layers beside its main RGB
+(`layers`: the channels `<layer>.R`, `.G`, `.B`, as OpenEXR names layered channels, which
+exrheader, Nuke and Blender show as layers); load_image reads the main RGB, load_layers the rest.
 
 Every file is written whole or not at all: into a hidden temporary file in the target's folder
 (`.out.png.<random>.tmp`; the same folder, so the same filesystem, where os.replace is atomic),
@@ -12,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import secrets
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -22,6 +25,10 @@ import numpy as np
 FORMATS = (".png", ".exr", ".npy")
 SIDECAR_SUFFIX = ".json"
 TEMPORARY_SUFFIX = ".tmp"
+# An EXR layer's name: words joined by dots (OpenEXR's nested layers, "light.key"), each channel
+# of the layer named `<name>.R` and so on.
+_LAYER_NAME = re.compile(r"\w+(\.\w+)*")
+_RGB = "RGB"
 
 # Header attributes the EXR writer sets itself (or OpenEXR derives from the pixels): metadata under
 # these names would be lost or break the file.
@@ -66,6 +73,22 @@ def _check(image: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(image, dtype=np.float32)
 
 
+def _check_layers(path: Path, image: np.ndarray, layers: Mapping[str, np.ndarray] | None) -> dict[str, np.ndarray]:
+    """The layers as float32 (H, W, 3) arrays of the image's shape, by valid names; only an EXR has any."""
+    layers = dict(layers or {})
+    if layers and path.suffix.lower() != ".exr":
+        raise ValueError(f"{path}: only .exr files carry layers ({', '.join(layers)}); write an .exr")
+    checked = {}
+    for name, layer in layers.items():
+        if not isinstance(name, str) or not _LAYER_NAME.fullmatch(name):
+            raise ValueError(f"{path}: layer name {name!r} must be letters, digits or _, parts joined by dots")
+        layer = np.asarray(layer)
+        if layer.shape != image.shape:
+            raise ValueError(f"{path}: layer {name!r} has shape {layer.shape} but the image {image.shape}")
+        checked[name] = np.ascontiguousarray(layer, dtype=np.float32)
+    return checked
+
+
 def _format(path: Path) -> str:
     suffix = path.suffix.lower()
     if suffix not in FORMATS:
@@ -99,8 +122,11 @@ def _temporary_beside(target: Path) -> Iterator[Path]:
 
 
 # Each writer writes the whole file at the temporary path it is given, whose name says nothing of
-# the format: the format is passed explicitly or implied by the writer.
-def _write_png(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+# the format: the format is passed explicitly or implied by the writer. Only an EXR has layers
+# (save_image refuses them for the other formats, whose writers get none).
+def _write_png(
+    path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str], layers: dict[str, np.ndarray]
+) -> None:
     from PIL import Image, PngImagePlugin
 
     text = PngImagePlugin.PngInfo()
@@ -109,20 +135,31 @@ def _write_png(path: Path, image: np.ndarray, exposure: float, metadata: dict[st
     Image.fromarray(tonemap(image, exposure), mode="RGB").save(path, format="PNG", pnginfo=text)
 
 
-def _write_exr(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+def _write_exr(
+    path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str], layers: dict[str, np.ndarray]
+) -> None:
     import OpenEXR
 
     header = {**metadata, "compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    with OpenEXR.File(header, {"RGB": image}) as exr:
+    # One array per channel, named in full: OpenEXR's python writer names the channels of an
+    # (H, W, 3) array under the key "raw.RGB" "raw.RGB.R", "raw.RGB.G", ..., not "raw.R".
+    channels = {
+        f"{name}.{letter}": np.ascontiguousarray(layer[..., index])
+        for name, layer in layers.items()
+        for index, letter in enumerate(_RGB)
+    }
+    with OpenEXR.File(header, {_RGB: image, **channels}) as exr:
         exr.write(str(path))
 
 
-def _write_npy(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+def _write_npy(
+    path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str], layers: dict[str, np.ndarray]
+) -> None:
     with open(path, "wb") as file:  # a file object: np.save would append ".npy" to the temporary's name
         np.save(file, image)
 
 
-_WRITERS: dict[str, Callable[[Path, np.ndarray, float, dict[str, str]], None]] = {
+_WRITERS: dict[str, Callable[[Path, np.ndarray, float, dict[str, str], dict[str, np.ndarray]], None]] = {
     ".png": _write_png,
     ".exr": _write_exr,
     ".npy": _write_npy,
@@ -143,18 +180,25 @@ def _replace_npy(temporary: Path, path: Path, metadata: dict[str, str]) -> None:
 
 
 def save_image(
-    path: str | Path, image: np.ndarray, exposure: float = 1.0, metadata: Mapping[str, str] | None = None
+    path: str | Path,
+    image: np.ndarray,
+    exposure: float = 1.0,
+    metadata: Mapping[str, str] | None = None,
+    layers: Mapping[str, np.ndarray] | None = None,
 ) -> Path:
     """Write a linear (H, W, 3) image atomically; the extension picks the format (.png, .exr,
     .npy). `metadata` (str to str) goes into the file, or for an .npy into its sidecar
-    `sidecar_path(path)` (an old sidecar is removed when there is none)."""
+    `sidecar_path(path)` (an old sidecar is removed when there is none). `layers` (EXR only): more
+    linear images of the same shape by layer name ("raw", "albedo"), written as the channels
+    `<name>.R`, `<name>.G`, `<name>.B` beside the image's R, G, B."""
     path = Path(path)
     image = _check(image)
     suffix = _format(path)
     metadata = _check_metadata(path, metadata)
+    layers = _check_layers(path, image, layers)
     path.parent.mkdir(parents=True, exist_ok=True)
     with _temporary_beside(path) as temporary:
-        _WRITERS[suffix](temporary, image, exposure, metadata)
+        _WRITERS[suffix](temporary, image, exposure, metadata, layers)
         if suffix == ".npy":
             _replace_npy(temporary, path, metadata)
         else:
@@ -172,11 +216,29 @@ def load_image(path: str | Path) -> np.ndarray:
         import OpenEXR
 
         with OpenEXR.File(str(path)) as exr:
-            return _check(exr.channels()["RGB"].pixels)
+            return _check(exr.channels()[_RGB].pixels)
     from PIL import Image
 
     encoded = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
     return _check(np.where(encoded <= 0.04045, encoded / 12.92, ((encoded + 0.055) / 1.055) ** 2.4))
+
+
+def load_layers(path: str | Path) -> dict[str, np.ndarray]:
+    """The layers of an EXR file (save_image's `layers`): linear float32 (H, W, 3) by name, for
+    every layer holding R, G and B channels; {} for a file with none."""
+    path = Path(path)
+    if _format(path) != ".exr":
+        raise ValueError(f"{path}: only .exr files carry layers")
+    import OpenEXR
+
+    with OpenEXR.File(str(path), separate_channels=True) as exr:
+        channels = {name: channel.pixels for name, channel in exr.channels().items()}
+    names = {name.rpartition(".")[0] for name in channels if "." in name}
+    return {
+        name: _check(np.stack([channels[f"{name}.{letter}"] for letter in _RGB], axis=2))
+        for name in sorted(names)
+        if all(f"{name}.{letter}" in channels for letter in _RGB)
+    }
 
 
 def read_text_metadata(path: str | Path) -> dict[str, str]:
