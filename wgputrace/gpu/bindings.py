@@ -24,6 +24,10 @@ IMAGE_WORKGROUP = (8, 8)
 ARRAY_WORKGROUP = (64, 1)
 GENERATED_WORKGROUP = "generated/workgroup.wgsl"
 
+# A small struct of parameters every invocation reads (the frame, a filter's settings). Declared
+# as a read-only storage struct, not var<uniform>: Mesa 22.3's lavapipe (Debian 12) keeps about
+# 1 MiB of host memory per dispatch of the path tracer when it reads a uniform buffer, without
+# end (bench/README.md, the soak log); storage reads of it cost nothing measurable there.
 UNIFORM = "uniform"
 STORAGE_READ = "storage read"
 STORAGE_READ_WRITE = "storage read_write"
@@ -64,7 +68,7 @@ class Binding:
 
     def wgsl(self, group: int, slot: int) -> str:
         address = {
-            UNIFORM: f"<uniform> {self.name}: {self._type}",
+            UNIFORM: f"<storage, read> {self.name}: {self._type}",
             STORAGE_READ: f"<storage, read> {self.name}: array<{self._type}>",
             STORAGE_READ_WRITE: f"<storage, read_write> {self.name}: array<{self._type}>",
             ATOMIC_COUNTERS: f"<storage, read_write> {self.name}: array<atomic<u32>>",
@@ -80,7 +84,7 @@ class Binding:
     def layout_entry(self, slot: int, visibility: int) -> dict:
         entry: dict = {"binding": slot, "visibility": visibility}
         buffer_types = {
-            UNIFORM: wgpu.BufferBindingType.uniform,
+            UNIFORM: wgpu.BufferBindingType.read_only_storage,
             STORAGE_READ: wgpu.BufferBindingType.read_only_storage,
             STORAGE_READ_WRITE: wgpu.BufferBindingType.storage,
             ATOMIC_COUNTERS: wgpu.BufferBindingType.storage,

@@ -39,10 +39,16 @@ def storage_buffer(context: GpuContext, label: str, data: np.ndarray, *, read_ba
     return buffer
 
 
+# Parameter structs (bindings.py UNIFORM) are bound as read-only storage: see bindings.py for why.
+PARAMETER_USAGE = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST
+PARAMETER_BINDING_LIMIT = "max-storage-buffer-binding-size"
+
+
 def uniform_buffer(context: GpuContext, label: str, data: np.ndarray) -> wgpu.GPUBuffer:
+    """A buffer for a parameter struct (a UNIFORM binding of gpu/bindings.py) holding `data`."""
     data = np.ascontiguousarray(data)
-    context.require("max-uniform-buffer-binding-size", data.nbytes, f"uniform {label!r}")
-    buffer = create_buffer(context, label, data.nbytes, wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST)
+    context.require(PARAMETER_BINDING_LIMIT, data.nbytes, f"parameters {label!r}")
+    buffer = create_buffer(context, label, max(data.nbytes, MIN_BUFFER_BYTES), PARAMETER_USAGE)
     write_buffer(context, buffer, 0, data)
     return buffer
 
