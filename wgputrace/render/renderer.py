@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
+from ..denoise import denoise
 from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, pixels_group, scene_group
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
@@ -177,7 +178,7 @@ class Renderer:
         self.context = gpu()
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before anything is allocated and before the BVH build, which takes seconds for millions of triangles
-        check_image_size(self.context, width, height)
+        check_image_size(self.context, width, height, guides)
         check_scene_size(self.context, scene, accel)
         self._mirror = SceneMirror(scene, accel)
         self.accel = accel
@@ -338,12 +339,13 @@ class Renderer:
         enabled = bool(enabled)
         if enabled == self._guides:
             return
-        self._guides = enabled
         if enabled:
+            check_image_size(self.context, self.width, self.height, guides=True)
             self._guide_sums = self._new_guide_sums()
         else:
             self._guide_sums.destroy()
             self._guide_sums = None
+        self._guides = enabled
         self.kernel = self.kernel_variant()
         self._bind()
         self.restart()
@@ -473,9 +475,18 @@ class Renderer:
     def _accumulated(self) -> np.ndarray:
         return read_buffer(self.context, self._accumulation, ACCUMULATED_PIXEL.dtype, self.width * self.height)
 
-    def image(self) -> np.ndarray:
-        """The mean of all samples so far: float32 (height, width, 3), linear radiance, row 0 on top."""
-        return self._mean(self._accumulated()).reshape(self.height, self.width, 3)
+    def image(self, denoised: bool = False) -> np.ndarray:
+        """The mean of all samples so far: float32 (height, width, 3), linear radiance, row 0 on top.
+
+        `denoised`: that mean denoised by Intel Open Image Denoise (`wgputrace.denoise`), guided by
+        `guides()` where guides are on, else from the colour alone (guides help most at edges and
+        behind glass: make the Renderer with guides=True). Needs the `denoise` extra (raises
+        DenoiserMissing without it). Dropped samples never reach the denoiser (the mean counts them
+        as zero), and denoise refuses any non-finite or negative pixel with a ValueError naming it."""
+        image = self._mean(self._accumulated()).reshape(self.height, self.width, 3)
+        if not denoised:
+            return image
+        return denoise(image, **(self.guides() if self._guides else {}))
 
     def _mean(self, sums: np.ndarray) -> np.ndarray:
         """float32 (n, 3): the means of n Kahan sums (ACCUMULATED_PIXEL records) over the samples so far."""
