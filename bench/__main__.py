@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from bench.common import RESULTS_DIR, SETTINGS_KEYS, Run, mitsuba_missing, result_stem, write_result
+from wgputrace.denoise import INSTALL_HINT, denoiser_available
 
 
 @dataclass(frozen=True)
@@ -133,6 +134,60 @@ def traversal_ceiling_targets(result: dict) -> list[Target]:
     ]
 
 
+def denoise_targets(result: dict) -> list[Target]:
+    usable = str(result["usable_spp"])
+    rows = []
+    for scene, entry in result["scenes"].items():
+        psnr = " / ".join(f"{entry['psnr'][method][usable]['mean']:.1f}" for method in entry["psnr"])
+        rows.append(
+            Target("denoise", f"PSNR at {usable} spp, raw / a-trous / OIDN / OIDN guided ({scene})", f"{psnr} dB")
+        )
+        picture = entry["usable_picture"]["oidn_guided"]
+        raw = (
+            f"{picture['raw_seconds']:.2f} s"
+            if picture["raw_seconds"] is not None
+            else f"> {picture['raw_cap_seconds']:.2f} s (not reached at {picture['raw_cap_spp']} spp)"
+        )
+        rows.append(
+            Target(
+                "denoise",
+                f"usable picture ({picture['target_psnr_db']:.1f} dB): guided OIDN at {usable} spp, raw ({scene})",
+                f"{picture['denoised_seconds']:.2f} s, {raw}",
+            )
+        )
+    for method in ("oidn_color", "oidn_guided"):
+        worst_scene, worst = max(
+            ((scene, entry["bias"][method]["against_reference"]) for scene, entry in result["scenes"].items()),
+            key=lambda pair: pair[1]["largest"],
+        )
+        limit = next(iter(result["scenes"].values()))["bias"]["limit"]
+        rows.append(
+            Target(
+                "denoise",
+                f"{method}: largest 32-px block mean shift against the reference at {result['cap_spp']} spp "
+                f"(worst scene: {worst_scene})",
+                f"{worst['largest']:.2%}",
+                f"<= {limit:.0%}",
+                worst["largest"] <= limit,
+            )
+        )
+    costs = result["denoiser_cost"]["costs"]
+    rows.append(
+        Target(
+            "denoise",
+            f"denoiser s/MP, colour / guided (quality {result['quality']}, {result['denoiser_device']})",
+            f"{costs[result['quality'] + '/color']['seconds_per_megapixel']:.2f} / "
+            f"{costs[result['quality'] + '/guided']['seconds_per_megapixel']:.2f}",
+        )
+    )
+    return rows
+
+
+def denoiser_missing() -> str | None:
+    """Why the denoising benchmark cannot run here, or None."""
+    return None if denoiser_available() else f"Intel Open Image Denoise is missing: {INSTALL_HINT}"
+
+
 @dataclass(frozen=True)
 class Benchmark:
     name: str  # the module bench.<name>, which has main(argv) and files its result under this name
@@ -223,6 +278,30 @@ BENCHMARKS = (
         ("--spp", "64", "--primary-spp", "256", "--repeats", "5"),
         traversal_ceiling_targets,
         skip_reason=mitsuba_missing,
+    ),
+    Benchmark(
+        "denoise",
+        (
+            "--scenes",
+            "cornell",
+            "glossy_spheres",
+            "glass_grazing",
+            "--repeats",
+            "1",
+            "--cap-spp",
+            "256",
+            "--rounds",
+            "2",
+            "--round-spp",
+            "4",
+            "--denoise-size",
+            "256x256",
+            "--denoise-repeats",
+            "2",
+        ),
+        ("--repeats", "8", "--cap-spp", "16384", "--round-spp", "256", "--denoise-size", "1024x1024"),
+        denoise_targets,
+        skip_reason=denoiser_missing,
     ),
     Benchmark("soak", ("--minutes", "1", "--cycles", "1000"), (), soak_targets, in_default_run=False),
 )
