@@ -122,11 +122,9 @@ def _temporary_beside(target: Path) -> Iterator[Path]:
 
 
 # Each writer writes the whole file at the temporary path it is given, whose name says nothing of
-# the format: the format is passed explicitly or implied by the writer. Only an EXR has layers
-# (save_image refuses them for the other formats, whose writers get none).
-def _write_png(
-    path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str], layers: dict[str, np.ndarray]
-) -> None:
+# the format: the format is passed explicitly or implied by the writer. Only the EXR writer takes
+# layers, and gets them only when there are some (save_image refuses them for the other formats).
+def _write_png(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
     from PIL import Image, PngImagePlugin
 
     text = PngImagePlugin.PngInfo()
@@ -136,7 +134,11 @@ def _write_png(
 
 
 def _write_exr(
-    path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str], layers: dict[str, np.ndarray]
+    path: Path,
+    image: np.ndarray,
+    exposure: float,
+    metadata: dict[str, str],
+    layers: Mapping[str, np.ndarray] | None = None,
 ) -> None:
     import OpenEXR
 
@@ -145,21 +147,19 @@ def _write_exr(
     # (H, W, 3) array under the key "raw.RGB" "raw.RGB.R", "raw.RGB.G", ..., not "raw.R".
     channels = {
         f"{name}.{letter}": np.ascontiguousarray(layer[..., index])
-        for name, layer in layers.items()
+        for name, layer in (layers or {}).items()
         for index, letter in enumerate(_RGB)
     }
     with OpenEXR.File(header, {_RGB: image, **channels}) as exr:
         exr.write(str(path))
 
 
-def _write_npy(
-    path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str], layers: dict[str, np.ndarray]
-) -> None:
+def _write_npy(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
     with open(path, "wb") as file:  # a file object: np.save would append ".npy" to the temporary's name
         np.save(file, image)
 
 
-_WRITERS: dict[str, Callable[[Path, np.ndarray, float, dict[str, str], dict[str, np.ndarray]], None]] = {
+_WRITERS: dict[str, Callable[..., None]] = {
     ".png": _write_png,
     ".exr": _write_exr,
     ".npy": _write_npy,
@@ -198,7 +198,7 @@ def save_image(
     layers = _check_layers(path, image, layers)
     path.parent.mkdir(parents=True, exist_ok=True)
     with _temporary_beside(path) as temporary:
-        _WRITERS[suffix](temporary, image, exposure, metadata, layers)
+        _WRITERS[suffix](temporary, image, exposure, metadata, **({"layers": layers} if layers else {}))
         if suffix == ".npy":
             _replace_npy(temporary, path, metadata)
         else:
