@@ -5,7 +5,8 @@
 Every error is one line on stderr, `--debug` adds its traceback. Exit status: 0 done; 2 bad use (the
 arguments, the scene, more than the device allows); 1 a failure while rendering or writing; 130 or
 143 stopped by SIGINT or SIGTERM. The first of those during a render stops it after the dispatch in
-flight and writes the samples done; a second aborts at once, writing nothing."""
+flight and writes the samples done (denoised, with --denoise); a second aborts at once, writing
+nothing."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ import os
 import signal
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -33,6 +35,8 @@ from .loaders import load_scene
 from .render.interrupts import Aborted, Interrupted, deferred_signals, exit_status, signal_name, signals_abort
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from .render import Renderer
 
 EXIT_FAILURE, EXIT_BAD_USE = 1, 2
@@ -40,6 +44,9 @@ DEFAULT_SPP = 64
 # What stops a render early and is written into the file's metadata (stopped_by) and the summary
 STOPPING_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 TIME_LIMIT = "time limit"
+# What --denoise adds to the provenance metadata (provenance.NAMESPACE keys): the denoiser, and the
+# OIDN device it ran on.
+DENOISED_BY = "oidn"
 
 
 def argument_parser() -> argparse.ArgumentParser:
@@ -77,6 +84,12 @@ def argument_parser() -> argparse.ArgumentParser:
         help="direct light by BSDF sampling, light sampling, or both with MIS (default)",
     )
     render.add_argument(
+        "--denoise",
+        action="store_true",
+        help="denoise the image with Intel Open Image Denoise, guided by albedo and normal (needs "
+        'pip install "wgputrace[denoise]"); an .exr keeps the raw image and the guides as layers',
+    )
+    render.add_argument(
         "-o", "--output", type=image_path, default="render.png", help=f"output file ({', '.join(FORMATS)})"
     )
 
@@ -101,12 +114,45 @@ def _check_output(path: Path) -> None:
         raise ValueError(f"{path}: cannot be written, {existing} is not writable")
 
 
+def _denoiser_device() -> str:
+    """The OIDN device --denoise will run on; without the denoise extra, a ValueError (bad use)
+    saying how to install it and what works without it."""
+    from .denoise import DenoiserMissing, denoiser_device
+
+    try:
+        return denoiser_device()
+    except DenoiserMissing as missing:
+        raise ValueError(
+            f"--denoise: {missing}; without it, the viewer's a-trous filter (wgputrace view --filter) "
+            "is the dependency-free choice"
+        ) from None
+
+
+@dataclass
+class _Denoised:
+    """The renderer's image denoised, what an EXR keeps beside it as layers, and the denoiser's time."""
+
+    image: np.ndarray
+    layers: dict[str, np.ndarray]
+    seconds: float
+
+
+def _denoised(renderer: Renderer) -> _Denoised:
+    from .denoise import denoise
+
+    raw, guides = renderer.image(), renderer.guides()
+    start = time.perf_counter()
+    image = denoise(raw, **guides)
+    return _Denoised(image, {"raw": raw, **guides}, time.perf_counter() - start)
+
+
 def _render(args: argparse.Namespace) -> int:
     from .gpu.device import gpu
-    from .provenance import render_metadata
+    from .provenance import NAMESPACE, render_metadata
     from .render import Renderer
 
     _check_output(args.output)
+    denoiser_device = _denoiser_device() if args.denoise else None
     load_start = time.perf_counter()
     scene = load_scene(args.scene)
     load_seconds = time.perf_counter() - load_start
@@ -114,19 +160,34 @@ def _render(args: argparse.Namespace) -> int:
     context = gpu()
     start = time.perf_counter()
     renderer = Renderer(
-        scene, width, height, seed=args.seed, max_depth=args.max_depth, accel=args.accel, integrator=args.integrator
+        scene,
+        width,
+        height,
+        seed=args.seed,
+        max_depth=args.max_depth,
+        accel=args.accel,
+        integrator=args.integrator,
+        guides=args.denoise,
     )
     setup_seconds = time.perf_counter() - start
     spp = DEFAULT_SPP if args.spp is None and args.time_limit is None else args.spp
-    path = None
+    path = denoised = None
+    keeps_layers = args.output.suffix.lower() == ".exr"
     # From here a first SIGINT or SIGTERM ends the render after the dispatch in flight and the
-    # samples done are still written; a second aborts at once, and save_image leaves no partial file.
+    # samples done are still written (and denoised); a second aborts at once, the denoiser included,
+    # and save_image leaves no partial file.
     with deferred_signals(*STOPPING_SIGNALS) as deferral:
         try:
             stopped_by = _render_with_progress(renderer, spp, args.time_limit)
             if renderer.samples_per_pixel:
                 metadata = render_metadata(renderer, args.scene, renderer.stats.render_seconds, stopped_by=stopped_by)
-                path = save_image(args.output, renderer.image(), exposure=args.exposure, metadata=metadata)
+                if denoiser_device is None:
+                    image, layers = renderer.image(), None
+                else:
+                    denoised = _denoised(renderer)
+                    image, layers = denoised.image, denoised.layers if keeps_layers else None
+                    metadata |= {NAMESPACE + "denoised": DENOISED_BY, NAMESPACE + "denoiser_device": denoiser_device}
+                path = save_image(args.output, image, exposure=args.exposure, metadata=metadata, layers=layers)
         except Aborted as abort:
             _tell(f"wgputrace: second signal ({signal_name(abort.signal)}): aborted, {args.output} not written")
             return exit_status(abort.signal)
@@ -151,6 +212,12 @@ def _render(args: argparse.Namespace) -> int:
         f"{stats.samples_per_second * width * height / 1e6:.3f} M samples/s"
         + ("" if stopped_by is None else f", stopped by {stopped_by}")
     )
+    if denoised is not None:
+        print(
+            f"denoised         Intel Open Image Denoise on {denoiser_device}, guided by albedo and normal, "
+            f"in {denoised.seconds:.2f} s"
+            + (f"; {args.output.name} keeps {', '.join(denoised.layers)} as layers" if keeps_layers else "")
+        )
     if renderer.nonfinite_samples:
         print(f"non-finite       {renderer.nonfinite_samples} samples were NaN or infinite and counted as zero")
     if renderer.cut_short_samples:
