@@ -24,6 +24,8 @@ Every value is a string; each key is written as `wgputrace:<key>`:
 | nonfinite_samples | samples dropped (counted as zero) for being NaN or infinite             |
 | cut_short_samples | samples dropped because the driver's loop budget may have cut them      |
 | stopped_by        | SIGINT, SIGTERM or time limit, when the render stopped before its spp   |
+| denoised          | oidn, when the image was denoised (`wgputrace render --denoise`)        |
+| denoiser_device   | the OIDN device that denoised it (CPU, CUDA)                            |
 | date              | when the metadata was made, UTC, ISO 8601                               |
 """
 
@@ -66,6 +68,8 @@ KEYS = (
     "nonfinite_samples",
     "cut_short_samples",
     "stopped_by",
+    "denoised",
+    "denoiser_device",
     "date",
 )
 PYTHON_SCENE = "python"

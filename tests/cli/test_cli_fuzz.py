@@ -57,9 +57,9 @@ any_option = st.one_of(
     good_option,
     options(BAD),
     st.sampled_from(sorted(GOOD)).flatmap(lambda name: garbage.map(lambda value: [name, value])),
-    st.sampled_from([["--bogus"], ["--spp"], ["-o"], ["--help"], garbage.map(lambda word: [word])]).flatmap(
-        lambda words: words if isinstance(words, st.SearchStrategy) else st.just(words)
-    ),
+    st.sampled_from(
+        [["--denoise"], ["--bogus"], ["--spp"], ["-o"], ["--help"], garbage.map(lambda word: [word])]
+    ).flatmap(lambda words: words if isinstance(words, st.SearchStrategy) else st.just(words)),
 )
 good_scene = st.sampled_from(["cornell", "tiny_light", "axis_boxes", "glossy_spheres", "cornell_1e-4"])
 any_scene = st.one_of(good_scene, st.sampled_from(["nowhere", *SCENE_FILES]), garbage)
