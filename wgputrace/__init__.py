@@ -10,7 +10,7 @@ from importlib.metadata import version
 
 from .denoise import DenoiserMissing, denoise
 from .gpu.device import DeviceLimitError, GpuFailure
-from .image_io import load_image, save_image
+from .image_io import load_image, load_layers, save_image
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
@@ -38,6 +38,7 @@ __all__ = [
     "default_scene",
     "denoise",
     "load_image",
+    "load_layers",
     "load_scene",
     "make_box",
     "make_icosphere",
