@@ -6,6 +6,10 @@ A pass over the whole image adds one sample per pixel. When a pass takes longer 
 next call goes on below it; when it takes less, a call renders as many whole passes as fit.
 A reduced size traces only the top-left width x height pixels of the buffers, through a camera
 with the same field of view: the viewer's preview while the camera moves.
+
+The whole passes are counted in the renderer's own stats, so that at the full size and between
+passes the renderer's image() and guides() are the means of the samples added here (the
+viewer's denoiser reads them).
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from ..gpu.bindings import IMAGE_WORKGROUP
 from ..gpu.buffers import uniform_buffer, write_buffer
 from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL
-from ..render.renderer import Renderer
+from ..render.renderer import Renderer, RenderStats
 from ..scene import Camera
 
 # Bands are whole rows of the path tracer's workgroups.
@@ -32,7 +36,8 @@ COST_SMOOTHING = 0.3
 
 class BandedRenderer:
     """Adds samples to `renderer`'s accumulation band by band; counts them in `samples_per_pixel`
-    (whole passes) and `rows_done` (rows of the pass under way that have their sample)."""
+    (whole passes, kept in the renderer's stats) and `rows_done` (rows of the pass under way that
+    have their sample)."""
 
     def __init__(self, renderer: Renderer) -> None:
         self.renderer = renderer
@@ -41,7 +46,6 @@ class BandedRenderer:
         self._band = uniform_buffer(self.context, "band first row", np.zeros(1, np.uint32))
         self._band_group = self.kernel.bind("band", band_first_row=self._band)
         self.size = self.full_size
-        self.samples_per_pixel = 0
         self.rows_done = 0
         # seconds per pixel-sample, measured; None until the first band has run
         self.seconds_per_sample: float | None = None
@@ -66,6 +70,16 @@ class BandedRenderer:
         return {**self.renderer.bind_groups, "band": self._band_group}
 
     @property
+    def samples_per_pixel(self) -> int:
+        """Whole passes the accumulation holds: the renderer's count, which its own render() and
+        restart() keep too."""
+        return self.renderer.stats.samples_per_pixel
+
+    @samples_per_pixel.setter
+    def samples_per_pixel(self, samples: int) -> None:
+        self.renderer.stats.samples_per_pixel = samples
+
+    @property
     def reduced(self) -> bool:
         return self.size != self.full_size
 
@@ -88,7 +102,8 @@ class BandedRenderer:
         if "guide_sums" in resources:
             encoder.clear_buffer(resources["guide_sums"], 0, 2 * width * height * ACCUMULATED_PIXEL.size)
         self.context.submit(encoder, "the viewer's restart")
-        self.size, self.samples_per_pixel, self.rows_done = (width, height), 0, 0
+        self.size, self.rows_done = (width, height), 0
+        self.renderer.stats = RenderStats()
         self._touched = (0, height)
 
     def rows_for(self, seconds: float) -> int:
@@ -133,6 +148,7 @@ class BandedRenderer:
         end_row = min(first_row + band_rows, height)
         touched = self._touched or (first_row, end_row)
         self._touched = (min(touched[0], first_row), max(touched[1], end_row))
+        self.renderer.stats.render_seconds += seconds
         if first_row + band_rows >= height:
             self.samples_per_pixel += passes
             self.rows_done = 0

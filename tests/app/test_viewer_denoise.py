@@ -1,0 +1,158 @@
+"""The viewer's denoiser (Shift+D), offscreen and in a window: OIDN's picture of the resting
+camera's samples replaces the raw one once it is ready, closer to a converged render; off again,
+the raw picture is back; without pyoidn the overlay says how to install it and the a-trous filter
+serves. And when a denoise is due."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from wgputrace import Renderer, default_scene, load_image
+from wgputrace.app.viewer import DENOISER_KEY, Viewer, ViewerOptions
+from wgputrace.denoise import denoiser_available
+from wgputrace.image_io import tonemap
+from wgputrace.view.denoised import IDLE_FACTOR, SAMPLE_GROWTH, DenoiseSchedule
+
+denoise_module = importlib.import_module("wgputrace.denoise")
+
+SIZE = (96, 72)
+# The converged picture the viewer's is compared with: another seed than the viewer's.
+REFERENCE_SEED = 99
+REFERENCE_SPP = 64
+# A denoise of 96x72 pixels takes well under a second on two CPU cores; this bounds the wait on a
+# busy machine.
+DENOISE_WAIT_SECONDS = 60.0
+# OIDN's picture against the reference: its mean squared error (of the displayed sRGB codes) is
+# below this fraction of the raw mean's, of the same samples. Measured 0.16-0.19 at 1 spp (the
+# first denoise on lavapipe), 0.35 at 16 (the most the first full-size frame can add:
+# MAX_PASSES_PER_CALL); the reference's own noise at 64 spp is most of what remains.
+ERROR_RATIO_BOUND = 0.5
+# The viewer's resolve divides in float32 where Renderer.image() rounds once from float64
+# (tests/view/test_banded.py).
+RESOLVE_RTOL = 2.0**-22
+
+# A lamp over a white floor: nothing red in the picture but the overlay's error text.
+WHITE_SCENE = """import wgputrace as wt
+
+
+def scene():
+    lamp = wt.Emitter("lamp")
+    white = wt.Diffuse("white")
+    return wt.Scene(
+        [
+            wt.make_plane((0, 1, 2), (-1.5707963, 0, 0), (1, 1), lamp, "lamp"),
+            wt.make_plane((0, 0, 2), (0, 0, 0), (4, 4), white, "floor"),
+        ],
+        wt.Camera.looking_at((0, 1, 0), (0, 0.5, 2)),
+    )
+"""
+
+needs_oidn = pytest.mark.skipif(not denoiser_available(), reason="pyoidn (the denoise extra) is not installed")
+
+
+# The overlay's error text is drawn in (255, 90, 90): red well above green and blue.
+def red_text(frame: np.ndarray) -> np.ndarray:
+    pixels = frame[..., :3].astype(int)
+    return (pixels[..., 0] > 200) & (pixels[..., 1] < 150) & (pixels[..., 2] < 150)
+
+
+def offscreen_viewer(tmp_path, scene: str = "cornell") -> Viewer:
+    from wgputrace.app.window import create_canvas
+
+    canvas = create_canvas(SIZE, "test", offscreen=True)
+    return Viewer(canvas, ViewerOptions(scene=scene, size=SIZE, screenshot_dir=tmp_path))
+
+
+def frames(viewer: Viewer, count: int) -> np.ndarray:
+    """Draw `count` frames; the last one's pixels."""
+    for _ in range(count):
+        frame = np.asarray(viewer.canvas.draw())
+    return frame
+
+
+def draw_until(viewer: Viewer, condition, what: str) -> None:
+    deadline = time.monotonic() + DENOISE_WAIT_SECONDS
+    while not condition():
+        assert time.monotonic() < deadline, f"{what} did not happen within {DENOISE_WAIT_SECONDS} s"
+        viewer.canvas.draw()
+
+
+def srgb_error(image: np.ndarray, reference: np.ndarray) -> float:
+    return float(np.mean((tonemap(image).astype(float) - tonemap(reference).astype(float)) ** 2))
+
+
+@pytest.mark.gpu
+@pytest.mark.slow
+@needs_oidn
+def test_oidns_picture_is_shown_closer_to_the_converged_one_and_switching_off_shows_the_raw(gpu_context, tmp_path):
+    viewer = offscreen_viewer(tmp_path)
+    frames(viewer, 2)
+    viewer.press(DENOISER_KEY)
+    assert viewer.view.renderer.guides_enabled
+    banded = viewer.view.banded
+    # the frame that completes the first full-size pass starts the denoise; paused from there on,
+    # the raw picture keeps exactly the samples OIDN was given
+    draw_until(viewer, lambda: not banded.reduced and banded.samples_per_pixel >= 1, "a full-size pass")
+    viewer.press(" ")
+    draw_until(viewer, lambda: viewer.view.denoised.shown, "a denoised picture")
+    samples = banded.samples_per_pixel
+    label = f"OIDN ({viewer.view.denoised.device_name}), {samples} spp"
+    assert viewer.shown_label() == label and any(label in line for line in viewer.info_lines())
+    denoised = load_image(viewer.screenshot()[1])
+
+    viewer.press(DENOISER_KEY)
+    frames(viewer, 1)
+    assert viewer.shown_label() == "raw" and banded.samples_per_pixel == samples
+    raw = load_image(viewer.screenshot()[1])
+    np.testing.assert_allclose(raw, viewer.view.renderer.image(), rtol=RESOLVE_RTOL, atol=0)
+
+    scene = default_scene()
+    scene.camera = viewer.controller.camera()
+    reference = Renderer(scene, *SIZE, seed=REFERENCE_SEED)
+    reference.render(REFERENCE_SPP)
+    errors = {name: srgb_error(image, reference.image()) for name, image in (("denoised", denoised), ("raw", raw))}
+    assert errors["denoised"] < ERROR_RATIO_BOUND * errors["raw"], f"at {samples} spp: {errors}"
+
+
+@pytest.mark.gpu
+def test_without_oidn_the_overlay_says_how_to_install_it_and_the_a_trous_filter_serves(
+    gpu_context, monkeypatch, tmp_path, capsys
+):
+    monkeypatch.setitem(sys.modules, "pyoidn", None)  # the import fails
+    monkeypatch.setattr(denoise_module, "_shared", None)
+    scene = tmp_path / "white.py"
+    scene.write_text(WHITE_SCENE)
+    viewer = offscreen_viewer(tmp_path, str(scene))
+    frames(viewer, 2)
+    assert not red_text(frames(viewer, 1)).any()
+    viewer.press(DENOISER_KEY)
+    frame = frames(viewer, 2)
+    assert 'pip install "wgputrace[denoise]"' in viewer.denoiser_missing
+    assert red_text(frame).sum() > 20, "the message is not in the picture"
+    assert capsys.readouterr().err.count("wgputrace[denoise]") == 1, "said once on the console"
+    view = viewer.view
+    assert view.denoised is None and not view.renderer.guides_enabled, "guides without a denoiser"
+    assert viewer.shown_label() == "a-trous" and view.display.filter_weight > 0.0
+
+    viewer.press(DENOISER_KEY)
+    frame = frames(viewer, 2)
+    assert viewer.shown_label() == "raw" and not red_text(frame).any()
+
+
+def test_a_denoise_is_due_at_doubling_sample_counts_and_leaves_the_cores_idle_between():
+    schedule = DenoiseSchedule()
+    assert not schedule.due(0, 0.0) and schedule.due(1, 0.0)
+    schedule.started(3)
+    twice = int(np.ceil(3 * SAMPLE_GROWTH))
+    assert not schedule.due(twice - 1, 0.0)
+    schedule.finished(2.0, now=10.0)
+    idle_until = 10.0 + IDLE_FACTOR * 2.0
+    assert not schedule.due(twice, idle_until - 0.01) and schedule.due(twice, idle_until)
+    # a camera change starts the sample counts again, not the idle time
+    schedule.camera_changed()
+    assert not schedule.due(1, idle_until - 0.01) and schedule.due(1, idle_until)
