@@ -156,3 +156,42 @@ def test_a_denoise_is_due_at_doubling_sample_counts_and_leaves_the_cores_idle_be
     # a camera change starts the sample counts again, not the idle time
     schedule.camera_changed()
     assert not schedule.due(1, idle_until - 0.01) and schedule.due(1, idle_until)
+
+
+@pytest.mark.gpu
+@pytest.mark.slow
+@needs_oidn
+def test_shift_d_in_a_window_shows_oidns_picture(x_display, tmp_path):
+    from wgputrace.testing.running_app import START_SECONDS, RunningApp
+    from wgputrace.testing.xdriver import XDriver
+
+    app = RunningApp(["cornell", "--size", f"{SIZE[0]}x{SIZE[1]}", "--screenshots", str(tmp_path)], tmp_path)
+    driver = XDriver(x_display)
+    try:
+        app.wait_for("showing cornell", START_SECONDS)
+        window = driver.find_window("wgputrace - cornell", START_SECONDS)
+        driver.pointer_to(window, SIZE[0] // 2, SIZE[1] // 2)  # no window manager: the pointer gives focus
+        driver.key_down("Shift_L")
+        driver.tap("d")
+        driver.key_up("Shift_L")
+        deadline = time.monotonic() + DENOISE_WAIT_SECONDS
+        while True:
+            driver.tap("p")
+            shot = app.screenshot_line()
+            shown = app.log[-1].rsplit("(showing ", 1)[1].rstrip(")")
+            if shown.startswith("OIDN"):
+                break
+            assert time.monotonic() < deadline, f"no denoised picture within {DENOISE_WAIT_SECONDS} s: {shown}"
+            time.sleep(0.2)
+        assert shot.size == SIZE and shown.endswith(" spp")
+        image = load_image(shot.exr)
+        assert image.shape == (SIZE[1], SIZE[0], 3) and np.isfinite(image).all() and image.max() > 0
+        driver.key_down("Shift_L")
+        driver.tap("d")
+        driver.key_up("Shift_L")
+        driver.tap("p")  # handled after the key before it
+        app.screenshot_line()
+        assert app.log[-1].endswith("(showing raw)"), app.log[-1]
+    finally:
+        driver.close()
+        app.stop()

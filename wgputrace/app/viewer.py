@@ -391,8 +391,7 @@ class Viewer:
 
     def _picture(self):
         """What the frame shows: the texture and the size of the image in it from its top-left
-        corner. OIDN's picture where it is ready; else the resolved samples, through the a-trous
-        filter where the denoiser is on."""
+        corner. OIDN's picture where it is ready; else the resolved samples (_display_settings)."""
         view = self.view
         denoised = self._denoised()
         if denoised is not None and denoised.shown:
@@ -400,8 +399,13 @@ class Viewer:
         return view.display.render(self._display_settings()), view.banded.size
 
     def _display_settings(self) -> ViewSettings:
-        """The settings the resolved image is shown with: the a-trous filter serves the denoiser until OIDN's picture is in."""
-        return dataclasses.replace(self.settings, filter_enabled=True) if self.denoising else self.settings
+        """The settings the resolved image is shown with: with the denoiser on, through the a-trous
+        filter while the camera moves and wherever OIDN cannot run. Not at rest while OIDN's first
+        picture is on its way: filtering the whole window every frame of the first full-size pass
+        made that pass (and so the denoise) 5 times slower at 640x480 on lavapipe; the first pass
+        comes in over the last filtered preview instead (the fallback)."""
+        serves = self.denoising and (self._moving or self.view is None or self.view.denoised is None)
+        return dataclasses.replace(self.settings, filter_enabled=True) if serves else self.settings
 
     def shown_label(self) -> str:
         """Which picture of the samples the radiance view shows: "OIDN (CPU), 16 spp", "a-trous" or "raw"."""
