@@ -19,6 +19,8 @@ from wgputrace.image_io import tonemap
 from wgputrace.view.denoised import IDLE_FACTOR, SAMPLE_GROWTH, DenoiseSchedule
 
 denoise_module = importlib.import_module("wgputrace.denoise")
+denoised_module = importlib.import_module("wgputrace.view.denoised")
+viewer_module = importlib.import_module("wgputrace.app.viewer")
 
 SIZE = (96, 72)
 # The converged picture the viewer's is compared with: another seed than the viewer's.
@@ -142,6 +144,23 @@ def test_without_oidn_the_overlay_says_how_to_install_it_and_the_a_trous_filter_
     viewer.press(DENOISER_KEY)
     frame = frames(viewer, 2)
     assert viewer.shown_label() == "raw" and not red_text(frame).any()
+
+
+@pytest.mark.gpu
+def test_a_failing_denoise_switches_the_denoiser_off_saying_why(gpu_context, monkeypatch, tmp_path, capsys):
+    def failing(*args, **kwargs):
+        raise RuntimeError("OIDN broke")
+
+    monkeypatch.setattr(viewer_module, "denoiser_device", lambda: "CPU")  # whether pyoidn is there or not
+    monkeypatch.setattr(denoised_module, "denoise", failing)
+    scene = tmp_path / "white.py"
+    scene.write_text(WHITE_SCENE)
+    viewer = offscreen_viewer(tmp_path, str(scene))
+    viewer.press(DENOISER_KEY)
+    draw_until(viewer, lambda: not viewer.denoising, "switching the denoiser off")
+    assert "OIDN (CPU) failed on the viewer's image: OIDN broke; the denoiser is off" in viewer.status
+    assert "OIDN broke" in capsys.readouterr().err
+    assert viewer.shown_label() == "raw"
 
 
 def test_a_denoise_is_due_at_doubling_sample_counts_and_leaves_the_cores_idle_between():

@@ -7,10 +7,10 @@ viewer traces a reduced resolution, one sample per pixel, chosen so a frame hold
 frame time; once the camera has rested for REST_SECONDS it traces the full resolution, adding as
 many samples (or rows of a sample) per frame as fit the same budget.
 
-With the denoiser on (key D), Intel Open Image Denoise's picture of the resting camera's samples
-is shown once it is ready (view/denoised.py makes it in the background, again as the samples
-grow); until then, while the camera moves and wherever OIDN is not installed, the a-trous
-filter's picture is shown.
+With the denoiser on (Shift+D), Intel Open Image Denoise's picture of the resting camera's
+samples is shown once it is ready (view/denoised.py makes it in the background, again as the
+samples grow); while the camera moves, and wherever OIDN is not installed, the a-trous filter's
+picture is shown instead.
 
 What fails keeps the picture: a scene file that does not load, or a scene (or window size) the
 device cannot hold (DeviceLimitError, GpuFailure), is reported in the overlay and on the console
