@@ -122,6 +122,25 @@ def test_oidns_picture_is_shown_closer_to_the_converged_one_and_switching_off_sh
 
 
 @pytest.mark.gpu
+@needs_oidn
+def test_a_denoise_of_samples_from_before_the_camera_moved_is_not_shown_and_moving_shows_the_a_trous(
+    gpu_context, tmp_path
+):
+    viewer = offscreen_viewer(tmp_path)
+    frames(viewer, 1)  # the view is made at the first frame's size
+    viewer.press(DENOISER_KEY)
+    banded, denoised = viewer.view.banded, viewer.view.denoised
+    draw_until(viewer, lambda: not banded.reduced and banded.samples_per_pixel >= 1, "a full-size pass")
+
+    def turned_until_the_denoise_ended() -> bool:
+        viewer.look(1.0, 0.0)
+        return denoised.last_seconds is not None
+
+    draw_until(viewer, turned_until_the_denoise_ended, "the denoise")
+    assert not denoised.shown and viewer.shown_label() == "a-trous"
+
+
+@pytest.mark.gpu
 def test_without_oidn_the_overlay_says_how_to_install_it_and_the_a_trous_filter_serves(
     gpu_context, monkeypatch, tmp_path, capsys
 ):

@@ -148,7 +148,7 @@ class Viewer:
         self._start_device()
         self.exit_status = 0  # 1 once the device was lost and no new one could be started
         self.settings = ViewSettings(filter_enabled=options.filter)
-        self.denoising = options.denoise  # D: show OIDN's picture where it can be had
+        self.denoising = options.denoise  # Shift+D: show OIDN's picture where it can be had
         self._denoiser_device: str | None = None  # OIDN's device, once asked for
         self.denoiser_missing: str | None = None  # why OIDN cannot run here, once asked for
         self.exposure = options.exposure
@@ -404,7 +404,7 @@ class Viewer:
         picture is on its way: filtering the whole window every frame of the first full-size pass
         made that pass (and so the denoise) 5 times slower at 640x480 on lavapipe; the first pass
         comes in over the last filtered preview instead (the fallback)."""
-        serves = self.denoising and (self._moving or self.view is None or self.view.denoised is None)
+        serves = self.denoising and (self._moving or self.view.denoised is None)
         return dataclasses.replace(self.settings, filter_enabled=True) if serves else self.settings
 
     def shown_label(self) -> str:
@@ -415,9 +415,9 @@ class Viewer:
         return "a-trous" if self.view.display.filter_weight > 0.0 else "raw"
 
     def _denoiser_notice(self) -> list[str]:
-        """The overlay's red line while D asks for a denoiser that cannot run here."""
+        """The overlay's red line while Shift+D asks for a denoiser that cannot run here."""
         if self.denoising and self.denoiser_missing is not None:
-            return [f"D: {self.denoiser_missing}; the a-trous filter serves instead"]
+            return [f"Shift+D: {self.denoiser_missing}; the a-trous filter serves instead"]
         return []
 
     def _update_boxes(self) -> None:

@@ -108,15 +108,14 @@ class DenoisedPicture:
         self.shown_samples = None
         self.schedule.camera_changed()
 
-    def update(self, now: float) -> bool:
+    def update(self, now: float) -> None:
         """Take a finished denoise (shown if of the current camera's samples); start the next where
-        it is due. Returns whether the picture shown changed. Raises DenoiseFailure where OIDN failed."""
-        changed = self._collect(now)
+        it is due. Raises DenoiseFailure where OIDN failed."""
+        self._collect(now)
         banded = self.banded
         resting_between_passes = not banded.reduced and banded.rows_done == 0
         if self._job is None and resting_between_passes and self.schedule.due(banded.samples_per_pixel, now):
             self._start()
-        return changed
 
     def _start(self) -> None:
         renderer = self.banded.renderer
@@ -125,10 +124,10 @@ class DenoisedPicture:
         self._job = _Job(self._generation, samples, future)
         self.schedule.started(samples)
 
-    def _collect(self, now: float) -> bool:
+    def _collect(self, now: float) -> None:
         job = self._job
         if job is None or not job.future.done():
-            return False
+            return
         self._job = None
         try:
             denoised, seconds = job.future.result()
@@ -136,11 +135,9 @@ class DenoisedPicture:
             raise DenoiseFailure(f"OIDN ({self.device_name}) failed on the viewer's image: {error}") from error
         self.last_seconds = seconds
         self.schedule.finished(seconds, now)
-        if job.generation != self._generation:
-            return False
-        self._upload(denoised)
-        self.shown_samples = job.samples
-        return True
+        if job.generation == self._generation:
+            self._upload(denoised)
+            self.shown_samples = job.samples
 
     def _upload(self, denoised: np.ndarray) -> None:
         height, width, _ = denoised.shape
