@@ -146,7 +146,7 @@ def denoise_targets(result: dict) -> list[Target]:
         raw = (
             f"{picture['raw_seconds']:.2f} s"
             if picture["raw_seconds"] is not None
-            else f"> {picture['raw_cap_seconds']:.2f} s (not reached at {picture['raw_cap_spp']} spp)"
+            else f"> {picture['raw_last_seconds']:.2f} s (not reached at {picture['raw_last_spp']} spp)"
         )
         rows.append(
             Target(
@@ -164,7 +164,7 @@ def denoise_targets(result: dict) -> list[Target]:
         rows.append(
             Target(
                 "denoise",
-                f"{method}: largest 32-px block mean shift against the reference at {result['cap_spp']} spp "
+                f"{method}: largest 32-px block mean shift against the reference at {result['bias_spp']} spp "
                 f"(worst scene: {worst_scene})",
                 f"{worst['largest']:.2%}",
                 f"<= {limit:.0%}",
@@ -288,6 +288,8 @@ BENCHMARKS = (
             "glass_grazing",
             "--repeats",
             "1",
+            "--bias-spp",
+            "256",
             "--cap-spp",
             "256",
             "--rounds",
@@ -299,7 +301,18 @@ BENCHMARKS = (
             "--denoise-repeats",
             "2",
         ),
-        ("--repeats", "8", "--cap-spp", "16384", "--round-spp", "256", "--denoise-size", "1024x1024"),
+        (
+            "--repeats",
+            "8",
+            "--bias-spp",
+            "16384",
+            "--cap-spp",
+            "65536",
+            "--round-spp",
+            "256",
+            "--denoise-size",
+            "1024x1024",
+        ),
         denoise_targets,
         skip_reason=denoiser_missing,
     ),

@@ -4,29 +4,30 @@ and 64 samples per pixel, on every scene with a reference; the time a raw render
 picture guided OIDN makes from 4 spp; the denoiser's cost; and its bias on a converged picture.
 
     python -m bench.denoise
-    python -m bench.denoise --scenes cornell glass_grazing --repeats 1 --cap-spp 256
+    python -m bench.denoise --scenes cornell glass_grazing --repeats 1 --bias-spp 256 --cap-spp 256
 
 Per scene (tests/references/<scene>.npz: its size and max depth), two renderers, guides on and off,
 each validated before anything is timed (its first render compiles: finite, no dropped sample,
 mean radiance equal to the reference's by a paired z-test). Then:
 
 - Cost of the guides in the render: fresh renders of `round-spp` samples, guides on and off
-  alternating (ABBA), `rounds` of each; medians of seconds per sample.
+  alternating (ABBA), `rounds` of each; medians of seconds per sample, and the median of each
+  round's ratio (its two renders ran back to back, so a change of load between rounds cancels).
 - Pictures: `repeats` progressive renders with guides on (new samples each), read at every --spp
   level as the raw mean, the viewer's filter (headless, as bench/filter_psnr.py runs it: at the
   weight the viewer gives it at that many samples, fading out at 256 spp), OIDN on the colour and
   OIDN with the guides (quality "high", as `wgputrace render --denoise` uses it). PSNR on the
   displayed picture (clipped, sRGB, peak 1) and relative MSE (the reference's variance taken out,
-  bench/common.py's `errors`). The first repeat goes on to `cap-spp`, its raw PSNR read at every
-  power of two.
-- Time to a usable picture: the samples the raw render needs to reach the PSNR guided OIDN reaches
-  at 4 spp (mean over repeats), interpolated in log2(spp) on the first repeat's raw curve (not
-  reached by cap-spp: said so), times the raw render's seconds per sample; against 4 samples with
-  guides plus the denoiser's median time at this size.
-- Bias: at cap-spp, every 32x32 block's mean of the denoised picture against the reference's and
+  bench/common.py's `errors`). The last repeat's raw PSNR is read at every power of two, and it
+  goes on past the levels: to `bias-spp`, and on (at most to `cap-spp`) until its raw picture
+  reaches the PSNR guided OIDN reaches at 4 spp (mean over repeats).
+- Time to a usable picture: the samples the raw render needs for that PSNR, interpolated in
+  log2(spp) on that raw curve (not reached by cap-spp: said so), times the raw render's seconds
+  per sample; against 4 samples with guides plus the denoiser's median time at this size.
+- Bias: at bias-spp, every 32x32 block's mean of the denoised picture against the reference's and
   against the raw picture of the same samples (the denoiser's own shift), relative, per channel;
-  the issue's limit is 1%. The raw picture's own difference from the reference (noise left at
-  cap-spp) is reported beside it.
+  the issue's limit is 1%. The raw picture's own difference from the reference, and the noise of
+  its block means, are reported beside it.
 
 And once: the denoiser's seconds per megapixel on the Cornell box at --denoise-size, colour only
 and guided, at each OIDN quality (a warm-up call per configuration first, which sets OIDN's
@@ -42,7 +43,6 @@ import statistics
 import sys
 import time
 import warnings
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -193,13 +193,19 @@ def guide_cost(with_guides: Renderer, without: Renderer, rounds: int, spp: int) 
             seconds[name]["wall"].append(wall / spp)
             seconds[name]["cpu"].append(cpu / spp)
     median = {name: {kind: statistics.median(runs) for kind, runs in entry.items()} for name, entry in seconds.items()}
+
+    def median_ratio(kind: str) -> float:
+        on, off = seconds["on"][kind], seconds["off"][kind]
+        return statistics.median(a / b for a, b in zip(on, off, strict=True))
+
     return {
         "rounds": rounds,
         "spp_per_round": spp,
         "seconds_per_sample": seconds,
         "median_seconds_per_sample": median,
-        "on_over_off": median["on"]["wall"] / median["off"]["wall"],
-        "on_over_off_cpu": median["on"]["cpu"] / median["off"]["cpu"],
+        "on_over_off": median_ratio("wall"),
+        "on_over_off_cpu": median_ratio("cpu"),
+        "on_over_off_of_medians": median["on"]["wall"] / median["off"]["wall"],
     }
 
 
@@ -284,8 +290,8 @@ def usable_picture(scene_result: dict, method: str) -> dict:
         "denoised_seconds": denoised_seconds,
         "raw_spp_needed": raw_spp,
         "raw_seconds": raw_seconds,
-        "raw_cap_spp": curve["spp"][-1],
-        "raw_cap_seconds": curve["spp"][-1] * cost["off"]["wall"],
+        "raw_last_spp": curve["spp"][-1],
+        "raw_last_seconds": curve["spp"][-1] * cost["off"]["wall"],
         "speedup": None if raw_seconds is None else raw_seconds / denoised_seconds,
     }
 
@@ -313,31 +319,48 @@ def measure_scene(scene: str, args: argparse.Namespace, z_critical: float) -> di
     psnr_runs = {method: {spp: [] for spp in args.spp} for method in METHODS}
     relative_runs = {method: {spp: [] for spp in args.spp} for method in METHODS}
     raw_curve = {"spp": [], "psnr": [], "relative_mse": []}
+
+    def render_to(spp: int) -> None:
+        with_guides.render(spp - with_guides.samples_per_pixel)
+        if with_guides.dropped_samples:
+            raise SystemExit(f"{scene}: {with_guides.dropped_samples} dropped samples")
+
+    def add_raw_point(spp: int) -> None:
+        image = with_guides.image()
+        raw_curve["spp"].append(spp)
+        raw_curve["psnr"].append(psnr(image, mean))
+        raw_curve["relative_mse"].append(errors(image, mean, variance)["relative_mse"])
+
     for repeat in range(args.repeats):
         # the random streams go on: each repeat's samples are new ones
         with_guides.reset()
-        last = args.cap_spp if repeat == 0 else args.spp[-1]
-        for spp in checkpoints(last):
-            with_guides.render(spp - with_guides.samples_per_pixel)
-            if with_guides.dropped_samples:
-                raise SystemExit(f"{scene}: {with_guides.dropped_samples} dropped samples")
-            if repeat == 0:
-                image = with_guides.image()
-                raw_curve["spp"].append(spp)
-                raw_curve["psnr"].append(psnr(image, mean))
-                raw_curve["relative_mse"].append(errors(image, mean, variance)["relative_mse"])
+        last = repeat == args.repeats - 1
+        for spp in checkpoints(args.spp[-1]):
+            render_to(spp)
+            if last:
+                add_raw_point(spp)
             if spp in levels:
                 for method, image in pictures().items():
                     psnr_runs[method][spp].append(psnr(image, mean))
                     relative_runs[method][spp].append(errors(image, mean, variance)["relative_mse"])
-            if spp == args.cap_spp:
-                converged = bias(pictures(), mean, spp)
         log(
             f"{scene} repeat {repeat + 1}/{args.repeats}: "
             + ", ".join(
                 f"{spp} spp " + "/".join(f"{psnr_runs[m][spp][-1]:.1f}" for m in METHODS) + " dB" for spp in args.spp
             )
         )
+    # The last repeat goes on: to the bias measurement, and on until its raw picture reaches guided
+    # OIDN's PSNR at USABLE_SPP (or the cap).
+    target = statistics.fmean(psnr_runs["oidn_guided"][USABLE_SPP])
+    spp = args.spp[-1]
+    converged = bias(pictures(), mean, spp) if spp == args.bias_spp else None
+    while spp < args.cap_spp and (spp < args.bias_spp or raw_curve["psnr"][-1] < target):
+        spp *= 2
+        render_to(spp)
+        add_raw_point(spp)
+        if spp == args.bias_spp:
+            converged = bias(pictures(), mean, spp)
+    log(f"{scene}: raw {raw_curve['psnr'][-1]:.1f} dB at {spp} spp against guided OIDN's {target:.1f} dB")
     result = {
         "reference": reference.metadata,
         "width": with_guides.width,
@@ -400,13 +423,13 @@ def plot(path: Path, result: dict) -> None:
             spread = [entry["psnr"][method][str(spp)]["stdev"] for spp in levels]
             axes.errorbar(levels, means, yerr=spread, fmt=styles[method], markersize=4, capsize=2, label=LABELS[method])
         curve = entry["raw_curve"]
-        axes.plot(curve["spp"], curve["psnr"], ":", color="grey", label=f"raw, first repeat to {curve['spp'][-1]} spp")
+        axes.plot(curve["spp"], curve["psnr"], ":", color="grey", label=f"raw, last repeat to {curve['spp'][-1]} spp")
         usable = entry["usable_picture"]["oidn_guided"]
         axes.axhline(usable["target_psnr_db"], color="grey", linewidth=0.6)
         reached = (
             f"raw reaches it at {usable['raw_spp_needed']:.0f} spp"
             if usable["raw_spp_needed"] is not None
-            else f"raw short of it at {usable['raw_cap_spp']} spp"
+            else f"raw short of it at {usable['raw_last_spp']} spp"
         )
         axes.set_title(
             f"{scene}: guided OIDN at {USABLE_SPP} spp {usable['target_psnr_db']:.1f} dB;\n{reached}", fontsize=8
@@ -426,14 +449,11 @@ def plot(path: Path, result: dict) -> None:
     save_figure(chart, path, result, title, fontsize=10)
 
 
-def power_of_two_at_least(minimum: int) -> Callable[[str], int]:
-    def parse_cap(text: str) -> int:
-        value = int(text)
-        if value < minimum or value & (value - 1):
-            raise argparse.ArgumentTypeError(f"must be a power of two >= {minimum}, got {value}")
-        return value
-
-    return parse_cap
+def power_of_two(text: str) -> int:
+    value = int(text)
+    if value < 1 or value & (value - 1):
+        raise argparse.ArgumentTypeError(f"must be a power of two, got {value}")
+    return value
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -442,12 +462,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scenes", nargs="+", choices=scenes, default=scenes, help=f"default: {' '.join(scenes)}")
     parser.add_argument("--spp", type=int, nargs="+", default=[1, 4, 16, 64], help="samples per pixel compared")
     parser.add_argument(
-        "--cap-spp",
-        type=power_of_two_at_least(64),
+        "--bias-spp",
+        type=power_of_two,
         default=1024,
-        help="the first repeat's last checkpoint: the raw curve's end and the bias measurement (default 1024)",
+        help="where the last repeat's denoised pictures are compared block by block (default 1024)",
     )
-    parser.add_argument("--rounds", type=int, default=5, help="alternating renders, guides on and off (default 5)")
+    parser.add_argument(
+        "--cap-spp",
+        type=power_of_two,
+        default=4096,
+        help="the most the last repeat renders for its raw picture to reach guided OIDN's (default 4096)",
+    )
+    parser.add_argument("--rounds", type=int, default=7, help="alternating renders, guides on and off (default 7)")
     parser.add_argument("--round-spp", type=int, default=16, help="samples per pixel of each (default 16)")
     parser.add_argument(
         "--denoise-size", type=parse_size, default=(512, 512), help="WIDTHxHEIGHT of the denoiser's cost"
@@ -456,8 +482,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parse(parser, argv, "rounds", "round_spp", "denoise_repeats")
     if args.spp != sorted(set(args.spp)) or any(spp & (spp - 1) for spp in args.spp) or USABLE_SPP not in args.spp:
         parser.error(f"--spp must be ascending powers of two including {USABLE_SPP}, got {args.spp}")
-    if args.cap_spp < args.spp[-1]:
-        parser.error(f"--cap-spp {args.cap_spp} must be at least the largest --spp, {args.spp[-1]}")
+    if not args.spp[-1] <= args.bias_spp <= args.cap_spp:
+        parser.error(
+            f"need the largest --spp <= --bias-spp <= --cap-spp, got {args.spp[-1]}, {args.bias_spp}, {args.cap_spp}"
+        )
     settings = {"scene": args.scenes, "width": None, "height": None, "spp": args.spp, "max_depth": None}
     if not denoiser_available():
         return record_skip(NAME, settings, f"Intel Open Image Denoise is missing: {INSTALL_HINT}", args.out)
@@ -471,6 +499,7 @@ def main(argv: list[str] | None = None) -> int:
         "height": first["height"],
         "max_depth": {scene: entry["max_depth"] for scene, entry in measured.items()},
         "spp_levels": args.spp,
+        "bias_spp": args.bias_spp,
         "cap_spp": args.cap_spp,
         "repeats": args.repeats,
         "seed": args.seed,
@@ -501,7 +530,7 @@ def print_summary(result: dict) -> None:
         raw = (
             f"{picture['raw_seconds']:.2f} s ({picture['raw_spp_needed']:.0f} spp)"
             if picture["raw_seconds"] is not None
-            else f"more than {picture['raw_cap_seconds']:.2f} s ({picture['raw_cap_spp']} spp)"
+            else f"more than {picture['raw_last_seconds']:.2f} s ({picture['raw_last_spp']} spp)"
         )
         converged = entry["bias"]["oidn_guided"]
         print(
