@@ -59,9 +59,6 @@ from .errors import SceneError
 # with radiance 1): a diffuse surface of albedo a under it, unshadowed, has radiance a.
 DEFAULT_RADIANCE = 1.0
 
-# Rec. 709 luminance of linear RGB, as wgputrace/render/lights.py and the shaders weigh lights.
-LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
-
 # One alias table entry as the GPU reads it: keep the slot when the draw's remainder is below
 # `threshold`, else take `alias` (an index into the same table).
 ALIAS_ENTRY = np.dtype([("threshold", np.float32), ("alias", np.uint32)])
@@ -238,6 +235,14 @@ class Environment:
 
     # ---- importance sampling -----------------------------------------------------------------
 
+    @property
+    def black(self) -> bool:
+        """Whether it sends no light whatever its intensity (all texels, or the constant, zero):
+        light samplers skip it."""
+        if self._texels is None:
+            return not np.any(self._radiance > 0.0)
+        return self.sampling_tables() is None
+
     def sampling_tables(self) -> EnvironmentTables | None:
         """The map's alias tables and densities, built once per texel generation; None for a
         constant (sampled uniformly over the sphere, as a 1x1 map would be) or a black map (never
@@ -260,7 +265,7 @@ class Environment:
         a map of one cell. Raises for a black environment, which has nothing to sample."""
         u = np.asarray(u, dtype=np.float64)
         u_texel = np.asarray(u_texel, dtype=np.float64)
-        if self.power(1.0) == 0.0:
+        if self.black:
             raise SceneError(f"{self._source}: a black environment sends no light to sample")
         tables = self.sampling_tables()
         if tables is None:
@@ -277,7 +282,7 @@ class Environment:
     def pdf(self, directions: np.ndarray) -> np.ndarray:
         """(n,) density per steradian with which `sample` draws world `directions` (n, 3)."""
         directions = np.asarray(directions, dtype=np.float64)
-        if self.power(1.0) == 0.0:
+        if self.black:
             return np.zeros(len(directions))
         tables = self.sampling_tables()
         if tables is None:
@@ -292,7 +297,7 @@ class Environment:
         triangle light table's weights (area x luminance, wgputrace/render/lights.py): a light
         sampler mixing them must multiply those by pi (one-sided Lambertian flux; 2 pi both sides)."""
         if self._texels is None:
-            integral = 4.0 * math.pi * float(self._radiance @ LUMINANCE_WEIGHTS)
+            integral = 4.0 * math.pi * float(luminance(self._radiance))
         else:
             integral = float(np.sum(_cell_luminance(self._texels) * _cell_solid_angles(self._texels.shape[:2])))
         return math.pi * radius * radius * integral * self._intensity
@@ -500,8 +505,8 @@ def bilinear(texels: np.ndarray, uv: np.ndarray) -> np.ndarray:
 def _cell_luminance(texels: np.ndarray) -> np.ndarray:
     """(cell rows, W): each cell's mean luminance, the mean of its four corner texels' (the integral
     of the bilinear lookup's luminance over the cell in (u, v), per unit area)."""
-    luminance = texels.astype(np.float64) @ LUMINANCE_WEIGHTS
-    across = 0.5 * (luminance + np.roll(luminance, -1, axis=1))
+    texel_luminance = luminance(texels.astype(np.float64))
+    across = 0.5 * (texel_luminance + np.roll(texel_luminance, -1, axis=1))
     if len(across) == 1:
         return across
     return 0.5 * (across[:-1] + across[1:])
@@ -515,20 +520,27 @@ def _cell_solid_angles(shape: tuple[int, int]) -> np.ndarray:
     return ((bounds[:-1] - bounds[1:]) * (2.0 * math.pi / width))[:, None]
 
 
+def luminance(rgb: np.ndarray) -> np.ndarray:
+    """Rec. 709 luminance of linear RGB (..., 3), weighed as the triangle lights are."""
+    # render/ imports the scene package, so the light table's module is imported when first needed
+    from ..render.lights import LUMINANCE_WEIGHTS
+
+    return rgb @ LUMINANCE_WEIGHTS
+
+
 def build_tables(texels: np.ndarray) -> EnvironmentTables | None:
     """The alias tables and per-cell densities of a map; None when it is all black."""
-    # render/ imports the scene package, so its alias table is imported when first needed
-    from ..render.lights import alias_table
+    from ..render.lights import alias_table  # imported when first needed, as in `luminance`
 
-    luminance = _cell_luminance(texels)
-    weight = luminance * _cell_solid_angles(texels.shape[:2])
+    cell_luminance = _cell_luminance(texels)
+    weight = cell_luminance * _cell_solid_angles(texels.shape[:2])
     total = float(weight.sum())
     if total <= 0.0:
         return None
     cell_rows, cell_columns = weight.shape
     rows = _alias_entries(weight.sum(axis=1), alias_table)
     columns = np.concatenate([_alias_entries(row_weight, alias_table) for row_weight in weight])
-    cell_pdf = (luminance / total).astype(np.float32).ravel()
+    cell_pdf = (cell_luminance / total).astype(np.float32).ravel()
     return EnvironmentTables(rows, columns, cell_pdf, cell_rows, cell_columns)
 
 
