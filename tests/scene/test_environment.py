@@ -225,8 +225,9 @@ def test_parameter_edits_keep_the_tables_texel_edits_rebuild_them(rng):
     tables, generation = env.sampling_tables(), env.generation
     env.intensity, env.rotation_degrees, env.visible = 7.0, 123.0, False
     assert env.sampling_tables() is tables and env.generation == generation
+    power = env.power(1.0)
     env.texels = random_map(rng)
-    assert env.generation > generation and env.sampling_tables() is not tables
+    assert env.generation > generation and env.sampling_tables() is not tables and env.power(1.0) != power
     constant = Environment(radiance=1.0)
     generation = constant.generation
     constant.radiance = (2.0, 3.0, 4.0)
