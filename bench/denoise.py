@@ -143,11 +143,8 @@ class AtrousFilter:
         self.display = viewer_display.Display(self.banded)
 
     def __call__(self) -> np.ndarray:
-        renderer = self.banded.renderer
-        # The samples came through Renderer.render, which the banded renderer does not count; the
-        # filter's weight and the resolve's mean both divide by its count.
-        self.banded.samples_per_pixel = renderer.samples_per_pixel
-        # filter these samples afresh rather than blend the mean with a filtered image of fewer
+        # The banded renderer counts the samples Renderer.render added (it keeps its count in the
+        # renderer's stats). Filter them afresh rather than blend the mean with an older filtered image.
         self.display.camera_changed()
         self.display.render(viewer_display.ViewSettings(filter_enabled=True))
         return self.display.read_image()
