@@ -1,11 +1,16 @@
-// Next-event estimation's light sampler: a triangle by power, a point uniform in its solid angle.
-// The triangle comes from an alias table, the point from spherical_triangle.wgsl (or uniform in
-// area, for tiny or huge solid angles); sample_light beside pdf_light, which must agree with it.
+// Next-event estimation's light sampler: a light by power, then a direction towards it.
+// One alias table holds every light: emissive triangles, light sources (point, spot, directional,
+// sun) and the environment (render/lights.py). A triangle's point is uniform in its solid angle
+// (spherical_triangle.wgsl; uniform in area for tiny or huge solid angles); sample_light beside
+// pdf_light, which must agree with it. The other lights sample in their own files (lights/*.wgsl),
+// reached through the generated dispatch of the kinds a scene uses.
 //! include "scene_bindings.wgsl"
 //! include "constants.wgsl"
 //! include "spherical_triangle.wgsl"
 // material_emitted: a light triangle's radiance, as its material kind defines it
 //! include "generated/materials.wgsl"
+// is_light_source and sample_light_source: the scene's other lights (gpu/light_dispatch.py)
+//! include "generated/lights.wgsl"
 
 // Light triangles subtending solid angles in this range (steradians) are sampled uniformly in solid
 // angle (spherical_triangle.wgsl); outside it, uniformly in area. Below the minimum the sampler's
@@ -18,16 +23,6 @@ const SPHERICAL_SAMPLING_MAX_SOLID_ANGLE: f32 = 6.22;
 
 // Rec. 709 luminance, the same weights as wgputrace/render/lights.py's LUMINANCE_WEIGHTS.
 const LUMINANCE_WEIGHTS: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
-
-struct LightSample {
-    position: vec3<f32>,
-    // unit geometric normal of the light triangle; emitters shine from both sides
-    normal: vec3<f32>,
-    radiance: vec3<f32>,
-    triangle: u32,
-    // density of the direction from the receiving point, per steradian
-    pdf: f32,
-}
 
 fn luminance(color: vec3<f32>) -> f32 {
     return dot(color, LUMINANCE_WEIGHTS);
@@ -43,8 +38,9 @@ fn samples_solid_angle(solid_angle: f32) -> bool {
 
 // Density per steradian, seen from `p`, with which sample_light picks the point of light triangle
 // `triangle` (radiance `radiance`) at squared distance `distance_squared` and cosine `cos_light`.
-// Triangles are chosen with probability area x luminance / total; within the triangle the point is
-// uniform in solid angle (1 / solid angle) or in area (1 / area, converted to solid angle).
+// Triangles are chosen with probability area x luminance / total (the total over every light, each
+// weighed in the same units); within the triangle the point is uniform in solid angle
+// (1 / solid angle) or in area (1 / area, converted to solid angle).
 fn pdf_light(p: vec3<f32>, triangle: Triangle, radiance: vec3<f32>, distance_squared: f32, cos_light: f32) -> f32 {
     let per_area = luminance(radiance) / frame.light_weight_total;
     let solid_angle = light_triangle_solid_angle(p, triangle);
@@ -58,6 +54,9 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
     let slot = min(u32(u_select.x * f32(frame.light_count)), frame.light_count - 1u);
     let entry = lights[slot];
     let index = select(lights[entry.alias_index].triangle, entry.triangle, u_select.y < entry.threshold);
+    if is_light_source(index) {
+        return sample_light_source(index, p, u_point);
+    }
     let triangle = scene_triangle(index);
     let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
     let radiance = material_emitted(materials[triangle.material]);
@@ -78,5 +77,6 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
     let to_light = position - p;
     let distance_squared = dot(to_light, to_light);
     let cos_light = abs(dot(normal, to_light)) / sqrt(distance_squared);
-    return LightSample(position, normal, radiance, index, pdf_light(p, triangle, radiance, distance_squared, cos_light));
+    let pdf = pdf_light(p, triangle, radiance, distance_squared, cos_light);
+    return LightSample(position, normal, radiance, index, pdf, vec3<f32>(0.0), false, false);
 }

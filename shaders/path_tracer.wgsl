@@ -9,6 +9,8 @@
 //! include "loop_budget.wgsl"
 // guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (gpu/path_guides.py)
 //! include "generated/path_guides.wgsl"
+// escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (gpu/light_dispatch.py)
+//! include "generated/escaped_light.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
 
@@ -35,16 +37,45 @@ fn samples_lights(material: Material) -> bool {
     return material_samples_lights(material);
 }
 
+// Under plain path tracing, vertices that still sample the delta lights (point, spot, directional):
+// no BSDF sample can hit one, so light sampling is their only strategy, with weight 1, as under
+// every integrator. Only scenes with delta lights compile it in (generated HAS_DELTA_LIGHTS).
+fn samples_delta_lights_only(material: Material) -> bool {
+    return HAS_DELTA_LIGHTS && INTEGRATOR == INTEGRATOR_BSDF && frame.light_count != 0u && material_samples_lights(material);
+}
+
+// Whether anything blocks the way from `origin` to the sampled light: up to the light point, or
+// to infinity for distant lights.
+fn light_occluded(origin: vec3<f32>, light: LightSample, skip_triangle: u32) -> bool {
+    if light.distant {
+        return occluded(Ray(origin, light.direction), FLOAT_MAX, skip_triangle);
+    }
+    // Aim from the moved origin: moved towards a light plane that faces the surface (a lamp just
+    // below a ceiling), a ray of the unmoved length would reach the light's plane at grazing angles
+    // and count the light as its own occluder.
+    let shadow = light.position - origin;
+    let shadow_distance = length(shadow);
+    return occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, skip_triangle);
+}
+
 // Light reaching the surface point `p` of `triangle` from one sampled light point, times the
-// BSDF (cosine included), over the sample's density, weighted against BSDF sampling under MIS.
+// BSDF (cosine included), over the sample's density, weighted against BSDF sampling under MIS
+// (delta lights: weight 1). Under plain path tracing only delta lights count here.
 fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, material: Material, wi: vec3<f32>) -> vec3<f32> {
     let light = sample_light(p, rng_next_2d(), rng_next_2d());
-    let to_light = light.position - p;
-    let distance_squared = dot(to_light, to_light);
-    let distance = sqrt(distance_squared);
-    let direction = to_light / distance;
+    if INTEGRATOR == INTEGRATOR_BSDF && !light.delta {
+        return vec3<f32>(0.0);
+    }
+    var direction = light.direction;
+    if !light.distant {
+        let to_light = light.position - p;
+        let distance_squared = dot(to_light, to_light);
+        let distance = sqrt(distance_squared);
+        direction = to_light / distance;
+    }
     let cos_light = abs(dot(light.normal, direction));
-    if cos_light <= COS_MIN {
+    // NaN too: a point light at the receiving point has no direction
+    if !(cos_light > COS_MIN) {
         return vec3<f32>(0.0);
     }
     let wo = to_local(local, direction);
@@ -53,16 +84,11 @@ fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: Sh
         return vec3<f32>(0.0);
     }
     let origin = offset_ray_origin(p, local.normal, direction, triangle.v0, triangle.v1, triangle.v2);
-    // Aim from the moved origin: moved towards a light plane that faces the surface (a lamp just
-    // below a ceiling), a ray of the unmoved length would reach the light's plane at grazing angles
-    // and count the light as its own occluder.
-    let shadow = light.position - origin;
-    let shadow_distance = length(shadow);
-    if occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, triangle_index) {
+    if light_occluded(origin, light, triangle_index) {
         return vec3<f32>(0.0);
     }
     var weight = 1.0;
-    if INTEGRATOR == INTEGRATOR_MIS {
+    if INTEGRATOR == INTEGRATOR_MIS && !light.delta {
         weight = power_heuristic(light.pdf, bsdf_pdf(material, wi, wo));
     }
     return f * light.radiance * (weight / light.pdf);
@@ -80,6 +106,18 @@ fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, previo
         return 0.0;
     }
     return power_heuristic(previous_bsdf_pdf, pdf_light(previous_position, triangle, radiance, distance * distance, cos_light));
+}
+
+// emission_weight's rule for light found by a ray leaving the scene (the environment, the sun),
+// whose light sampler density `light_pdf` for that direction is known (generated escaped_light).
+fn escaped_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, light_pdf: f32) -> f32 {
+    if !previous_sampled_lights {
+        return 1.0;
+    }
+    if INTEGRATOR == INTEGRATOR_NEE {
+        return 0.0;
+    }
+    return power_heuristic(previous_bsdf_pdf, light_pdf);
 }
 
 // One path from the camera: emission at every vertex, direct light by the chosen integrator,
@@ -101,6 +139,9 @@ fn trace_path(camera: Ray) -> vec3<f32> {
     for (var depth = 1u; ; depth++) {
         let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
         if hit.triangle == NO_TRIANGLE {
+            if HAS_ESCAPED_LIGHT {
+                radiance += throughput * escaped_light(ray.direction, depth == 1u, previous_sampled_lights, previous_bsdf_pdf);
+            }
             break;
         }
         let triangle = scene_triangle(hit.triangle);
@@ -122,7 +163,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         let p = ray.origin + hit.t * ray.direction;
         previous_sampled_lights = samples_lights(material);
         previous_position = p;
-        if previous_sampled_lights {
+        if previous_sampled_lights || samples_delta_lights_only(material) {
             radiance += throughput * direct_light(p, triangle, hit.triangle, local, material, wi);
         }
         let u = rng_next_2d();

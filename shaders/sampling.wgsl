@@ -37,3 +37,15 @@ fn sample_cosine_hemisphere(u: vec2<f32>) -> vec3<f32> {
 fn pdf_cosine_hemisphere(cos_theta: f32) -> f32 {
     return max(cos_theta, 0.0) * INV_PI;
 }
+
+// Uniform direction on the unit sphere: z uniform in [-1, 1] (Archimedes), phi uniform.
+fn sample_uniform_sphere(u: vec2<f32>) -> vec3<f32> {
+    let z = 1.0 - 2.0 * u.x;
+    let r = sqrt(max(0.0, 1.0 - z * z));
+    let phi = TWO_PI * u.y;
+    return vec3<f32>(r * cos(phi), r * sin(phi), z);
+}
+
+fn pdf_uniform_sphere() -> f32 {
+    return 0.25 * INV_PI;
+}

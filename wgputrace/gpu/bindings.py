@@ -15,7 +15,8 @@ from dataclasses import dataclass, replace
 import wgpu
 
 from .device import GpuContext
-from .layout import ACCUMULATED_PIXEL, BVH_NODE, FRAME, LIGHT, MATERIAL, GpuStruct
+from .layout import ACCUMULATED_PIXEL, BVH_NODE, FRAME, LIGHT, LIGHT_SOURCE, LIGHTING, MATERIAL, GpuStruct
+from .light_dispatch import ENVIRONMENT_MAP, LightFeatures
 
 # The workgroup of every kernel that runs one invocation per pixel: its y extent is also the
 # height of the viewer's bands of rows (view/banded.py).
@@ -223,3 +224,28 @@ def pixels_group(guides: bool) -> BindGroup:
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
 # Rays counted by kind (gpu/ray_count.py), only in the counting variant of the path tracer.
 RAY_COUNT_GROUP = BindGroup("ray_count", 3, (Binding("ray_counts", ATOMIC_COUNTERS),))
+
+# The lights besides emissive triangles (gpu/light_dispatch.py), bound only in the variants of the
+# path tracer whose scene has them, each binding only where the scene needs it: the parameters
+# (the environment's, the light source count) with any such light, the light sources' records with
+# any, the environment map (rgba32float texels, read with textureLoad: float32 filtering is an
+# optional feature) and its sampling tables (alias tables and texel densities as 32-bit words, in
+# one buffer) with a map. Its own group, so the scene group stays the one every ray-tracing kernel
+# shares (the viewer's guides read it as declared); index 4 needs max-bind-groups >= 5.
+LIGHTS_GROUP_INDEX = 4
+_LIGHTING = Binding("lighting", UNIFORM, LIGHTING)
+_LIGHT_SOURCES = Binding("light_sources", STORAGE_READ, LIGHT_SOURCE)
+_ENVIRONMENT_MAP = Binding("environment_map", TEXTURE_F32)
+_ENVIRONMENT_TABLES = Binding("environment_tables", STORAGE_READ, "u32")
+
+
+def lights_group(features: LightFeatures) -> BindGroup:
+    """The lights group of a path tracer compiled for `features` (which have some light)."""
+    if not features.any:
+        raise ValueError("a scene lit by emissive triangles alone binds no lights group")
+    group = BindGroup("lights", LIGHTS_GROUP_INDEX, (_LIGHTING,))
+    if features.kinds:
+        group = group.extended(_LIGHT_SOURCES)
+    if features.environment == ENVIRONMENT_MAP:
+        group = group.extended(_ENVIRONMENT_MAP).extended(_ENVIRONMENT_TABLES)
+    return group

@@ -40,8 +40,10 @@ LIMITS_WE_USE = (
     "max-compute-workgroups-per-dimension",
     "max-compute-invocations-per-workgroup",
     "max-storage-buffers-per-shader-stage",
-    # texture rows: how many triangles and BVH nodes fit (gpu/texels.py)
+    # texture rows: how many triangles and BVH nodes fit (gpu/texels.py); the environment map's size
     "max-texture-dimension-2d",
+    # the lights group sits at index 4 (gpu/bindings.py lights_group)
+    "max-bind-groups",
 )
 
 

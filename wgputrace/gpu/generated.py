@@ -5,6 +5,13 @@ from __future__ import annotations
 from ..bvh.wide import STACK_SIZE as WIDE_STACK_SIZE
 from ..bvh.wide import WIDE_COUNT_BITS, WIDE_EMPTY, WIDE_LEAF, WIDE_LEAF_MAX
 from .layout import ALL_STRUCTS
+from .light_dispatch import (
+    GENERATED_ESCAPED_LIGHT,
+    GENERATED_LIGHTS,
+    escaped_light_hook,
+    light_dispatch,
+    light_kind_constants,
+)
 from .material_dispatch import GENERATED_MATERIALS, material_dispatch, material_kind_constants
 from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
@@ -46,6 +53,7 @@ def generated_structs() -> str:
     parts = ["// Generated from wgputrace.gpu.layout and wgputrace.scene: host/GPU structs and ids."]
     parts += [struct.wgsl() for struct in ALL_STRUCTS]
     parts += material_kind_constants()
+    parts += light_kind_constants()
     parts += [f"const INTEGRATOR_{name.upper()}: u32 = {index}u;" for index, name in enumerate(INTEGRATORS)]
     parts.append(f"const NO_TRIANGLE: u32 = {NO_TRIANGLE:#x}u;")
     parts.append(f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;")
@@ -58,11 +66,13 @@ def generated_structs() -> str:
 
 def standard_files() -> dict[str, str]:
     """The generated files every kernel gets unless it replaces them: structs and ids, the material
-    dispatch for every kind, no ray counting, no denoiser guides, the texel loaders and the largest
-    traversal stack."""
+    dispatch for every kind, no lights besides emissive triangles, no ray counting, no denoiser
+    guides, the texel loaders and the largest traversal stack."""
     return {
         GENERATED_STRUCTS: generated_structs(),
         GENERATED_MATERIALS: material_dispatch(),
+        GENERATED_LIGHTS: light_dispatch(),
+        GENERATED_ESCAPED_LIGHT: escaped_light_hook(),
         GENERATED_RAY_COUNT: ray_count_hook(counting=False),
         GENERATED_PATH_GUIDES: path_guides_hook(guides=False),
         GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),

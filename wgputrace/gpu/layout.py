@@ -131,7 +131,41 @@ ACCUMULATED_PIXEL = GpuStruct(
 LIGHT = GpuStruct(
     "Light",
     (("triangle", "u32"), ("alias_index", "u32"), ("threshold", "f32")),
-    "An emissive triangle in an alias table: keep this entry when u < threshold, else take entry `alias_index`.",
+    "A light in an alias table: keep this entry when u < threshold, else take entry `alias_index`. "
+    "`triangle`: an emissive triangle's index, or a light source (gpu/light_dispatch.py's encoding).",
+)
+# A light that is not a triangle nor the environment (scene/lights/): what its kind's WGSL reads.
+LIGHT_SOURCE = GpuStruct(
+    "LightSource",
+    (
+        ("position", "vec3<f32>"),
+        ("kind", "u32"),
+        ("direction", "vec3<f32>"),
+        ("probability", "f32"),
+        ("emission", "vec3<f32>"),
+        ("cos_outer", "f32"),
+        ("cos_inner", "f32"),
+        ("cone", "f32"),
+        ("angle_outer", "f32"),
+        ("inverse_transition", "f32"),
+    ),
+    "A point, spot, directional or sun light, its fields as its kind (scene/lights/) fills them; "
+    "probability: the light sampler's chance of choosing it.",
+)
+# The lights group's parameters (gpu/bindings.py lights_group): the environment's, so that an edit of
+# its intensity, rotation or visibility uploads this struct only, and how many light sources there are.
+LIGHTING = GpuStruct(
+    "Lighting",
+    (
+        ("environment_radiance", "vec3<f32>"),
+        ("environment_visible", "u32"),
+        ("environment_rotation", "vec2<f32>"),
+        ("environment_probability", "f32"),
+        ("source_count", "u32"),
+        ("environment_size", "vec2<u32>"),
+    ),
+    "environment_radiance: a constant environment's radiance, a map's intensity; rotation: (cos, sin) "
+    "of the turn about +y; size: the map's width and height.",
 )
 
-ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT)
+ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

@@ -1,10 +1,18 @@
-"""Emissive triangles as lights: a table sampled in O(1) with an alias table.
+"""The light sampler's table: every light in one alias table, sampled in O(1) by estimated power.
 
 Each light triangle is chosen with probability proportional to its emitted power, area x
-luminance of its radiance (the factor pi of a Lambertian emitter is common to all and cancels),
-then a point uniform on it. The density of a light point per unit area is then
-luminance(L) / total_weight for every light, whatever its area: the shader needs no per-triangle
-table to evaluate it, only the radiance it already reads and `total_weight`.
+luminance of its radiance (a two-sided Lambertian emitter sends 2 pi x area x luminance: the
+factor 2 pi is common to all and cancels), then a point uniform on it. The density of a light
+point per unit area is then luminance(L) / total_weight for every light triangle, whatever its
+area: the shader needs no per-triangle table to evaluate it, only the radiance it already reads
+and `total_weight`.
+
+The other lights share the table in the same units, power / (2 pi): each light source (point, spot,
+directional, sun: scene/lights/, its class's `weight`) and the environment (its power through the
+scene's bounding sphere over 2 pi). Their entries follow the triangles' (light sources in the
+scene's order, then the environment), marked as gpu/light_dispatch.py encodes them, and the chance
+of choosing each is written into its record (LIGHT_SOURCE `probability`, LIGHTING
+`environment_probability`), which its density needs. A light of zero power never enters the table.
 
 Which materials emit, and what, their classes say (scene/materials/material.py: `emission`,
 `record_radiance`): a new emitting kind becomes a light with no change here.
@@ -12,46 +20,30 @@ Which materials emit, and what, their classes say (scene/materials/material.py: 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..gpu.layout import LIGHT
+from ..gpu.light_dispatch import ENVIRONMENT_LIGHT, LIGHT_SOURCE_FLAG
 from ..scene import material_classes
+from ..scene.lights.alias_table import alias_table
+from ..scene.lights.light import LUMINANCE_WEIGHTS
 
-# Rec. 709 / sRGB luminance weights; the shaders use the same ones (shaders/light_sampling.wgsl).
-LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
+__all__ = ["LUMINANCE_WEIGHTS", "LightTable", "alias_table", "emitted_radiance", "emitting", "light_table"]
 
 
 @dataclass
 class LightTable:
-    entries: np.ndarray  # LIGHT.dtype, one per light triangle
-    total_weight: float  # sum of area x luminance over all light triangles
+    entries: np.ndarray  # LIGHT.dtype: the light triangles, then the light sources, then the environment
+    total_weight: float  # the sum of every light's weight (triangles: area x luminance)
+    # the chance of choosing each light source (0: zero power, not in the table) and the environment
+    source_probability: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    environment_probability: float = 0.0
 
     @property
     def count(self) -> int:
         return len(self.entries)
-
-
-def alias_table(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Vose's alias method: (threshold, alias) such that drawing k uniformly, then keeping k when
-    a uniform u < threshold[k] and taking alias[k] otherwise, draws i with weights[i] / sum."""
-    weights = np.asarray(weights, dtype=np.float64)
-    count = len(weights)
-    if count == 0 or not np.all(np.isfinite(weights)) or np.any(weights < 0) or weights.sum() <= 0:
-        raise ValueError(f"alias table needs finite non-negative weights with a positive sum, got {weights}")
-    scaled = weights * (count / weights.sum())
-    threshold = np.ones(count)
-    alias = np.arange(count, dtype=np.uint32)
-    small = [i for i in range(count) if scaled[i] < 1.0]
-    large = [i for i in range(count) if scaled[i] >= 1.0]
-    while small and large:
-        light, heavy = small.pop(), large.pop()
-        threshold[light], alias[light] = scaled[light], heavy
-        scaled[heavy] -= 1.0 - scaled[light]
-        (small if scaled[heavy] < 1.0 else large).append(heavy)
-    # whatever is left is 1 up to rounding: it keeps itself
-    return threshold, alias
 
 
 def emitting_kinds() -> tuple[int, ...]:
@@ -75,18 +67,31 @@ def emitted_radiance(materials: np.ndarray) -> np.ndarray:
     return radiance
 
 
-def light_table(triangles: np.ndarray, materials: np.ndarray) -> LightTable:
-    """Light entries for the emissive triangles of GPU `triangles` records (TRIANGLE.dtype), in the
-    triangles' GPU order, with the materials' GPU records (MATERIAL.dtype)."""
+def light_table(
+    triangles: np.ndarray,
+    materials: np.ndarray,
+    source_weights: np.ndarray | None = None,
+    environment_weight: float = 0.0,
+) -> LightTable:
+    """The light table of the emissive triangles of GPU `triangles` records (TRIANGLE.dtype), in the
+    triangles' GPU order, with the materials' GPU records (MATERIAL.dtype); of the light sources
+    weighing `source_weights` (each light's `weight`, in the scene's order); and of an environment
+    weighing `environment_weight`."""
     index = np.flatnonzero(emitting(materials)[triangles["material"]])
     radiance = emitted_radiance(materials)[triangles["material"][index]]
     v0, v1, v2 = (triangles[corner][index].astype(np.float64) for corner in ("v0", "v1", "v2"))
     area = 0.5 * np.linalg.norm(np.cross(v1 - v0, v2 - v0), axis=1)
-    weight = area * (radiance @ LUMINANCE_WEIGHTS)
-    entries = LIGHT.zeros(int(np.count_nonzero(weight > 0)))
-    if len(entries) == 0:
-        return LightTable(entries, 0.0)
+    source_weights = np.zeros(0) if source_weights is None else np.asarray(source_weights, np.float64)
+    words = np.concatenate([index, LIGHT_SOURCE_FLAG | np.arange(len(source_weights)), [ENVIRONMENT_LIGHT]]).astype(
+        np.uint32
+    )
+    weight = np.concatenate([area * (radiance @ LUMINANCE_WEIGHTS), source_weights, [environment_weight]])
     keep = weight > 0
+    entries = LIGHT.zeros(int(np.count_nonzero(keep)))
+    if len(entries) == 0:
+        return LightTable(entries, 0.0, np.zeros(len(source_weights)))
+    total = float(weight[keep].sum())
     threshold, alias = alias_table(weight[keep])
-    entries["triangle"], entries["alias_index"], entries["threshold"] = index[keep], alias, threshold
-    return LightTable(entries, float(weight[keep].sum()))
+    entries["triangle"], entries["alias_index"], entries["threshold"] = words[keep], alias, threshold
+    sources = slice(len(index), len(index) + len(source_weights))
+    return LightTable(entries, total, weight[sources] / total, float(weight[-1] / total))

@@ -18,7 +18,7 @@ import numpy as np
 import wgpu
 
 from ..denoise import denoise
-from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, pixels_group, scene_group
+from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, lights_group, pixels_group, scene_group
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.generated import (
@@ -30,6 +30,14 @@ from ..gpu.generated import (
 )
 from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
+from ..gpu.light_dispatch import (
+    GENERATED_ESCAPED_LIGHT,
+    GENERATED_LIGHTS,
+    NO_LIGHTS,
+    LightFeatures,
+    escaped_light_hook,
+    light_dispatch,
+)
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
@@ -37,6 +45,7 @@ from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..scene import Camera, Scene
 from .interrupts import Deferral, deferred_signals
+from .light_buffers import LightBuffers
 from .lights import LightTable
 from .limits import check_image_size, check_scene_size
 from .rng_seed import pixel_rng_states
@@ -93,6 +102,7 @@ def path_tracer_kernel(
     count_rays: bool = False,
     guides: bool = False,
     stack_size: int = BVH_STACK_SIZE,
+    lights: LightFeatures = NO_LIGHTS,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
@@ -101,7 +111,9 @@ def path_tracer_kernel(
     the BSDF code compiled in to those kinds (gpu/material_dispatch.py). `count_rays` compiles the
     ray counters in (gpu/ray_count.py; render/ray_count.py runs them). `guides` compiles in the
     denoiser's albedo and normal guides (gpu/path_guides.py) and binds their sums in the pixels
-    group. `stack_size` sizes the BVH traversal's stack (gpu/generated.py traversal_stack_size)."""
+    group. `stack_size` sizes the BVH traversal's stack (gpu/generated.py traversal_stack_size).
+    `lights` compiles in the code of the lights besides emissive triangles (gpu/light_dispatch.py)
+    and declares the lights group they are bound in; none by default."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
@@ -116,24 +128,29 @@ def path_tracer_kernel(
         count_rays,
         guides,
         stack_size,
+        lights,
     )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         groups = (scene_group(acceleration), pixels_group(guides), *((BAND_GROUP,) if rows else ()))
+        groups += ((RAY_COUNT_GROUP,) if count_rays else ()) + ((lights_group(lights),) if lights.any else ())
         _kernels[key] = ComputeKernel(
             context,
             "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
-            groups + ((RAY_COUNT_GROUP,) if count_rays else ()),
+            groups,
             generated={
                 "acceleration.wgsl": traversal,
                 GENERATED_MATERIALS: material_dispatch(kinds),
                 GENERATED_RAY_COUNT: ray_count_hook(count_rays),
                 GENERATED_PATH_GUIDES: path_guides_hook(guides, kinds),
                 GENERATED_TRAVERSAL_STACK: traversal_stack(stack_size),
+                GENERATED_LIGHTS: light_dispatch(lights),
+                GENERATED_ESCAPED_LIGHT: escaped_light_hook(lights),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
-            f"{', counting rays' if count_rays else ''}{', guides' if guides else ''})",
+            f"{', counting rays' if count_rays else ''}{', guides' if guides else ''}"
+            f"{', ' + lights.description if lights.any else ''})",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -199,6 +216,8 @@ class Renderer:
         self._shader_overrides = shader_overrides
         self._kinds = shaded_kinds(self._mirror.material_kinds)
         self._stack_size = self._needed_stack_size()
+        self._lights = LightBuffers(self.context, self._mirror)
+        self._light_features = self._mirror.light_features
         self._guides = guides
         self.kernel = self.kernel_variant()
         frame = self._frame_record()
@@ -254,13 +273,15 @@ class Renderer:
         """Bytes and write_buffer calls per buffer made by the last `update` (which every `render`
         starts with); buffers it did not write are absent. Restarting accumulation clears and
         copies buffers on the GPU and uploads nothing."""
-        buffers = [self._frame, *self._scene_buffers.values()]
+        buffers = [self._frame, *self._scene_buffers.values(), *self._lights.buffers.values()]
         return {buffer.label: buffer.uploads for buffer in buffers if buffer.uploads.calls}
 
     @property
     def gpu_scene_bytes(self) -> dict[str, int]:
-        """Bytes allocated on the GPU for the scene, by buffer (capacity, spare rows included)."""
-        return {buffer.label: buffer.capacity_bytes for buffer in self._scene_buffers.values()}
+        """Bytes allocated on the GPU for the scene, by buffer (capacity, spare rows included), the
+        lights besides emissive triangles included."""
+        buffers = [*self._scene_buffers.values(), *self._lights.buffers.values()]
+        return {buffer.label: buffer.capacity_bytes for buffer in buffers}
 
     @property
     def gpu_image_bytes(self) -> dict[str, int]:
@@ -289,18 +310,23 @@ class Renderer:
             LIGHTS: self._mirror.lights.entries,
         }
         for name, rows in changes.items():
-            self._scene_buffers[name].upload(arrays[name], rows)
+            if name in self._scene_buffers:
+                self._scene_buffers[name].upload(arrays[name], rows)
+        light_generation = self._lights.generation
+        self._lights.sync(self._mirror, changes)
         frame = self._frame_record()
         frame_changed = frame.tobytes() != self._frame_bytes
         if frame_changed:
             self._frame.upload(frame)
             self._frame_bytes = frame.tobytes()
         kinds, stack_size = shaded_kinds(self._mirror.material_kinds), self._needed_stack_size()
-        new_pipeline = (kinds, stack_size) != (self._kinds, self._stack_size)
+        features = self._mirror.light_features
+        new_pipeline = (kinds, stack_size, features) != (self._kinds, self._stack_size, self._light_features)
         if new_pipeline:
-            self._kinds, self._stack_size = kinds, stack_size
+            self._kinds, self._stack_size, self._light_features = kinds, stack_size, features
             self.kernel = self.kernel_variant()
-        if generations != [buffer.generation for buffer in self._scene_buffers.values()]:
+        rebind = generations != [buffer.generation for buffer in self._scene_buffers.values()]
+        if new_pipeline or rebind or light_generation != self._lights.generation:
             self._bind()
         if changes or frame_changed:
             self.restart()
@@ -313,6 +339,8 @@ class Renderer:
             "scene": self.kernel.bind("scene", frame=self._frame.buffer, **scene),
             "pixels": self.kernel.bind("pixels", **self._pixel_resources()),
         }
+        if self._light_features.any:
+            self._bind_groups["lights"] = self.kernel.bind("lights", **self._lights.resources)
 
     def _pixel_resources(self) -> dict[str, wgpu.GPUBuffer]:
         """What the pixels group binds: the guide sums too where guides are on."""
@@ -363,7 +391,7 @@ class Renderer:
 
     def kernel_variant(self, **options) -> ComputeKernel:
         """This renderer's path tracer (acceleration, integrator, overrides, material kinds, stack
-        size, guides on or off) compiled with other `path_tracer_kernel` options, e.g. count_rays=True."""
+        size, lights, guides on or off) compiled with other `path_tracer_kernel` options, e.g. count_rays=True."""
         return path_tracer_kernel(
             self.context,
             self.accel,
@@ -371,6 +399,7 @@ class Renderer:
             self._shader_overrides,
             material_kinds=self._kinds,
             stack_size=self._stack_size,
+            lights=self._light_features,
             **{"guides": self._guides, **options},
         )
 
@@ -390,8 +419,9 @@ class Renderer:
 
     @property
     def bind_groups(self) -> dict[str, wgpu.GPUBindGroup]:
-        """The path tracer's bind groups by name ("scene", "pixels"; gpu/bindings.py), current
-        after the last `update`: other kernels declaring these groups set them as they are."""
+        """The path tracer's bind groups by name ("scene", "pixels", and "lights" where the scene has
+        lights besides emissive triangles; gpu/bindings.py), current after the last `update`: other
+        kernels declaring these groups set them as they are."""
         return dict(self._bind_groups)
 
     @property
@@ -400,7 +430,7 @@ class Renderer:
         texel views, rng_states, accumulation, and guide_sums where guides are on), for kernels that
         read them elsewhere (the viewer's)."""
         scene = {name: buffer.resource for name, buffer in self._scene_buffers.items()}
-        return {"frame": self._frame.buffer, **scene, **self._pixel_resources()}
+        return {"frame": self._frame.buffer, **scene, **self._pixel_resources(), **self._lights.resources}
 
     def set_camera(self, camera: Camera) -> None:
         """Look through `camera` from now on: uploads only the frame uniform, restarts accumulation."""

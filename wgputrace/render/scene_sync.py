@@ -8,10 +8,21 @@ each edit needs, and reporting which rows changed so only those are uploaded.
 | shape material reassigned                   | material list and every triangle's index      | materials and triangles whose index moved |
 | shapes added/removed, vertices replaced     | arrays, BVH build                             | whatever differs (nearly all)        |
 
-The light table (next-event estimation) is rebuilt when an emitter's triangles or record change.
-Its entries follow the scene's triangle order, not the BVH's, so a refit tree and a fresh build
-sample the same light for the same random numbers: the picture after an edit is bit for bit the
-picture of a fresh Renderer of the edited scene (up to exact ties of two hit distances).
+The light table (next-event estimation) is rebuilt when an emitter's triangles or record change,
+when a light is added, removed or edited, when the environment or its parameters change, and, with
+distant lights or an environment (whose power is what crosses the scene's bounding sphere), when
+the geometry moves. Its entries follow the scene's triangle order, not the BVH's, so a refit tree
+and a fresh build sample the same light for the same random numbers: the picture after an edit is
+bit for bit the picture of a fresh Renderer of the edited scene (up to exact ties of two hit
+distances).
+
+| light edit                                   | rows that change                                      |
+|----------------------------------------------|-------------------------------------------------------|
+| a light's parameter                          | its light source record; the table where its power moved |
+| a light added or removed                     | the light source records and the table                |
+| environment rotation or visibility           | the lighting parameters only                          |
+| environment intensity or constant radiance   | the lighting parameters; the table where other lights share it |
+| a new map (`generation`) or environment      | the map, its sampling tables, the lighting parameters, the table |
 
 A refit whose SAH cost exceeds the built tree's by REBUILD_DEGRADATION becomes a rebuild.
 The GPU traverses the BVH as 4-wide records (bvh/wide.py): a rebuild collapses the new tree; a
@@ -27,8 +38,17 @@ from __future__ import annotations
 import numpy as np
 
 from ..bvh import BVH, Refitter
+from ..gpu.layout import LIGHT_SOURCE, LIGHTING
+from ..gpu.light_dispatch import CONSTANT_ENVIRONMENT, ENVIRONMENT_MAP, LightFeatures
 from ..scene import Scene, Shape
 from ..scene.scene import zero_area
+from .environment_records import (
+    environment_power,
+    environment_state,
+    environment_table_words,
+    environment_texels,
+    fill_environment,
+)
 from .lights import LightTable, emitting, light_table
 from .scene_buffers import (
     SceneRecords,
@@ -50,6 +70,8 @@ from .scene_buffers import (
 REBUILD_DEGRADATION = 1.2
 
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights"
+LIGHT_SOURCES, LIGHTING_PARAMETERS = "light sources", "lighting"
+ENVIRONMENT_TEXELS, ENVIRONMENT_TABLES = "environment map", "environment tables"
 
 
 def changed_rows(old: np.ndarray, new: np.ndarray) -> np.ndarray:
@@ -72,6 +94,14 @@ class SceneMirror:
         self.scene, self.acceleration_kind = scene, acceleration
         self.triangles = self.nodes = self.materials = None
         self.lights: LightTable | None = None
+        # the light sources' records (LIGHT_SOURCE), the lighting parameters (one LIGHTING record),
+        # and an environment map's texels (float32 (H, W, 4)) and sampling tables (uint32 words)
+        self.sources = LIGHT_SOURCE.zeros(0)
+        self.lighting = LIGHTING.zeros(1)
+        self.environment_texels: np.ndarray | None = None
+        self.environment_tables: np.ndarray | None = None
+        self.light_features = LightFeatures()
+        self._environment = self._environment_state = self._environment_generation = None
         self.rebuilds = self.refits = 0
         # set while the BVH is out of step with the records (a refit that must become a rebuild,
         # which then did not finish: interrupted, out of memory): the next update rebuilds
@@ -120,8 +150,10 @@ class SceneMirror:
             reassigned
             or emitter[self.triangles["material"][changes.get(TRIANGLES, [])]].any()
             or emitter[changes.get(MATERIALS, [])].any()
+            or self._lights_edited()
+            or (TRIANGLES in changes and self._has_distant_lights())
         ):
-            changes[LIGHTS] = self._update_lights()
+            changes.update(self._update_lights())
         self._snapshot()
         return {name: rows for name, rows in changes.items() if rows.size}
 
@@ -130,6 +162,56 @@ class SceneMirror:
         self._versions = [(s.geometry_version, s.transform_version, s.material_version) for s in self._shapes]
         self._materials = self.scene.materials
         self._material_versions = [m.version for m in self._materials]
+        self._lights = self.scene.lights
+        self._light_versions = [light.version for light in self._lights]
+
+    def _lights_edited(self) -> bool:
+        """A light added, removed or edited, or the environment replaced or edited, since the snapshot."""
+        lights = self.scene.lights
+        environment = self.scene.environment
+        return (
+            len(lights) != len(self._lights)
+            or any(
+                a is not b or a.version != v for a, b, v in zip(lights, self._lights, self._light_versions, strict=True)
+            )
+            or environment is not self._environment
+            or environment_state(environment) != self._environment_state
+        )
+
+    def _update_environment_map(self) -> dict[str, np.ndarray]:
+        """A new environment or new texels: the map's texels and sampling tables as the GPU holds
+        them (none for a constant environment, nor for an all-black map, which lights nothing)."""
+        environment = self.scene.environment
+        tables = None if environment is None or environment.texels is None else environment.sampling_tables()
+        self._environment_generation = None if environment is None else environment.generation
+        if tables is None:
+            self.environment_texels = self.environment_tables = None
+            return {}
+        self.environment_texels = environment_texels(environment)
+        self.environment_tables = environment_table_words(tables)
+        return {
+            ENVIRONMENT_TEXELS: np.arange(len(self.environment_texels)),
+            ENVIRONMENT_TABLES: np.arange(len(self.environment_tables)),
+        }
+
+    def _environment_holds(self) -> str | None:
+        """How the GPU holds the scene's environment (gpu/light_dispatch.py): None where it has none."""
+        environment = self.scene.environment
+        if environment is None:
+            return None
+        if environment.texels is None:
+            return CONSTANT_ENVIRONMENT
+        return ENVIRONMENT_MAP if self.environment_tables is not None else None
+
+    def _has_distant_lights(self) -> bool:
+        """Lights whose power depends on the scene's size: distant ones and the environment."""
+        return self.scene.environment is not None or any(light.distant for light in self.scene.lights)
+
+    def scene_radius(self) -> float:
+        """The radius of the scene's bounding sphere (half its box's diagonal), which the power of
+        distant lights and the environment is measured through."""
+        corners = np.concatenate([self.triangles[corner] for corner in ("v0", "v1", "v2")]).astype(np.float64)
+        return 0.5 * float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
 
     def _rebuild(self) -> dict[str, np.ndarray]:
         arrays = self.scene.arrays()
@@ -157,7 +239,7 @@ class SceneMirror:
         self._local_index = arrays.local_index
         self._position = np.empty(len(order), np.int64)
         self._position[order] = np.arange(len(order))
-        changes[LIGHTS] = self._update_lights()
+        changes.update(self._update_lights())
         self.rebuilds += 1
         self._needs_rebuild = False
         self._snapshot()
@@ -229,13 +311,48 @@ class SceneMirror:
         self.materials[edited] = records
         return {MATERIALS: rows}
 
-    def _update_lights(self) -> np.ndarray:
-        """A new light table in scene order pointing at BVH positions; its changed rows."""
-        table = light_table(self.triangles[self._position], self.materials)
-        table.entries["triangle"] = self._position[table.entries["triangle"]]
-        rows = np.arange(table.count) if self.lights is None else changed_rows(self.lights.entries, table.entries)
+    def _update_lights(self) -> dict[str, np.ndarray]:
+        """The light table in scene order pointing at BVH positions, the light sources' records, the
+        lighting parameters and, for a new map, its texels and tables; the changed rows of each."""
+        lights, environment = self.scene.lights, self.scene.environment
+        radius = self.scene_radius() if self._has_distant_lights() else 0.0
+        environment_changed = environment is not self._environment or (
+            environment is not None and environment.generation != self._environment_generation
+        )
+        changes = {}
+        if environment_changed:
+            changes.update(self._update_environment_map())
+        holds = self._environment_holds()
+        environment_weight = environment_power(environment, radius) if holds is not None else 0.0
+        table = light_table(
+            self.triangles[self._position],
+            self.materials,
+            np.array([light.weight(radius) for light in lights]),
+            environment_weight,
+        )
+        triangle_entries = table.entries["triangle"] < len(self._position)
+        table.entries["triangle"][triangle_entries] = self._position[table.entries["triangle"][triangle_entries]]
+        changes[LIGHTS] = (
+            np.arange(table.count) if self.lights is None else changed_rows(self.lights.entries, table.entries)
+        )
         self.lights = table
-        return rows
+        sources = LIGHT_SOURCE.zeros(len(lights))
+        for record, light, probability in zip(sources, lights, table.source_probability, strict=True):
+            record["kind"], record["probability"] = light.kind, probability
+            light.fill_record(record)
+        changes[LIGHT_SOURCES] = changed_rows(self.sources, sources)
+        self.sources = sources
+        lighting = LIGHTING.zeros(1)
+        lighting["source_count"] = len(lights)
+        if holds is not None:
+            fill_environment(lighting[0], environment)
+            lighting["environment_probability"] = table.environment_probability
+        changes[LIGHTING_PARAMETERS] = changed_rows(self.lighting, lighting)
+        self.lighting = lighting
+        self.light_features = LightFeatures(tuple(light.kind for light in lights), holds)
+        self._environment = environment
+        self._environment_state = environment_state(environment)
+        return changes
 
 
 def _union(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -1,9 +1,10 @@
-"""Scene description in pure numpy (never imports wgpu): shapes, materials, camera."""
+"""Scene description in pure numpy (never imports wgpu): shapes, materials, lights, camera."""
 
-from . import materials
+from . import lights, materials
 from .camera import Camera
 from .cornell import cornell_box
 from .errors import SceneError
+from .lights import *  # noqa: F403 (the base, its error and every light kind, by module discovery)
 from .materials import *  # noqa: F403 (the base, its error and every material kind, by module discovery)
 from .scene import DegenerateTrianglesWarning, Scene, TriangleArrays
 from .shapes import Shape, make_box, make_icosphere, make_plane, model_matrix
@@ -20,5 +21,6 @@ __all__ = [
     "make_icosphere",
     "make_plane",
     "model_matrix",
+    *lights.__all__,
     *materials.__all__,
 ]

@@ -1,9 +1,13 @@
-"""A scene: shapes (triangles sharing a material), the materials they index, and a camera.
+"""A scene: shapes (triangles sharing a material), the materials they index, a camera, and the
+lights that are not emissive triangles: an environment (`environment`, scene/environment.py) and
+point, spot, directional and sun lights (`add_light`, scene/lights/).
 
-Editing (Mitsuba's traverse/params.update, with plain attributes): add and remove shapes, assign a
-shape's `transform`, `vertices` or `material`, a material's parameters, or the scene's `camera`.
-Each assignment is checked where it happens and bumps a version; `Renderer.render` (or
-`Renderer.update`) compares versions with what it uploaded and uploads only what changed.
+Editing (Mitsuba's traverse/params.update, with plain attributes): add and remove shapes and lights,
+assign a shape's `transform`, `vertices` or `material`, a material's or a light's parameters, the
+scene's `camera` or `environment`, or the environment's parameters. Each assignment is checked
+where it happens and bumps a version (an environment's new texels its `generation`);
+`Renderer.render` (or `Renderer.update`) compares them with what it uploaded and uploads only what
+changed.
 """
 
 from __future__ import annotations
@@ -14,7 +18,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .camera import Camera
+from .environment import Environment
 from .errors import SceneError
+from .lights import Light
 from .materials import Material
 from .shapes import Shape
 
@@ -50,6 +56,9 @@ class TriangleArrays:
 class Scene:
     shapes: list[Shape] = field(default_factory=list)
     camera: Camera = field(default_factory=Camera)
+    # the light arriving from infinitely far in every direction (scene/environment.py); None: black
+    environment: Environment | None = None
+    _lights: list[Light] = field(default_factory=list, init=False, repr=False)
 
     def __setattr__(self, key: str, value) -> None:
         if key == "camera" and not isinstance(value, Camera):
@@ -57,7 +66,30 @@ class Scene:
         if key == "shapes":
             value = list(value)
             _check_shapes(value)
+        if key == "environment":
+            _check_environment(value)
         object.__setattr__(self, key, value)
+
+    @property
+    def lights(self) -> tuple[Light, ...]:
+        """The lights that are not emissive triangles nor the environment, in the order added."""
+        return tuple(self._lights)
+
+    def add_light(self, *lights: Light) -> Scene:
+        for light in lights:
+            if not isinstance(light, Light):
+                raise SceneError(f"add_light takes lights (wgputrace.PointLight, ...), got {type(light).__name__}")
+            if any(light is other for other in self._lights):
+                raise SceneError(f"{light.label} is in the scene already")
+        self._lights.extend(lights)
+        return self
+
+    def remove_light(self, *lights: Light) -> Scene:
+        for light in lights:
+            if not any(light is other for other in self._lights):
+                raise SceneError(f"cannot remove {light.label}: it is not in the scene")
+            self._lights = [other for other in self._lights if other is not light]
+        return self
 
     def add(self, *shapes: Shape) -> Scene:
         _check_shapes(shapes, first=len(self.shapes))
@@ -126,6 +158,11 @@ class Scene:
             if len(vertices) == 0:
                 raise SceneError("the scene has no triangles left after dropping zero-area ones")
         return TriangleArrays(vertices, material_index, shape_index, local_index, materials)
+
+
+def _check_environment(environment) -> None:
+    if environment is not None and not isinstance(environment, Environment):
+        raise SceneError(f"scene environment must be an Environment or None, got {type(environment).__name__}")
 
 
 def _check_shapes(shapes, first: int = 0) -> None:

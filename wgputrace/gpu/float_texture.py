@@ -1,0 +1,78 @@
+"""An rgba32float texture following a float32 (H, W, 4) array, with the interface of TrackedBuffer
+(`upload`, `generation`, `uploads`, `capacity_bytes`, `resource`): the environment map.
+
+Shaders read it with textureLoad and filter by hand (shaders/lights/environment_map.wgsl): filtering
+float32 textures is an optional WebGPU feature. An upload writes the whole texture; one of another
+size reallocates it and bumps `generation`, so the owner rebinds. wgpu's errors come out as
+GpuFailure naming the texture.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import wgpu
+
+from .device import GpuContext, reporting
+from .tracked_buffer import UploadCount
+
+TEXEL_CHANNELS = 4
+
+
+def require_float_texture(context: GpuContext, label: str, width: int, height: int) -> None:
+    """DeviceLimitError unless a `width` x `height` texture fits the adapter, naming the texture."""
+    what = f"texture {label!r} ({width:,}x{height:,} texels)"
+    context.require("max-texture-dimension-2d", max(width, height), what)
+
+
+class FloatTexture:
+    def __init__(self, context: GpuContext, label: str, data: np.ndarray) -> None:
+        self.context, self.label = context, label
+        self.generation = 0
+        self.uploads = UploadCount()
+        self.texture = None
+        self.upload(data)
+
+    @property
+    def capacity_bytes(self) -> int:
+        width, height = self.texture.size[0], self.texture.size[1]
+        return width * height * TEXEL_CHANNELS * 4
+
+    @property
+    def resource(self) -> wgpu.GPUTextureView:
+        return self._view
+
+    def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
+        """Make the texture equal `data` (float32 (H, W, 4)); the whole texture is written (`rows`,
+        given by callers of the TrackedBuffer interface, changes nothing)."""
+        data = np.ascontiguousarray(data, dtype=np.float32)
+        if data.ndim != 3 or data.shape[2] != TEXEL_CHANNELS:
+            raise ValueError(f"texture {self.label!r} holds (H, W, {TEXEL_CHANNELS}) float32 texels, got {data.shape}")
+        height, width = data.shape[:2]
+        if self.texture is None or (self.texture.size[0], self.texture.size[1]) != (width, height):
+            self._allocate(width, height)
+        with reporting(f"writing {data.nbytes:,} B to texture {self.label!r}"):
+            self.context.device.queue.write_texture(
+                {"texture": self.texture, "origin": (0, 0, 0)},
+                data,
+                {"offset": 0, "bytes_per_row": width * TEXEL_CHANNELS * 4, "rows_per_image": height},
+                (width, height, 1),
+            )
+        self.uploads.bytes += data.nbytes
+        self.uploads.calls += 1
+
+    def _allocate(self, width: int, height: int) -> None:
+        require_float_texture(self.context, self.label, width, height)
+        if self.texture is not None:
+            self.texture.destroy()
+        with reporting(f"creating texture {self.label!r} of {width}x{height} rgba32float texels"):
+            self.texture = self.context.device.create_texture(
+                label=self.label,
+                size=(width, height, 1),
+                format=wgpu.TextureFormat.rgba32float,
+                usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+            )
+        self._view = self.texture.create_view()
+        self.generation += 1
+
+    def destroy(self) -> None:
+        self.texture.destroy()

@@ -1,0 +1,77 @@
+"""The environment (scene/environment.py) as the GPU holds it: its part of the lighting parameters,
+the map's texels and its sampling tables packed into one buffer of 32-bit words.
+
+| words (uint32)  | count   | what                                                            |
+|-----------------|---------|-----------------------------------------------------------------|
+| rows            | 2 R     | per cell row: threshold (f32 bits), alias: picks a cell row      |
+| columns         | 2 R W   | per cell row, per cell: threshold, alias: picks a cell in the row |
+| cell densities  | R W     | f32 bits: the density per steradian of a direction in the cell  |
+
+An H x W map has R = max(H - 1, 1) cell rows of W cells (scene/environment.py EnvironmentTables);
+shaders/lights/environment_map.wgsl reads the words at these offsets, from the map's width and
+height in the lighting parameters. The tables do not change with intensity, rotation or visibility, so an edit
+of those uploads the lighting parameters only.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# (H, W, 4): rgba32float texels, the fourth channel unused (WebGPU has no three-channel float format)
+TEXEL_CHANNELS = 4
+
+
+def environment_state(environment) -> tuple | None:
+    """What the lighting parameters hold of `environment` (None: there is none): an edit changes it."""
+    if environment is None:
+        return None
+    radiance = None if environment.radiance is None else tuple(environment.radiance)
+    return (radiance, environment.intensity, environment.rotation_degrees, environment.visible)
+
+
+def environment_power(environment, scene_radius: float) -> float:
+    """The light sampler's weight of `environment` (render/lights.py): its power through the scene's
+    bounding sphere (the environment's `power`, pbrt-v4's pi r^2 x the luminance integrated over the
+    sphere) over 2 pi, the units of the triangles' weights."""
+    return float(environment.power(scene_radius)) / (2.0 * math.pi)
+
+
+def fill_environment(record: np.void, environment) -> None:
+    """The environment's fields of a LIGHTING record: a constant's radiance (intensity applied) or a
+    map's intensity, whether camera rays see it, the rotation about +y as (cos, sin), and the map's size."""
+    if environment.radiance is not None:
+        record["environment_radiance"] = np.asarray(environment.radiance) * environment.intensity
+    else:
+        record["environment_radiance"] = (environment.intensity,) * 3
+        height, width = environment.texels.shape[:2]
+        record["environment_size"] = (width, height)
+    angle = math.radians(environment.rotation_degrees)
+    record["environment_rotation"] = (math.cos(angle), math.sin(angle))
+    record["environment_visible"] = bool(environment.visible)
+
+
+def environment_texels(environment) -> np.ndarray:
+    """The map as rgba32float texels: float32 (H, W, 4)."""
+    texels = np.zeros((*environment.texels.shape[:2], TEXEL_CHANNELS), np.float32)
+    texels[..., :3] = environment.texels
+    return texels
+
+
+def _alias_words(entries) -> np.ndarray:
+    """(threshold bits, alias) pairs of alias entries, interleaved."""
+    threshold = np.asarray(entries["threshold"], np.float32).view(np.uint32)
+    return np.column_stack([threshold, np.asarray(entries["alias"], np.uint32)]).reshape(-1)
+
+
+def environment_table_words(tables) -> np.ndarray:
+    """The sampling tables (the environment's `sampling_tables()`) as one uint32 array: rows,
+    columns, cell densities (the layout above)."""
+    return np.concatenate(
+        [
+            _alias_words(tables.rows),
+            _alias_words(tables.columns),
+            np.ascontiguousarray(tables.cell_pdf, np.float32).reshape(-1).view(np.uint32),
+        ]
+    )

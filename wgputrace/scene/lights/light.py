@@ -1,0 +1,229 @@
+"""The base of every light kind that is not an emissive triangle, and the registry of those kinds.
+
+A light kind is one class in one module of this package plus one WGSL file under shaders/lights/,
+and nothing else: like a material kind (scene/materials/material.py) the class is the whole
+descriptor, and like pbrt-v4's `Light` it answers what the light sampler and the integrator ask.
+
+| what                                      | on the class             | driven from it                                   |
+|-------------------------------------------|--------------------------|--------------------------------------------------|
+| the id the GPU switches on                | `kind`                   | `LIGHT_<NAME>` constants, the records' kind      |
+| parameters and their checks               | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)  |
+| its GPU record                            | `fill_record`            | render/scene_sync.py's light source records      |
+| its sampling code (and what escaped rays see) | `shader`             | gpu/light_dispatch.py: generated dispatch        |
+| a delta light (only light sampling finds it)? | `delta`              | path_tracer.wgsl: weight 1, under every integrator |
+| infinitely far (shadow rays to infinity)? | `distant`                | light_sampling.wgsl, the power estimate          |
+| its share of the light sampler            | `weight`                 | render/lights.py's alias table                   |
+| its Mitsuba 3 equivalent                  | `mitsuba_emitter`        | reference/mitsuba_scene.py                       |
+
+Directions (`direction`) are the way the light TRAVELS (Mitsuba's `directional` and `spot`, glTF's
+-Z), normalised when set. Parameters are plain attributes: assigning one re-runs the light's checks
+(a bad value raises LightError naming the light, the parameter and the value, and leaves the light
+as it was) and bumps `version`, which is how a Renderer knows which light record to upload again.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, fields
+from typing import ClassVar
+
+import numpy as np
+
+# Kind ids are u32 on the GPU; 0 is the kind of a zeroed record, which no light has.
+KIND_MAX = 2**32 - 1
+# Rec. 709 luminance, the weights of the light sampler (render/lights.py) and the shaders.
+LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
+# As the Emitter material's RADIANCE_MAX: far above any physical source, low enough that the
+# float32 sums of billions of samples per pixel stay finite.
+INTENSITY_MAX = 1e20
+
+
+class LightError(ValueError):
+    """A light parameter is out of its documented range; `parameter` names it."""
+
+    def __init__(self, message: str, parameter: str | None = None) -> None:
+        super().__init__(message)
+        self.parameter = parameter
+
+
+@dataclass(frozen=True)
+class LightShader:
+    """A kind's WGSL: its file under shaders/ and the calls the generated dispatch makes into it.
+    `sample` sees `light` (its LightSource record), `p` (the receiving point) and `u` (vec2) and
+    returns a LightSample; a distant light that is not a delta (the sun) also gives what a ray
+    escaping along `direction` sees of it, `escaped_radiance` (vec3) and `escaped_pdf` (the density
+    per steradian with which `sample` draws `direction`, before the light's selection probability)."""
+
+    file: str
+    sample: str
+    escaped_radiance: str | None = None
+    escaped_pdf: str | None = None
+
+
+def luminance(rgb) -> float:
+    return float(np.asarray(rgb, np.float64) @ LUMINANCE_WEIGHTS)
+
+
+_KINDS: dict[int, type[Light]] = {}
+
+
+def light_classes() -> tuple[type[Light], ...]:
+    """Every registered light kind, in id order."""
+    return tuple(_KINDS[kind] for kind in sorted(_KINDS))
+
+
+def light_class(kind: int) -> type[Light]:
+    """The class registered for `kind`."""
+    if kind not in _KINDS:
+        kinds = ", ".join(f"{cls.kind} ({cls.__name__})" for cls in light_classes())
+        raise ValueError(f"no light kind {kind} is registered; the kinds are {kinds}")
+    return _KINDS[kind]
+
+
+def _register(cls: type[Light]) -> None:
+    where = f"{cls.__module__}.{cls.__qualname__}"
+    if isinstance(cls.kind, bool) or not isinstance(cls.kind, int) or not 1 <= cls.kind <= KIND_MAX:
+        raise TypeError(f"{where}: kind must be an int in [1, {KIND_MAX}], got {cls.kind!r}")
+    if cls.kind in _KINDS:
+        raise TypeError(f"{where}: light kind {cls.kind} is already {_KINDS[cls.kind].__qualname__}'s")
+    if not isinstance(cls.shader, LightShader):
+        raise TypeError(f"{where}: shader must be a LightShader, got {cls.shader!r}")
+    if cls.distant and not cls.delta and cls.shader.escaped_radiance is None:
+        raise TypeError(f"{where}: a distant light that is not a delta must say what escaped rays see of it")
+    cls.kind_name = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", cls.__name__).upper()
+    _KINDS[cls.kind] = cls
+
+
+@dataclass(eq=False)
+class Light:
+    """Lights compare by identity, as materials do."""
+
+    # the id the GPU switches on
+    kind: ClassVar[int]
+    # the class name in upper snake case, set on registration: WGSL names the kind LIGHT_<kind_name>
+    kind_name: ClassVar[str]
+    shader: ClassVar[LightShader]
+    # a point or a single direction: no BSDF sample can hit it, only light sampling reaches it
+    delta: ClassVar[bool] = False
+    # infinitely far: its shadow rays run to infinity and its power is what crosses the scene
+    distant: ClassVar[bool] = False
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        if "kind" in cls.__dict__:
+            _register(cls)
+
+    def __post_init__(self) -> None:
+        for parameter, value in self.checked_parameters().items():
+            object.__setattr__(self, parameter, value)
+        object.__setattr__(self, "version", 0)
+
+    def __setattr__(self, key: str, value) -> None:
+        if "version" not in self.__dict__ or key not in self.parameter_names():
+            object.__setattr__(self, key, value)
+            return
+        previous = self.__dict__[key]
+        object.__setattr__(self, key, value)
+        try:
+            checked = self.checked_parameters()
+        except LightError:
+            object.__setattr__(self, key, previous)
+            raise
+        for parameter, normalized in checked.items():
+            object.__setattr__(self, parameter, normalized)
+        object.__setattr__(self, "version", self.version + 1)
+
+    @classmethod
+    def parameter_names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls) if f.name != "name")
+
+    @property
+    def label(self) -> str:
+        """How errors name the light: its class, and its name where it has one."""
+        name = getattr(self, "name", None)
+        return type(self).__name__ + (f" {name!r}" if name else "")
+
+    def checked_parameters(self) -> dict[str, object]:
+        """Every parameter validated and normalized, or LightError naming the first bad one."""
+        raise NotImplementedError
+
+    def fill_record(self, record: np.void) -> None:
+        """Write the parameters into `record`, one LIGHT_SOURCE record (gpu/layout.py), by field name,
+        as `shader` reads them. `kind` and `probability` are written by the caller."""
+        raise NotImplementedError
+
+    def weight(self, scene_radius: float) -> float:
+        """The light sampler's weight: the estimated emitted power (of the luminance) over 2 pi, the
+        unit in which a two-sided emissive triangle, emitting 2 pi x area x luminance, weighs its
+        area x luminance (render/lights.py). A distant light's power is what it sends through a
+        disc of the scene's bounding radius `scene_radius`."""
+        raise NotImplementedError
+
+    def mitsuba_emitter(self) -> dict | None:
+        """The Mitsuba 3 emitter dict; None where no Mitsuba plugin is this light. A transform is
+        given as {"look_at": {"origin", "target", "up"}}, which the exporter turns into Mitsuba's
+        `ScalarTransform4f().look_at`."""
+        raise NotImplementedError
+
+    # the checks every kind shares
+
+    def check_vector(self, parameter: str, value, *, unit: bool) -> tuple[float, float, float]:
+        """3 finite numbers; normalised (and not zero) where `unit`."""
+        try:
+            vector = np.asarray(value, dtype=np.float64).reshape(-1)
+        except (TypeError, ValueError):
+            vector = np.zeros(0)
+        if vector.size != 3 or not np.all(np.isfinite(vector)):
+            raise LightError(f"{self.label}: {parameter} must be 3 finite numbers, got {value!r}", parameter)
+        if unit:
+            length = float(np.linalg.norm(vector))
+            if not length > 0.0:
+                raise LightError(f"{self.label}: {parameter} must not be zero, got {value!r}", parameter)
+            vector = vector / length
+        return (float(vector[0]), float(vector[1]), float(vector[2]))
+
+    def check_color(self, parameter: str, value) -> tuple[float, float, float]:
+        """An RGB triple (or one number for grey) of finite numbers >= 0."""
+        try:
+            rgb = np.asarray(value, dtype=np.float64).reshape(-1)
+        except (TypeError, ValueError):
+            rgb = np.zeros(0)
+        if rgb.size == 1:
+            rgb = np.repeat(rgb, 3)
+        if rgb.size != 3 or not np.all(np.isfinite(rgb)) or np.any(rgb < 0):
+            raise LightError(f"{self.label}: {parameter} must be 3 finite numbers >= 0, got {value!r}", parameter)
+        return (float(rgb[0]), float(rgb[1]), float(rgb[2]))
+
+    def check_number(self, parameter: str, value, *, low: float, high: float, low_inclusive: bool = True) -> float:
+        """A finite number in [low, high] (or (low, high] when low_inclusive is false)."""
+        bracket = "[" if low_inclusive else "("
+        message = f"{self.label}: {parameter} must be in {bracket}{low:g}, {high:g}], got {value!r}"
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise LightError(message, parameter) from None
+        below = number < low if low_inclusive else number <= low
+        if not math.isfinite(number) or below or number > high:
+            raise LightError(message, parameter)
+        return number
+
+    def check_strength(self, parameter: str, value, color: tuple[float, float, float]) -> float:
+        """An intensity or irradiance: finite, >= 0, and with its colour at most INTENSITY_MAX."""
+        strength = self.check_number(parameter, value, low=0.0, high=INTENSITY_MAX)
+        if max(color) * strength > INTENSITY_MAX:
+            raise LightError(
+                f"{self.label}: {parameter} x color = {max(color) * strength:.3g} exceeds INTENSITY_MAX = "
+                f"{INTENSITY_MAX:g} ({parameter} {strength}, color {color})",
+                parameter,
+            )
+        return strength
+
+
+def mitsuba_rgb(value) -> dict:
+    """An RGB value as a Mitsuba 3 dict entry."""
+    return {"type": "rgb", "value": [float(v) for v in value]}
+
+
+def scaled(color, strength: float) -> tuple[float, float, float]:
+    return tuple(float(c) * strength for c in color)
