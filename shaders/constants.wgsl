@@ -30,3 +30,6 @@ const GGX_ALPHA_MIN: f32 = 1e-4;
 // neighbour sharing its edge) never counts as an occluder.
 const SHADOW_RAY_SHORTENING: f32 = 0.9999;
 
+
+// The largest f32 below 1: uniform numbers rescaled after a discrete draw are kept below 1 with it.
+const ONE_MINUS_EPSILON: f32 = 0.99999994;

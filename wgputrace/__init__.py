@@ -15,11 +15,15 @@ from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
 from .scene import Camera, Scene, Shape, make_box, make_icosphere, make_plane, model_matrix
+from .scene.environment import Environment
+from .scene.lights import KINDS as LIGHT_KINDS
 from .scene.materials import KINDS
 from .scenes import default_scene
 
 # every material kind (Diffuse, Emitter, Glass, Glossy, and any module added to scene/materials/)
 globals().update(KINDS)
+# every light kind (DirectionalLight, PointLight, SpotLight, Sun, and any module added to scene/lights/)
+globals().update(LIGHT_KINDS)
 
 # one source of the version: pyproject.toml, as installed
 __version__ = version("wgputrace")
@@ -29,6 +33,7 @@ __all__ = [
     "Camera",
     "DenoiserMissing",
     "DeviceLimitError",
+    "Environment",
     "GpuFailure",
     "Renderer",
     "Scene",
@@ -48,4 +53,5 @@ __all__ = [
     "render",
     "save_image",
     *KINDS,
+    *LIGHT_KINDS,
 ]

@@ -176,6 +176,7 @@ class SceneMirror:
             )
             or environment is not self._environment
             or environment_state(environment) != self._environment_state
+            or (environment is not None and environment.generation != self._environment_generation)
         )
 
     def _update_environment_map(self) -> dict[str, np.ndarray]:
