@@ -1,6 +1,7 @@
 """Property-based fuzzing of the loaders: random and mutated OBJ/MTL text, truncated and garbled
-GLB, PLY and STL files, and glTF JSON with random values in random places. Every input must end
-in a Scene or a SceneLoadError, within a time limit: no other exception, no hang. Mutated Cornell
+GLB, PLY and STL files, and glTF JSON (materials, nodes and KHR_lights_punctual lights) with random
+values in random places. Every input must end in a Scene or a SceneLoadError, within a time limit:
+no other exception, no hang, no NaN or infinity in a shape or a light. Mutated Cornell
 boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
 
 from __future__ import annotations
@@ -17,7 +18,16 @@ from hypothesis import strategies as st
 from wgputrace import Scene, SceneLoadError, load_scene, render
 from wgputrace.scene import DegenerateTrianglesWarning
 from wgputrace.testing.fuzzing import fuzz_settings, time_limit
-from wgputrace.testing.gltf_files import BOX, BOX_INDICES, MATERIALS, gltf_document, write_glb
+from wgputrace.testing.gltf_files import (
+    BOX,
+    BOX_INDICES,
+    LIGHTS,
+    MATERIALS,
+    gltf_document,
+    light_node,
+    with_lights,
+    write_glb,
+)
 
 # Examples per test, chosen so the whole file stays within ~20 s on a 2-core CI machine (JSON
 # mutations are cheapest to check and reach the most code paths per example).
@@ -65,12 +75,23 @@ def outcome(path) -> Scene | SceneLoadError:
     assert isinstance(scene, Scene) and scene.triangle_count > 0
     for shape in scene.shapes:
         assert np.all(np.isfinite(shape.world_vertices))
+    for light in scene.lights:
+        values = [getattr(light, name) for name in light.parameter_names()]
+        assert all(np.all(np.isfinite(value)) for value in values if value is not None), light
     return scene
 
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory):
     return tmp_path_factory.mktemp("fuzz")
+
+
+def lit_boxes() -> tuple[dict, bytes]:
+    """Two boxes (a red diffuse one and a gold glossy one) and one light of each type, the spot
+    turned by its node, as a JSON document and its buffer."""
+    document, blob = gltf_document([(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 3)], materials=MATERIALS)
+    nodes = [light_node(0, translation=[0, 3, 0]), light_node(1, rotation=[0.5, 0.5, 0.5, 0.5]), light_node(2)]
+    return with_lights(json.loads(json.dumps(document)), json.loads(json.dumps(LIGHTS)), nodes), blob
 
 
 @fuzz_settings(TEXT_EXAMPLES)
@@ -119,7 +140,7 @@ def test_mutated_cornell_obj(workdir, data_dir, cornell_text, data):
 def originals(workdir) -> dict[str, bytes]:
     """A small valid file of each binary format, to cut and garble."""
     mesh = trimesh.Trimesh(BOX, BOX_INDICES, process=False)
-    document, blob = gltf_document([(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 1)], materials=MATERIALS)
+    document, blob = lit_boxes()
     return {
         "box.ply": mesh.export(file_type="ply", encoding="binary"),
         "box.stl": mesh.export(file_type="stl"),
@@ -182,8 +203,7 @@ def replace_at(document: dict, path: tuple, value) -> None:
 @fuzz_settings(JSON_EXAMPLES)
 @given(data=st.data())
 def test_gltf_json_with_random_values_in_random_places(workdir, data):
-    document, blob = gltf_document([(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 3)], materials=MATERIALS)
-    document = json.loads(json.dumps(document))
+    document, blob = lit_boxes()
     paths = list(json_paths(document))[1:]
     for _ in range(data.draw(st.integers(1, 3))):
         replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))

@@ -1,4 +1,5 @@
-"""glTF 2.0 (.gltf with its buffers, or binary .glb): triangles, node transforms, materials, camera.
+"""glTF 2.0 (.gltf with its buffers, or binary .glb): triangles, node transforms, materials, camera,
+punctual lights.
 
 Why not trimesh's glTF reader, which the PLY and STL loaders use: its PBRMaterial drops every key
 it does not know, so KHR_materials_transmission and KHR_materials_ior never reach us (nor which
@@ -22,7 +23,28 @@ Materials (metallic-roughness; the first rule that applies):
 | anything else                                                          | Diffuse: color = baseColorFactor rgb |
 | a primitive without a material                                         | Diffuse: grey 0.8 (not glTF's default, which is a rough metal) |
 
-Errors name the file and the JSON path of the offending entry (`meshes[0].primitives[1].indices`).
+Lights (`KHR_lights_punctual`): each node naming a light by `extensions.KHR_lights_punctual.light`
+instances it at the node's world translation, shining along the node's world -z (as glTF's cameras
+look), so one light placed by two nodes is two lights. Units are taken 1:1 as the renderer's
+radiometric ones (no 683 lm/W: glTF's photometric values become radiance scales, as in most path
+tracers that read them):
+
+| glTF light                                      | wgputrace light |
+|-------------------------------------------------|-----------------|
+| `point`: intensity (candela), color             | PointLight: intensity (W/sr) = intensity, color |
+| `spot`: intensity (candela), color, `spot.innerConeAngle` (default 0), `spot.outerConeAngle` (default pi/4), radians | SpotLight: intensity on the axis, beam_width = innerConeAngle, cutoff_angle = outerConeAngle (in degrees) |
+| `directional`: intensity (lux), color           | DirectionalLight: irradiance = intensity, color |
+
+Differences from glTF's own model: `range` is ignored (glTF makes it an optional smooth cut-off
+for real-time engines; a physical light, as ours and Mitsuba's, falls off with 1/d^2 only). A spot
+light's falloff between its cones is Mitsuba's `spot` (full intensity inside beam_width, falling
+linearly in ANGLE to 0 at cutoff_angle) where glTF recommends the square of a ramp linear in the
+COSINE of the angle: same cones, a somewhat different edge. glTF requires innerConeAngle <
+outerConeAngle, but exporters write them equal for a hard-edged spot (Blender with a blend of 0), so
+equal cones are read as a hard edge; an inner cone wider than the outer is an error.
+
+Errors name the file and the JSON path of the offending entry (`meshes[0].primitives[1].indices`,
+`extensions.KHR_lights_punctual.lights[2].intensity`).
 """
 
 from __future__ import annotations
@@ -34,10 +56,26 @@ import math
 import struct
 import warnings
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from ..scene import Camera, Diffuse, Emitter, Glass, Glossy, Material, MaterialError, SceneError, Shape
+from ..scene import (
+    Camera,
+    Diffuse,
+    DirectionalLight,
+    Emitter,
+    Glass,
+    Glossy,
+    Light,
+    LightError,
+    Material,
+    MaterialError,
+    PointLight,
+    SceneError,
+    Shape,
+    SpotLight,
+)
 from .errors import SceneLoadError, SceneLoadWarning
 
 GLB_MAGIC = 0x46546C67  # "glTF"
@@ -52,6 +90,10 @@ DEFAULT_DIFFUSE = 0.8
 DEFAULT_IOR = 1.5  # KHR_materials_ior's default
 # We have no blends of lobes: a factor from this value up picks the lobe.
 LOBE_THRESHOLD = 0.5
+LIGHTS_EXTENSION = "KHR_lights_punctual"
+LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
+# KHR_lights_punctual's defaults and limit for a spot's cones (radians)
+DEFAULT_INNER_CONE, DEFAULT_OUTER_CONE, MAX_OUTER_CONE = 0.0, math.pi / 4, math.pi / 2
 
 
 class _Reader:
@@ -121,7 +163,12 @@ class _Reader:
         return value
 
     def item(self, collection: str, index, where: str) -> dict:
-        items = self.get(self.document, collection, list, "glTF", [])
+        """Entry `index` of the array at the dotted JSON path `collection` (`meshes`, LIGHTS)."""
+        keys = collection.split(".")
+        items = self.document
+        for depth, key in enumerate(keys):
+            last = depth == len(keys) - 1
+            items = self.get(items, key, list if last else dict, ".".join(keys[:depth]) or "glTF", [] if last else {})
         if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < len(items):
             raise self.fail(where, f"{collection} index {index!r:.40} out of range ({len(items)} {collection})")
         value = items[index]
@@ -217,7 +264,15 @@ class _Reader:
         return np.ascontiguousarray(rows).view(dtype).reshape(count, width)
 
 
-def read_gltf(path: Path) -> tuple[list[Shape], Camera | None]:
+class GltfContents(NamedTuple):
+    """What a glTF file holds for a Scene: its shapes, its first perspective camera, its lights."""
+
+    shapes: list[Shape]
+    camera: Camera | None
+    lights: list[Light]
+
+
+def read_gltf(path: Path) -> GltfContents:
     reader = _Reader(path)
     document = reader.document
     scenes = reader.get(document, "scenes", list, "glTF", [])
@@ -230,6 +285,7 @@ def read_gltf(path: Path) -> tuple[list[Shape], Camera | None]:
         roots = [i for i in range(len(nodes)) if i not in children]
     materials: dict[int | None, Material] = {}
     shapes: list[Shape] = []
+    lights: list[Light] = []
     camera = None
     stack = [(root, np.eye(4), "scene") for root in reversed(roots)]
     visited: set[int] = set()
@@ -245,9 +301,12 @@ def read_gltf(path: Path) -> tuple[list[Shape], Camera | None]:
             shapes += _mesh_shapes(reader, node["mesh"], world, materials, where)
         if "camera" in node and camera is None:
             camera = _camera(reader, node["camera"], world, where)
+        light = _node_light(reader, node, where)
+        if light is not None:
+            lights.append(_light(reader, light, world, where))
         children = reader.get(node, "children", list, where, [])
         stack += [(child, world, where) for child in reversed(children)]
-    return shapes, camera
+    return GltfContents(shapes, camera, lights)
 
 
 def _local_matrix(reader: _Reader, node: dict, where: str) -> np.ndarray:
@@ -391,3 +450,61 @@ def _camera(reader: _Reader, index, world: np.ndarray, where: str) -> Camera | N
         )
     except ValueError as error:
         raise reader.fail(f"{camera_where} at {where}", str(error)) from None
+
+
+def _node_light(reader: _Reader, node: dict, where: str) -> int | None:
+    """The light index a node's KHR_lights_punctual extension names, or None."""
+    extensions = reader.get(node, "extensions", dict, where, {})
+    if LIGHTS_EXTENSION not in extensions:
+        return None
+    where = f"{where}.extensions"
+    return reader.get(
+        reader.get(extensions, LIGHTS_EXTENSION, dict, where), "light", int, f"{where}.{LIGHTS_EXTENSION}"
+    )
+
+
+def _light(reader: _Reader, index: int, world: np.ndarray, where: str) -> Light:
+    """Light `index` of the extension placed by a node of world matrix `world`, by the table in
+    this module's docstring."""
+    entry = reader.item(LIGHTS, index, f"{where}.extensions.{LIGHTS_EXTENSION}.light")
+    light_where = f"{LIGHTS}[{index}]"
+    kind = reader.get(entry, "type", str, light_where)
+    color = tuple(reader.numbers(entry, "color", 3, light_where, [1.0, 1.0, 1.0]))
+    intensity = reader.get(entry, "intensity", float, light_where, 1.0)
+    name = entry.get("name") if isinstance(entry.get("name"), str) else f"light{index}"
+    position = tuple(world[:3, 3])
+    direction = tuple(world[:3, :3] @ [0.0, 0.0, -1.0])
+    try:
+        if kind == "point":
+            return PointLight(position, intensity, color=color, name=name)
+        if kind == "directional":
+            return DirectionalLight(direction, intensity, color=color, name=name)
+        if kind == "spot":
+            inner, outer = _spot_cones(reader, entry, light_where)
+            return SpotLight(
+                position,
+                direction,
+                intensity,
+                cutoff_angle_degrees=math.degrees(outer),
+                beam_width_degrees=math.degrees(inner),
+                color=color,
+                name=name,
+            )
+    except LightError as error:
+        raise reader.fail(f"{light_where} (placed by {where})", str(error)) from None
+    raise reader.fail(f"{light_where}.type", f"must be 'point', 'spot' or 'directional', got {kind!r:.40}")
+
+
+def _spot_cones(reader: _Reader, entry: dict, where: str) -> tuple[float, float]:
+    """A spot light's inner and outer cone angles (radians), in glTF's range, equal ones allowed."""
+    spot = reader.get(entry, "spot", dict, where, {})
+    where = f"{where}.spot"
+    inner = reader.get(spot, "innerConeAngle", float, where, DEFAULT_INNER_CONE)
+    outer = reader.get(spot, "outerConeAngle", float, where, DEFAULT_OUTER_CONE)
+    if not 0.0 <= inner <= outer <= MAX_OUTER_CONE:
+        raise reader.fail(
+            where,
+            f"needs 0 <= innerConeAngle <= outerConeAngle <= pi/2, got innerConeAngle {inner!r:.20}, "
+            f"outerConeAngle {outer!r:.20}",
+        )
+    return inner, outer

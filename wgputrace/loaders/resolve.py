@@ -59,16 +59,17 @@ def load_scene(spec: str | Path, *, camera: Camera | None = None) -> Scene:
 
 
 def _read_mesh_file(path: Path, suffix: str, *, frame: bool) -> Scene:
-    """The scene in a mesh file, with the file's camera, else (if `frame`) one framing it all."""
-    file_camera, forward = None, LOOK_ALONG_PLUS_Z
+    """The scene in a mesh file with the file's lights and camera; for a file without a camera (if
+    `frame`), one framing it all."""
+    file_camera, lights, forward = None, [], LOOK_ALONG_PLUS_Z
     if suffix == ".obj":
         shapes = read_obj(path)
     elif suffix in (".gltf", ".glb"):
-        shapes, file_camera = read_gltf(path)
+        shapes, file_camera, lights = read_gltf(path)
         forward = LOOK_ALONG_MINUS_Z
     else:
         shapes = read_mesh_file(path)
-    scene = Scene([shape for shape in shapes if shape.triangle_count])
+    scene = Scene([shape for shape in shapes if shape.triangle_count]).add_light(*lights)
     if not scene.shapes:
         raise SceneLoadError(path, "holds no triangles")
     if all(zero_area(shape.world_vertices).all() for shape in scene.shapes):

@@ -1,6 +1,6 @@
 """Writing small glTF/GLB files for the loader tests: JSON and binary built from numpy arrays, so
-every material, node and camera field is under the test's control; a box and one material of
-each kind the loader maps to build them from."""
+every material, node, camera and light field is under the test's control; a box, one material of
+each kind the loader maps and one KHR_lights_punctual light of each type to build them from."""
 
 from __future__ import annotations
 
@@ -32,6 +32,30 @@ MATERIALS = [
     },
     {"name": "gold", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.3, 1], "roughnessFactor": 0.5}},
 ]
+
+
+# One KHR_lights_punctual light of each type, every field set (range, which the loader ignores, too).
+LIGHTS = [
+    {"name": "bulb", "type": "point", "color": [1, 0.9, 0.8], "intensity": 40, "range": 10},
+    {"type": "spot", "color": [1, 1, 1], "intensity": 200, "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.6}},
+    {"type": "directional", "color": [1, 1, 0.9], "intensity": 3},
+]
+
+
+def light_node(light: int, **transform) -> dict:
+    """A node placing light number `light` of the extension; `transform`: the node's translation,
+    rotation, scale or matrix, as glTF writes them."""
+    return {"extensions": {"KHR_lights_punctual": {"light": light}}, **transform}
+
+
+def with_lights(document: dict, lights: list[dict], nodes: list[dict]) -> dict:
+    """`document` declaring KHR_lights_punctual's `lights`, with `nodes` added as roots of its scene."""
+    document.setdefault("extensionsUsed", []).append("KHR_lights_punctual")
+    document.setdefault("extensions", {})["KHR_lights_punctual"] = {"lights": lights}
+    first = len(document["nodes"])
+    document["nodes"] += nodes
+    document["scenes"][document.get("scene", 0)]["nodes"] += list(range(first, first + len(nodes)))
+    return document
 
 
 def gltf_document(meshes: list[tuple[np.ndarray, np.ndarray, int | None]], **extra) -> tuple[dict, bytes]:
