@@ -26,6 +26,7 @@ from .cli_arguments import (
     add_debug_argument,
     add_scene_arguments,
     add_view_arguments,
+    apply_lighting,
     image_path,
     positive_float,
     positive_int,
@@ -155,7 +156,10 @@ def _render(args: argparse.Namespace) -> int:
     denoiser_device = _denoiser_device() if args.denoise else None
     load_start = time.perf_counter()
     scene = load_scene(args.scene)
+    lighting = apply_lighting(scene, args)
     load_seconds = time.perf_counter() - load_start
+    if lighting is not None:
+        print(f"lighting         {lighting}")
     width, height = args.size
     context = gpu()
     start = time.perf_counter()

@@ -1,17 +1,27 @@
 """The command line's arguments: those `wgputrace render` and the viewer (`wgputrace view`, app.py)
-share, so both read a scene and a size the same way, and the viewer's own; the argparse types that
-refuse values the renderer cannot use (a negative spp, a NaN exposure) before anything starts; and
-the parser whose errors are one line."""
+share, so both read a scene, a size and its lighting the same way, and the viewer's own; the
+argparse types that refuse values the renderer cannot use (a negative spp, a NaN exposure) before
+anything starts; the parser whose errors are one line; and `apply_lighting`, which lights a loaded
+scene as --env, --env-intensity and --env-rotation say, or by the default environment when it
+brings no light."""
 
 from __future__ import annotations
 
 import argparse
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .image_io import FORMATS as IMAGE_FORMATS
 from .loaders import FORMATS as SCENE_FORMATS
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE
+
+if TYPE_CHECKING:
+    from .scene import Scene
+
+# --env's word for no environment at all: black, even for a scene that brings no light (a file of
+# that name is ./none)
+NO_ENVIRONMENT = "none"
 
 
 class UsageError(Exception):
@@ -61,6 +71,38 @@ def max_depth(text: str) -> int:
     return value
 
 
+def finite_float(text: str) -> float:
+    """argparse type for any finite number (an angle in degrees)."""
+    value = _parse(float, text, "a number")
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+    return value
+
+
+def environment_spec(text: str) -> str | tuple[float, float, float] | Path:
+    """argparse type for --env: NO_ENVIRONMENT; a number or r,g,b, a constant radiance (finite,
+    >= 0); otherwise the file of an environment map, which must exist (it is read when the scene
+    is lit, so the viewer reads it again with each reload)."""
+    if text == NO_ENVIRONMENT:
+        return text
+    parts = text.split(",")
+    try:
+        numbers = [float(part) for part in parts]
+    except ValueError:
+        path = Path(text)
+        if not path.is_file():
+            raise argparse.ArgumentTypeError(
+                f"{text}: no such file; give an environment map (.exr, .hdr), a radiance (0.5 or r,g,b) "
+                f"or {NO_ENVIRONMENT}"
+            ) from None
+        return path
+    if len(numbers) not in (1, 3) or not all(math.isfinite(n) and n >= 0 for n in numbers):
+        raise argparse.ArgumentTypeError(
+            f"a constant radiance is one number or r,g,b, each finite and >= 0, got {text!r}"
+        )
+    return tuple(numbers * 3 if len(numbers) == 1 else numbers)
+
+
 def _parse(kind: type, text: str, what: str):
     try:
         return kind(text)
@@ -86,7 +128,8 @@ def add_debug_argument(parser: argparse.ArgumentParser, *, default: object = Fal
 
 
 def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int], scene_note: str = "") -> None:
-    """SCENE (as wgputrace.load_scene reads it), --size, --max-depth, --seed and --exposure."""
+    """SCENE (as wgputrace.load_scene reads it), --size, --max-depth, --seed, --exposure and the
+    lighting options (`apply_lighting` applies them)."""
     parser.add_argument(
         "scene",
         nargs="?",
@@ -100,6 +143,26 @@ def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int
     )
     parser.add_argument("--seed", type=int, default=1, help="random seed: same seed and adapter, same image")
     parser.add_argument("--exposure", type=positive_float, default=1.0, help="multiplies radiance before tone mapping")
+    parser.add_argument(
+        "--env",
+        type=environment_spec,
+        metavar="PATH|VALUE",
+        help="the environment lighting the scene, replacing its own: an .exr or .hdr map (Mitsuba's envmap "
+        f"convention), a constant radiance (0.5, or r,g,b), or {NO_ENVIRONMENT} (black). Without it a scene "
+        "that brings no light is lit by a constant radiance of 1",
+    )
+    parser.add_argument(
+        "--env-intensity",
+        type=positive_float,
+        metavar="S",
+        help="multiplies the environment's radiance (default: as the scene or --env has it, 1)",
+    )
+    parser.add_argument(
+        "--env-rotation",
+        type=finite_float,
+        metavar="DEGREES",
+        help="turns the environment map about +y, as Mitsuba's to_world rotate (default: as the scene or --env has it, 0)",
+    )
 
 
 def add_view_arguments(parser: argparse.ArgumentParser) -> None:
@@ -109,3 +172,53 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--filter", action="store_true", help="start with the pre-convergence filter on (key N)")
     parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
     parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")
+
+
+def apply_lighting(scene: Scene, args) -> str | None:
+    """Light `scene` as `args` (the parsed command line, or the viewer's options: anything with
+    `env`, `env_intensity` and `env_rotation`) say: --env replaces the scene's environment (or
+    removes it, with NO_ENVIRONMENT); without --env, a scene with no light at all (no emitting
+    triangle, no environment, no light) gets the default environment, and the line returned says
+    so (None otherwise); --env-intensity and --env-rotation then apply to the environment the scene
+    has. A bad map, or those two without an environment, raise a one-line ValueError."""
+    from .scene.environment import DEFAULT_RADIANCE, Environment, default_environment
+
+    note = None
+    if args.env == NO_ENVIRONMENT:
+        scene.environment = None
+    elif isinstance(args.env, Path):
+        scene.environment = Environment.from_file(args.env)
+    elif args.env is not None:
+        scene.environment = Environment(radiance=args.env)
+    elif not _has_light(scene):
+        scene.environment = default_environment()
+        note = (
+            f"the scene brings no light: lit by the default environment, a constant radiance of {DEFAULT_RADIANCE:g} "
+            f"(--env sets another, --env {NO_ENVIRONMENT} renders it black)"
+        )
+    for option, attribute, value in (
+        ("--env-intensity", "intensity", args.env_intensity),
+        ("--env-rotation", "rotation_degrees", args.env_rotation),
+    ):
+        if value is None:
+            continue
+        if scene.environment is None:
+            why = (
+                f"--env {NO_ENVIRONMENT} removed it"
+                if args.env == NO_ENVIRONMENT
+                else "the scene has none; --env gives one"
+            )
+            raise ValueError(f"{option} {value:g}: there is no environment to apply it to ({why})")
+        setattr(scene.environment, attribute, value)
+    return note
+
+
+def _has_light(scene: Scene) -> bool:
+    """Whether anything in `scene` sends light: a light, an environment, or a material that emits
+    (judged as the renderer's light table judges it: from its GPU record)."""
+    from .render.lights import emitted_radiance
+    from .render.scene_buffers import material_records
+
+    if scene.lights or scene.environment is not None:
+        return True
+    return bool(emitted_radiance(material_records(scene.materials)).max(initial=0.0) > 0)

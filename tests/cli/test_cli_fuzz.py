@@ -11,10 +11,12 @@ import io
 import tempfile
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from wgputrace import save_image
 from wgputrace.cli import main
 from wgputrace.provenance import read_metadata
 
@@ -37,6 +39,9 @@ GOOD = {
     "--accel": st.sampled_from(["bvh", "flat"]),
     "--integrator": st.sampled_from(["bsdf", "nee", "mis"]),
     "-o": st.sampled_from(["out.png", "out.exr", "out.npy", "new/folder/out.npy", "OUT.PNG"]),
+    "--env": st.sampled_from(["none", "0.5", "1,0,0", "0,0.2,1e3", "sky.exr"]),
+    "--env-intensity": st.sampled_from(["0.5", "2", "1e-3"]),
+    "--env-rotation": st.sampled_from(["-90", "0", "370.5"]),
 }
 BAD_NUMBERS = ["0", "-0", "-3", "1e400", "-1e400", "inf", "nan", "0x10", "9" * 30, "-" + "9" * 30]
 BAD = {
@@ -45,6 +50,9 @@ BAD = {
     "--accel": st.sampled_from(["BVH", "kd"]),
     "--integrator": st.sampled_from(["path", ""]),
     "-o": st.sampled_from(["out.jpg", "out", "folder", "garbage.png/out.png", "-"]),
+    "--env": st.sampled_from(["-1", "nan", "1,2", "1,2,3,4", "inf,0,0", "missing.hdr", "folder", "garbage.exr", ""]),
+    "--env-intensity": st.sampled_from(BAD_NUMBERS),
+    "--env-rotation": st.sampled_from(["nan", "inf", "1e400", "x", ""]),
 }
 
 
@@ -87,6 +95,7 @@ def make_files(folder: Path) -> None:
     (folder / "garbage.png").write_bytes(b"\x89PNG not really")
     (folder / "garbage.exr").write_text("no EXR")
     (folder / "no_metadata.npy").write_bytes(b"\x93NUMPY")
+    save_image(folder / "sky.exr", np.linspace(0, 2, 4 * 2 * 3, dtype=np.float32).reshape(2, 4, 3))
 
 
 def run_in(folder: Path, argv: list[str]) -> tuple[int, str, str]:
