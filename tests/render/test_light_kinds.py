@@ -15,16 +15,19 @@ import pytest
 from wgputrace import Camera, Diffuse, Emitter, Environment, Renderer, Scene, make_icosphere, make_plane
 from wgputrace.gpu.bindings import ARRAY_WORKGROUP, lights_group, scene_group
 from wgputrace.gpu.buffers import read_buffer, storage_buffer, uniform_buffer
+from wgputrace.gpu.device import DeviceLimitError
 from wgputrace.gpu.kernel import ComputeKernel
 from wgputrace.gpu.layout import FRAME, LIGHT_SOURCE
 from wgputrace.gpu.light_dispatch import GENERATED_LIGHTS, light_dispatch
 from wgputrace.gpu.texels import TrackedTexels
 from wgputrace.render.light_buffers import LightBuffers
+from wgputrace.render.limits import SceneCounts, check_scene_counts, environment_table_words
 from wgputrace.render.scene_sync import SceneMirror
 from wgputrace.scene import DirectionalLight, LightError, PointLight, SpotLight, Sun
 from wgputrace.scene.environment import cell_of_uv
 from wgputrace.testing.harness import harness_group, run_kernel
 from wgputrace.testing.stats import chi_square, sidak, z_limit
+from wgputrace.view.banded import BandedRenderer
 
 pytestmark = pytest.mark.gpu
 
@@ -424,3 +427,44 @@ def test_light_edits_upload_only_what_they_change(gpu_context, rng):
     scene.remove_light(*scene.lights)
     renderer.render(1)
     assert "lights" not in renderer.bind_groups, "a scene without such lights binds no lights group"
+
+
+def test_environment_maps_are_checked_against_the_adapter(gpu_context):
+    def counts(width: int, height: int) -> SceneCounts:
+        return SceneCounts(2, 1, 1, 0, environment=True, environment_map=(width, height))
+
+    limits = gpu_context.device.limits
+    words = environment_table_words(4096, 2048)
+    if words * 4 <= limits["max-storage-buffer-binding-size"]:
+        check_scene_counts(gpu_context, counts(4096, 2048))  # a 4k map fits lavapipe's 128 MiB binding
+    widest = limits["max-texture-dimension-2d"]
+    with pytest.raises(DeviceLimitError, match="texture 'environment map'.*max-texture-dimension-2d"):
+        check_scene_counts(gpu_context, counts(widest + 1, 2))
+    # the largest texture the adapter allows, whose tables (12 B a texel) outgrow the storage binding
+    assert environment_table_words(widest, widest) * 4 > limits["max-storage-buffer-binding-size"]
+    with pytest.raises(DeviceLimitError, match="buffer 'environment tables'"):
+        check_scene_counts(gpu_context, counts(widest, widest))
+
+
+def test_a_hidden_environment_still_lights(gpu_context):
+    scene = ground(Diffuse("ground", (0.5, 0.5, 0.5)))
+    scene.camera = Camera(position=(0, 1, -3), forward=(0, -0.2, 1))  # the horizon: sky above, ground below
+    scene.environment = Environment(radiance=2.0, visible=False)
+    renderer = Renderer(scene, 16, 16, seed=SEED, max_depth=2)
+    renderer.render(4)
+    image = renderer.image()
+    assert np.all(image[0] == 0.0), "camera rays see black where the environment is hidden"
+    assert np.all(image[-1] > 0.0), "the ground it lights is not black"
+
+
+def test_the_viewer_renders_the_same_lights_band_by_band(gpu_context, rng):
+    scene = ground()
+    scene.add_light(SpotLight((0, 1, 0), (0.2, -1, 0), 3.0))
+    scene.environment = Environment(texels=sunny_map(rng))
+    renderer = Renderer(scene, 16, 16, seed=SEED)
+    renderer.render(2)
+    expected = renderer.image()
+    renderer.restart()
+    banded = BandedRenderer(renderer)
+    banded.add_passes(2)
+    np.testing.assert_array_equal(renderer.image(), expected)

@@ -19,7 +19,11 @@ An image of W x H pixels (render/renderer.py allocates these):
 
 A scene, before its BVH is built (a build takes seconds for millions of triangles): its triangles
 and an upper bound of its 4-wide BVH records as texels (gpu/texels.py), or the flat list's boxes,
-its materials and its lights (one entry per emissive triangle, at most) in storage buffers.
+its materials and its light table (one entry per emissive triangle, light source and environment,
+at most) in storage buffers; with lights besides emissive triangles, the light sources' records,
+an environment map (its texels a texture, max-texture-dimension-2d, its sampling tables a storage
+buffer: 3 words per texel and 2 per row, so lavapipe's 128 MiB binding takes a 4096x2048 map) and
+the lights group's index (max-bind-groups).
 """
 
 from __future__ import annotations
@@ -28,9 +32,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..gpu.bindings import IMAGE_WORKGROUP
+from ..gpu.bindings import IMAGE_WORKGROUP, LIGHTS_GROUP_INDEX
 from ..gpu.device import DeviceLimitError, GpuContext
-from ..gpu.layout import ACCUMULATED_PIXEL, BVH_NODE, LIGHT, MATERIAL, TRIANGLE, WIDE_BVH_NODE
+from ..gpu.float_texture import require_float_texture
+from ..gpu.layout import ACCUMULATED_PIXEL, BVH_NODE, LIGHT, LIGHT_SOURCE, MATERIAL, TRIANGLE, WIDE_BVH_NODE
 from ..gpu.texels import require_texels
 from ..gpu.tracked_buffer import require_records
 from ..scene import Scene
@@ -202,16 +207,35 @@ class SceneCounts:
     shapes: int
     materials: int
     emissive_triangles: int
+    light_sources: int = 0
+    environment: bool = False
+    # an environment map's width and height (0 x 0: none, or a constant)
+    environment_map: tuple[int, int] = (0, 0)
+
+    @property
+    def light_table_entries(self) -> int:
+        return self.emissive_triangles + self.light_sources + int(self.environment)
 
 
 def scene_counts(scene: Scene) -> SceneCounts:
     emitters = set(emitting_kinds())
+    environment = scene.environment
+    texels = None if environment is None else environment.texels
     return SceneCounts(
         triangles=scene.triangle_count,
         shapes=len(scene.shapes),
         materials=len(scene.materials),
         emissive_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.material.kind in emitters),
+        light_sources=len(scene.lights),
+        environment=environment is not None,
+        environment_map=(0, 0) if texels is None else (texels.shape[1], texels.shape[0]),
     )
+
+
+def environment_table_words(width: int, height: int) -> int:
+    """32-bit words of an environment map's sampling tables (render/environment_records.py)."""
+    rows = max(height - 1, 1)
+    return 2 * rows + 3 * rows * width
 
 
 def wide_record_bound(triangle_count: int) -> int:
@@ -240,7 +264,15 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
     else:
         require_records(context, "bvh nodes", counts.shapes, BVH_NODE.size, storage)
     require_records(context, "materials", counts.materials, MATERIAL.size, storage)
-    require_records(context, "lights", counts.emissive_triangles, LIGHT.size, storage)
+    require_records(context, "lights", counts.light_table_entries, LIGHT.size, storage)
+    if counts.light_sources or counts.environment:
+        context.require("max-bind-groups", LIGHTS_GROUP_INDEX + 1, "the lights group (gpu/bindings.py)")
+    require_records(context, "light sources", counts.light_sources, LIGHT_SOURCE.size, storage)
+    width, height = counts.environment_map
+    if width:
+        require_float_texture(context, "environment map", width, height)
+        words = environment_table_words(width, height)
+        require_records(context, "environment tables", words, np.dtype(np.uint32).itemsize, storage)
 
 
 def check_scene_size(context: GpuContext, scene: Scene, acceleration: str = "bvh") -> None:
