@@ -32,10 +32,10 @@ def lightless_box(tmp_path) -> Path:
     return write_glb(tmp_path / "box.glb", document, blob)
 
 
-def run(argv: list[str]) -> tuple[int, str, str]:
-    """main(argv) in this process: (status, stdout, stderr)."""
+def run(argv: list[str], cwd: Path) -> tuple[int, str, str]:
+    """main(argv) in this process, in the working directory `cwd`: (status, stdout, stderr)."""
     stdout, stderr = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+    with contextlib.chdir(cwd), contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
         status = main(argv)
     return status, stdout.getvalue(), stderr.getvalue()
 
@@ -92,13 +92,13 @@ def test_env_options_set_the_environment(lightless_box, tmp_path):
     ],
 )
 def test_bad_values_are_one_line_and_status_2(tmp_path, options, message):
-    status, _, stderr = run(["render", "cornell", *options, *RENDER, "-o", str(tmp_path / "x.npy")])
+    status, _, stderr = run(["render", "cornell", *options, *RENDER, "-o", "x.npy"], tmp_path)
     assert status == 2 and len(stderr.splitlines()) == 1 and message in stderr, stderr
 
 
 @pytest.mark.gpu
 def test_a_lightless_file_renders_lit_by_the_default_and_says_so(lightless_box, tmp_path):
-    status, stdout, stderr = run(["render", str(lightless_box), *RENDER, "-o", str(tmp_path / "d.npy")])
+    status, stdout, stderr = run(["render", str(lightless_box), *RENDER, "-o", "d.npy"], tmp_path)
     assert status == 0, stderr
     assert DEFAULT_NOTE in stdout
     image = load_image(tmp_path / "d.npy")
@@ -107,21 +107,27 @@ def test_a_lightless_file_renders_lit_by_the_default_and_says_so(lightless_box, 
 
 @pytest.mark.gpu
 def test_env_none_renders_black(lightless_box, tmp_path):
-    status, stdout, stderr = run(
-        ["render", str(lightless_box), "--env", "none", *RENDER, "-o", str(tmp_path / "n.npy")]
-    )
+    status, stdout, stderr = run(["render", str(lightless_box), "--env", "none", *RENDER, "-o", "n.npy"], tmp_path)
     assert status == 0 and "lighting" not in stdout, stderr
     assert load_image(tmp_path / "n.npy").max() == 0.0
 
 
 @pytest.mark.gpu
-@pytest.mark.parametrize("env, radiance", [("0.5", (0.5, 0.5, 0.5)), ("1,0,0", (1.0, 0.0, 0.0))])
-def test_a_constant_environment_seen_and_reflected(lightless_box, tmp_path, env, radiance):
+@pytest.mark.parametrize(
+    "options, radiance",
+    [
+        (["--env", "0.5"], (0.5, 0.5, 0.5)),
+        (["--env", "1,0,0"], (1.0, 0.0, 0.0)),
+        (["--env", "sky.exr", "--env-intensity", "2", "--env-rotation", "45"], (0.5, 0.5, 0.5)),
+    ],
+)
+def test_a_constant_environment_or_map_seen_and_reflected(lightless_box, tmp_path, options, radiance):
     # Under BSDF sampling a convex grey box in a constant sky reflects exactly albedo x radiance:
-    # every path escapes after one bounce.
+    # every path escapes after one bounce. sky.exr is a map of 0.25 everywhere.
+    save_image(tmp_path / "sky.exr", np.full((4, 8, 3), 0.25, np.float32))
     out = tmp_path / "c.npy"
     status, stdout, stderr = run(
-        ["render", str(lightless_box), "--env", env, "--integrator", "bsdf", *RENDER, "-o", str(out)]
+        ["render", str(lightless_box), *options, "--integrator", "bsdf", *RENDER, "-o", str(out)], tmp_path
     )
     assert status == 0 and "lighting" not in stdout, stderr
     image = load_image(out).reshape(-1, 3)
