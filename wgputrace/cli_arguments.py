@@ -170,6 +170,9 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
     add_scene_arguments(parser, size=(640, 480), scene_note="; files reload on change")
     parser.add_argument("--fps", type=positive_float, default=20.0, help="target frames per second (default 20)")
     parser.add_argument("--filter", action="store_true", help="start with the pre-convergence filter on (key N)")
+    parser.add_argument(
+        "--denoise", action="store_true", help="start with the OIDN denoiser on (Shift+D; the denoise extra)"
+    )
     parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
     parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")
 

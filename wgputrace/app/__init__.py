@@ -30,6 +30,10 @@ def options_from(args: argparse.Namespace):
         exposure=args.exposure,
         target_fps=args.fps,
         filter=args.filter,
+        denoise=args.denoise,
+        env=args.env,
+        env_intensity=args.env_intensity,
+        env_rotation=args.env_rotation,
         info=not args.no_info,
         screenshot_dir=args.screenshots,
     )

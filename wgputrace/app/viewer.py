@@ -31,11 +31,12 @@ from pathlib import Path
 import numpy as np
 
 from ..bvh.levels import box_edges, node_levels
+from ..cli_arguments import apply_lighting
 from ..denoise import DenoiserMissing, denoiser_device
 from ..gpu.device import DeviceLimitError, GpuFailure, gpu, reporting
 from ..gpu.graphics import image_texture, read_texture
 from ..image_io import save_image
-from ..loaders import SceneLoadError, load_scene, scene_file
+from ..loaders import load_scene, scene_file
 from ..render import Renderer
 from ..scenes import DEFAULT_SCENE
 from ..view.banded import BandedRenderer
@@ -89,6 +90,10 @@ class ViewerOptions:
     target_fps: float = TARGET_FPS
     filter: bool = False
     denoise: bool = False
+    # --env, --env-intensity, --env-rotation as cli_arguments.apply_lighting reads them
+    env: str | tuple[float, float, float] | Path | None = None
+    env_intensity: float | None = None
+    env_rotation: float | None = None
     info: bool = True
     screenshot_dir: Path = field(default_factory=Path.cwd)
 
@@ -226,9 +231,12 @@ class Viewer:
     def _load_scene(self) -> None:
         try:
             scene = load_scene(self.options.scene)
-        except SceneLoadError as error:
+            note = apply_lighting(scene, self.options)
+        except ValueError as error:  # SceneLoadError, or a bad --env map (SceneError)
             self._report(f"scene not loaded: {error}")
             return
+        if note is not None:
+            print(f"wgputrace view: {note}", file=sys.stderr, flush=True)
         if self.scene is None:
             self._adopt(scene)  # nothing shown yet, so nothing to keep
         else:

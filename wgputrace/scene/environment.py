@@ -54,6 +54,8 @@ from pathlib import Path
 import numpy as np
 
 from .errors import SceneError
+from .lights.alias_table import alias_table
+from .lights.light import LUMINANCE_WEIGHTS
 
 # The radiance of the environment a scene without any light gets (Mitsuba's `constant` emitter
 # with radiance 1): a diffuse surface of albedo a under it, unshadowed, has radiance a.
@@ -527,16 +529,11 @@ def _cell_solid_angles(shape: tuple[int, int]) -> np.ndarray:
 
 def luminance(rgb: np.ndarray) -> np.ndarray:
     """Rec. 709 luminance of linear RGB (..., 3), weighed as the triangle lights are."""
-    # render/ imports the scene package, so the light table's module is imported when first needed
-    from ..render.lights import LUMINANCE_WEIGHTS
-
     return rgb @ LUMINANCE_WEIGHTS
 
 
 def build_tables(texels: np.ndarray) -> EnvironmentTables | None:
     """The alias tables and per-cell densities of a map; None when it is all black."""
-    from ..render.lights import alias_table  # imported when first needed, as in `luminance`
-
     cell_luminance = _cell_luminance(texels)
     weight = cell_luminance * _cell_solid_angles(texels.shape[:2])
     total = float(weight.sum())
