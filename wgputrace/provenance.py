@@ -23,6 +23,9 @@ Every value is a string; each key is written as `wgputrace:<key>`:
 |                   | (RenderStats.render_seconds), no scene loading or setup                 |
 | nonfinite_samples | samples dropped (counted as zero) for being NaN or infinite             |
 | cut_short_samples | samples dropped because the driver's loop budget may have cut them      |
+| environment       | `none`; a constant's radiance; or a map's source file name and the      |
+|                   | sha256 of its texels, with intensity, rotation and visibility          |
+| lights            | the light sources besides emissive triangles, by kind (`2 PointLight`)  |
 | stopped_by        | SIGINT, SIGTERM or time limit, when the render stopped before its spp   |
 | denoised          | oidn, when the image was denoised (`wgputrace render --denoise`)        |
 | denoiser_device   | the OIDN device that denoised it (CPU, CUDA)                            |
@@ -32,7 +35,8 @@ Every value is a string; each key is written as `wgputrace:<key>`:
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Mapping
+from collections import Counter
+from collections.abc import Mapping, Sequence
 from datetime import datetime, timezone
 from importlib.metadata import version
 from pathlib import Path
@@ -45,6 +49,8 @@ from .loaders.resolve import scene_file
 
 if TYPE_CHECKING:
     from .render import Renderer
+    from .scene.environment import Environment
+    from .scene.lights import Light
 
 # One attribute per key rather than one JSON text: exrheader prints each attribute on its own line
 # (`wgputrace:spp (type string): "64"`), PIL's `Image.text` and exiftool list each text chunk, so
@@ -67,6 +73,8 @@ KEYS = (
     "render_seconds",
     "nonfinite_samples",
     "cut_short_samples",
+    "environment",
+    "lights",
     "stopped_by",
     "denoised",
     "denoiser_device",
@@ -97,6 +105,8 @@ def render_metadata(
         "render_seconds": f"{render_seconds:.3f}",
         "nonfinite_samples": renderer.nonfinite_samples,
         "cut_short_samples": renderer.cut_short_samples,
+        "environment": _environment(renderer.scene.environment),
+        "lights": _lights(renderer.scene.lights),
         **({"stopped_by": stopped_by} if stopped_by is not None else {}),
         "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
     }
@@ -121,6 +131,24 @@ def _records_sha256(renderer: Renderer) -> str:
     digest.update(renderer.records.materials.tobytes())
     digest.update(np.array([*camera.position, *camera.forward, *camera.up, camera.vfov_degrees], np.float64).tobytes())
     return digest.hexdigest()
+
+
+def _environment(environment: Environment | None) -> str:
+    if environment is None:
+        return "none"
+    if environment.texels is None:
+        what = "radiance " + ",".join(f"{channel:g}" for channel in environment.radiance)
+    else:
+        digest = hashlib.sha256(np.ascontiguousarray(environment.texels).tobytes()).hexdigest()
+        width, height = environment.size
+        what = f"{Path(environment.source).name} {width}x{height} texels sha256 {digest}"
+    shown = "" if environment.visible else ", hidden from the camera"
+    return f"{what}, intensity {environment.intensity:g}, rotation {environment.rotation_degrees:g} degrees{shown}"
+
+
+def _lights(lights: Sequence[Light]) -> str:
+    kinds = Counter(type(light).__name__ for light in lights)
+    return ", ".join(f"{count} {kind}" for kind, count in sorted(kinds.items())) or "none"
 
 
 def read_metadata(path: str | Path) -> dict[str, str]:

@@ -8,7 +8,16 @@ import hashlib
 import numpy as np
 import pytest
 
-from wgputrace import Camera, Renderer, __version__, default_scene, save_image
+from wgputrace import (
+    Camera,
+    DirectionalLight,
+    Environment,
+    PointLight,
+    Renderer,
+    __version__,
+    default_scene,
+    save_image,
+)
 from wgputrace.image_io import FORMATS, sidecar_path
 from wgputrace.provenance import KEYS, NAMESPACE, format_metadata, read_metadata, render_metadata
 
@@ -96,3 +105,24 @@ def test_metadata_prints_as_aligned_lines():
         "other:key       x",
     ]
     assert format_metadata({}) == ""
+
+
+def test_the_lighting_is_recorded(gpu_context):
+    scene = default_scene()
+    texels = np.full((3, 4, 3), 0.25, np.float32)
+    scene.environment = Environment(texels=texels, intensity=2.0, rotation_degrees=30.0, visible=False)
+    scene.add_light(PointLight((0.0, 0.5, 0.0), 1.0), PointLight((0.1, 0.5, 0.0), 1.0))
+    scene.add_light(DirectionalLight((0.0, -1.0, 0.0), 1.0))
+    lit = Renderer(scene, *SIZE, seed=SEED)
+    lit.render(1)
+    recorded = ours(render_metadata(lit, None, 0.5))
+    assert recorded["lights"] == "1 DirectionalLight, 2 PointLight"
+    digest = hashlib.sha256(texels.tobytes()).hexdigest()
+    assert digest in recorded["environment"] and "4x3" in recorded["environment"]
+    assert "intensity 2" in recorded["environment"] and "rotation 30" in recorded["environment"]
+    assert "hidden" in recorded["environment"]
+
+
+def test_no_lighting_besides_triangles_says_none(renderer):
+    recorded = ours(render_metadata(renderer, "cornell", 1.0))
+    assert (recorded["environment"], recorded["lights"]) == ("none", "none")

@@ -182,6 +182,11 @@ class Environment:
         self.generation = next(_generations)
 
     @property
+    def source(self) -> str:
+        """Where the map came from (the file Environment.from_file read), or what made it."""
+        return self._source
+
+    @property
     def size(self) -> tuple[int, int] | None:
         """(width, height) of the map in texels; None for a constant."""
         return None if self._texels is None else (self._texels.shape[1], self._texels.shape[0])
