@@ -1,5 +1,6 @@
 // An environment map: Mitsuba 3's envmap convention, bilinear lookup by hand, alias-table sampling by cells.
 //! include "lights/environment.wgsl"
+//! include "sampling.wgsl"
 //
 // The numpy references are scene/environment.py's (its docstring pins the convention): a direction
 // of the map's own frame has u = atan2(x, -z) / 2 pi, v = acos(y) / pi; column i's texels sit at
@@ -9,6 +10,10 @@
 // columns) by luminance x solid angle from the tables (render/environment_records.py has their
 // layout), then a direction uniform in the cell's solid angle, so the density per steradian is
 // the cell's, the same all over it. textureLoad, since filtering float32 textures is optional.
+
+// True only in bench/environment.py: the map sampled uniformly over the sphere (as pbrt's
+// UniformInfiniteLight) instead of by its tables, the baseline importance sampling is measured against.
+override ENVIRONMENT_UNIFORM_SAMPLING: bool = false;
 
 fn environment_cell_rows() -> u32 {
     return max(lighting.environment_size.y, 2u) - 1u;
@@ -62,6 +67,9 @@ fn environment_cell_pdf(row: u32, column: u32) -> f32 {
 }
 
 fn environment_pdf(direction: vec3<f32>) -> f32 {
+    if ENVIRONMENT_UNIFORM_SAMPLING {
+        return pdf_uniform_sphere();
+    }
     let uv = environment_uv(environment_local(direction));
     let width = lighting.environment_size.x;
     let rows = environment_cell_rows();
@@ -93,6 +101,9 @@ fn environment_alias_draw(first: u32, count: u32, x: f32) -> AliasDraw {
 // A cell row by u.x, a cell of it by u.y, then within the cell phi by what is left of u.y and
 // cos theta by what is left of u.x (scene/environment.py's local_in_cell).
 fn environment_sample(u: vec2<f32>) -> vec3<f32> {
+    if ENVIRONMENT_UNIFORM_SAMPLING {
+        return sample_uniform_sphere(u);
+    }
     let rows = environment_cell_rows();
     let width = lighting.environment_size.x;
     let row = environment_alias_draw(0u, rows, u.x);
