@@ -1,7 +1,8 @@
-"""The benchmark suite: issue 8's benchmarks on the current adapter, and a summary of every target.
+"""The benchmark suite: issue 8's benchmarks and issue 16's denoising on the current adapter, and a
+summary of every target.
 
-    python -m bench                       (about 12 minutes on lavapipe, 2 cores)
-    python -m bench --quick               (about 3 minutes: smaller images, fewer repeats and counts)
+    python -m bench                       (about 20 minutes on lavapipe, 2 cores; denoise about 8)
+    python -m bench --quick               (about 4 minutes: smaller images, fewer repeats and counts)
     python -m bench --gpu                 (on a GPU: more samples per timed run, which lasts milliseconds there)
     python -m bench --only scaling bvh_build
     python -m bench --only soak           (not in the default run: 10 minutes of viewer, 10,000 library cycles)
@@ -369,7 +370,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="+", choices=names, metavar="NAME", help=f"run only these: {', '.join(names)}")
     presets = parser.add_mutually_exclusive_group()
-    presets.add_argument("--quick", action="store_true", help="smaller settings: about 3 minutes on lavapipe")
+    presets.add_argument("--quick", action="store_true", help="smaller settings: about 4 minutes on lavapipe")
     presets.add_argument("--gpu", action="store_true", help="more samples per timed run, for a GPU")
     parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
     args = parser.parse_args(argv)

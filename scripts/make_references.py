@@ -8,7 +8,8 @@ It imports wgputrace as installed (editable, from this checkout) and writes into
 
 Each scene is built in Mitsuba from our own triangles, materials and camera
 (wgputrace/reference/mitsuba_scene.py) and rendered with Mitsuba's `path` integrator at the same
-max depth and a box pixel filter. Several passes with different seeds give a per-pixel mean and
+max depth and a box pixel filter; its environment and lights become Mitsuba's `constant`,
+`envmap`, `point`, `spot` and `directional` emitters. Several passes with different seeds give a per-pixel mean and
 its standard error; both are stored as float16 with the settings and versions used.
 
 The `llvm_ad_rgb` variant is much faster but needs LLVM 16 or newer (Debian: libllvm19; the stock
@@ -52,6 +53,11 @@ REFERENCES = {
     "glossy_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
     "slivers": ReferenceSettings(max_depth=5, spp=256, passes=16),
     "axis_boxes": ReferenceSettings(max_depth=6, spp=256, passes=16),
+    # lit by the environment and by point, spot and directional lights (wgputrace/scenes/)
+    "env_sun_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
+    "constant_env": ReferenceSettings(max_depth=6, spp=256, passes=16),
+    "env_one_texel": ReferenceSettings(max_depth=3, spp=256, passes=16),
+    "point_spot_directional": ReferenceSettings(max_depth=5, spp=256, passes=16),
 }
 
 

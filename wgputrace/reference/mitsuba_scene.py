@@ -9,6 +9,13 @@ Used by scripts/make_references.py (the test references) and bench/versus_mitsub
 our materials becomes one mesh, flat shaded (README: Conventions; tests/data/README.md);
 the integrator is Mitsuba's `path` at our max depth, the pixel filter a box.
 
+Lights: each light's own `mitsuba_emitter()` (scene/lights/: `point`, `spot`, `directional`); the
+environment a `constant` (radiance x intensity) or an `envmap` of its texels (scale = intensity,
+to_world the rotation about +y, scene/environment.py's convention, which is Mitsuba's). A hidden
+environment is the path integrator's `hide_emitters`, which hides every emitter from camera rays,
+so it is refused in a scene that also has emitting triangles. Our Sun has no Mitsuba plugin: a scene
+with one is refused (tests cover it by closed forms, and a sun drawn into a map by `envmap`).
+
 The `llvm_ad_rgb` variant is much faster than `scalar_rgb` but needs LLVM 16 or newer (Debian:
 libllvm19; the stock LLVM 15 aborts, 14 is too old), found through DRJIT_LIBLLVM_PATH or at
 Debian's path of libLLVM-19.
@@ -22,7 +29,8 @@ from types import ModuleType
 
 import numpy as np
 
-from wgputrace.scene import Material, Scene
+from wgputrace.scene import Light, Material, Scene
+from wgputrace.scene.environment import Environment
 from wgputrace.scene.materials.material import mitsuba_rgb
 
 DEBIAN_LIBLLVM = Path("/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
@@ -95,6 +103,52 @@ def emitter_dict(material: Material) -> dict | None:
     return emitter
 
 
+def transform(mi: ModuleType, value):
+    """A light dict's {"look_at": {...}} as Mitsuba's ScalarTransform4f; anything else unchanged."""
+    if isinstance(value, dict) and set(value) == {"look_at"}:
+        return mi.ScalarTransform4f().look_at(**value["look_at"])
+    return value
+
+
+def light_dict(mi: ModuleType, light: Light) -> dict:
+    """One of our lights as a Mitsuba emitter dict; ValueError for a kind no Mitsuba plugin is."""
+    emitter = light.mitsuba_emitter()
+    if emitter is None:
+        raise ValueError(f"{light.label} has no Mitsuba 3 emitter ({type(light).__module__})")
+    return {key: transform(mi, value) for key, value in emitter.items()}
+
+
+def environment_dict(mi: ModuleType, environment: Environment) -> dict:
+    """`constant` for a constant environment; for a map, `envmap` of its texels as a bitmap, which
+    Mitsuba reads as it reads an .exr file (linear float RGB), scaled and turned as ours."""
+    if environment.texels is None:
+        radiance = np.asarray(environment.radiance) * environment.intensity
+        return {"type": "constant", "radiance": mitsuba_rgb(radiance)}
+    return {
+        "type": "envmap",
+        # a writable copy: the binding refuses read-only arrays, and our texels are read-only
+        "bitmap": mi.Bitmap(np.array(environment.texels, dtype=np.float32, order="C")),
+        "scale": environment.intensity,
+        "to_world": mi.ScalarTransform4f().rotate([0.0, 1.0, 0.0], environment.rotation_degrees),
+    }
+
+
+def emitters(mi: ModuleType, scene: Scene, has_emitting_triangles: bool) -> tuple[dict, bool]:
+    """The scene's environment and lights as Mitsuba emitter dicts by name, and whether camera rays
+    must not see emitters (a hidden environment)."""
+    found = {f"light_{index}": light_dict(mi, light) for index, light in enumerate(scene.lights)}
+    environment = scene.environment
+    if environment is None or environment.black:
+        return found, False
+    if not environment.visible and has_emitting_triangles:
+        raise ValueError(
+            "a hidden environment (visible=False) with emitting triangles has no Mitsuba 3 equivalent: "
+            "hide_emitters would hide the triangles too"
+        )
+    found["environment"] = environment_dict(mi, environment)
+    return found, not environment.visible
+
+
 def mitsuba_mesh(mi: ModuleType, name: str, triangles: np.ndarray, bsdf: dict, emitter: dict | None):
     """A flat-shaded Mitsuba mesh of (n, 3, 3) float32 triangles, corners not shared."""
     props = mi.Properties()
@@ -136,6 +190,7 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
             shapes[f"{index}_back"] = mitsuba_mesh(mi, f"{material.name}_back", back, bsdf, emitter)
         else:
             shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None)
+    lights, hide_emitters = emitters(mi, scene, any(m.emission is not None for m in arrays.materials))
     camera = scene.camera
     position = np.asarray(camera.position)
     sensor = {
@@ -158,6 +213,5 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
         },
         "sampler": {"type": "independent"},
     }
-    return mi.load_dict(
-        {"type": "scene", "integrator": {"type": "path", "max_depth": max_depth}, "sensor": sensor, **shapes}
-    )
+    integrator = {"type": "path", "max_depth": max_depth, "hide_emitters": hide_emitters}
+    return mi.load_dict({"type": "scene", "integrator": integrator, "sensor": sensor, **shapes, **lights})

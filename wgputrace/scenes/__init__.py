@@ -10,8 +10,10 @@ from functools import partial
 from ..scene import Scene
 from .axis_aligned import axis_boxes
 from .cornell import cornell, scaled_cornell, tiny_light
+from .environment_lit import constant_env, env_one_texel, env_sun_spheres
 from .glass import glass_grazing
 from .glossy import glossy_spheres
+from .punctual import point_spot_directional
 from .slivers import slivers
 
 BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
@@ -23,6 +25,10 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "glossy_spheres": glossy_spheres,
     "slivers": slivers,
     "axis_boxes": axis_boxes,
+    "env_sun_spheres": env_sun_spheres,
+    "constant_env": constant_env,
+    "env_one_texel": env_one_texel,
+    "point_spot_directional": point_spot_directional,
 }
 DEFAULT_SCENE = "cornell"
 
