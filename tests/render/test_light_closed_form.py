@@ -56,7 +56,7 @@ def assert_expectation(label: str, images: np.ndarray, expected: np.ndarray, blo
     comparison = compare_blocks(Estimate.from_batches(images), exact, block, tolerance)
     worst = np.unravel_index(np.argmin(comparison.p_value), comparison.p_value.shape)
     assert comparison.p_value.min() >= LEVEL, (
-        f"{label}: block {worst[:2]} channel {'rgb'[worst[2]]} differs from the closed form by "
+        f"{label}: block (row, column) {tuple(int(i) for i in worst[:2])} channel {'rgb'[worst[2]]} differs from the closed form by "
         f"{comparison.difference[worst]:.4g} (z {comparison.z[worst]:.2f}, p {comparison.p_value[worst]:.2g} < {LEVEL:.2g})"
     )
 
