@@ -63,6 +63,11 @@ fn light_occluded(origin: vec3<f32>, light: LightSample, skip_triangle: u32) -> 
 // (delta lights: weight 1). Under plain path tracing only delta lights count here.
 fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, material: Material, wi: vec3<f32>) -> vec3<f32> {
     let light = sample_light(p, rng_next_2d(), rng_next_2d());
+    // An environment sample's density is evaluated again from its direction, which f32 rounding
+    // can put in a neighbouring cell of density 0 (and radiance 0): no light, not 0 / 0.
+    if !(light.pdf > 0.0) {
+        return vec3<f32>(0.0);
+    }
     if INTEGRATOR == INTEGRATOR_BSDF && !light.delta {
         return vec3<f32>(0.0);
     }
