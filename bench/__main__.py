@@ -157,19 +157,21 @@ def denoise_targets(result: dict) -> list[Target]:
             )
         )
     for method in ("oidn_color", "oidn_guided"):
+        # the denoiser's own shift: against the raw picture of the same samples, whose noise cancels
         worst_scene, worst = max(
-            ((scene, entry["bias"][method]["against_reference"]) for scene, entry in result["scenes"].items()),
-            key=lambda pair: pair[1]["largest"],
+            ((scene, entry["bias"]) for scene, entry in result["scenes"].items()),
+            key=lambda pair: pair[1][method]["against_raw"]["largest"],
         )
-        limit = next(iter(result["scenes"].values()))["bias"]["limit"]
         rows.append(
             Target(
                 "denoise",
-                f"{method}: largest 32-px block mean shift against the reference at {result['bias_spp']} spp "
+                f"{method}: largest 32-px block mean shift of the same samples at {result['bias_spp']} spp "
                 f"(worst scene: {worst_scene})",
-                f"{worst['largest']:.2%}",
-                f"<= {limit:.0%}",
-                worst["largest"] <= limit,
+                f"{worst[method]['against_raw']['largest']:.2%} (against the reference "
+                f"{worst[method]['against_reference']['largest']:.2%}, raw "
+                f"{worst['raw_against_reference']['largest']:.2%})",
+                f"<= {worst['limit']:.0%}",
+                worst[method]["against_raw"]["largest"] <= worst["limit"],
             )
         )
     costs = result["denoiser_cost"]["costs"]
