@@ -24,14 +24,13 @@ as it was) and bumps `version`, which is how a Renderer knows which light record
 from __future__ import annotations
 
 import math
-import re
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
-# Kind ids are u32 on the GPU; 0 is the kind of a zeroed record, which no light has.
-KIND_MAX = 2**32 - 1
+from ..registry import Kind, KindRegistry
+
 # Rec. 709 luminance, the weights of the light sampler (render/lights.py) and the shaders.
 LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
 # As the Emitter material's RADIANCE_MAX: far above any physical source, low enough that the
@@ -65,88 +64,45 @@ def luminance(rgb) -> float:
     return float(np.asarray(rgb, np.float64) @ LUMINANCE_WEIGHTS)
 
 
-_KINDS: dict[int, type[Light]] = {}
-
-
-def light_classes() -> tuple[type[Light], ...]:
-    """Every registered light kind, in id order."""
-    return tuple(_KINDS[kind] for kind in sorted(_KINDS))
-
-
-def light_class(kind: int) -> type[Light]:
-    """The class registered for `kind`."""
-    if kind not in _KINDS:
-        kinds = ", ".join(f"{cls.kind} ({cls.__name__})" for cls in light_classes())
-        raise ValueError(f"no light kind {kind} is registered; the kinds are {kinds}")
-    return _KINDS[kind]
-
-
-def _register(cls: type[Light]) -> None:
-    where = f"{cls.__module__}.{cls.__qualname__}"
-    if isinstance(cls.kind, bool) or not isinstance(cls.kind, int) or not 1 <= cls.kind <= KIND_MAX:
-        raise TypeError(f"{where}: kind must be an int in [1, {KIND_MAX}], got {cls.kind!r}")
-    if cls.kind in _KINDS:
-        raise TypeError(f"{where}: light kind {cls.kind} is already {_KINDS[cls.kind].__qualname__}'s")
+def _check_kind(cls: type[Light], where: str) -> None:
     if not isinstance(cls.shader, LightShader):
         raise TypeError(f"{where}: shader must be a LightShader, got {cls.shader!r}")
     if cls.distant and not cls.delta and cls.shader.escaped_radiance is None:
         raise TypeError(f"{where}: a distant light that is not a delta must say what escaped rays see of it")
-    cls.kind_name = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", cls.__name__).upper()
-    _KINDS[cls.kind] = cls
+
+
+LIGHT_KINDS = KindRegistry("light", _check_kind)
+
+
+def light_classes() -> tuple[type[Light], ...]:
+    """Every registered light kind, in id order."""
+    return LIGHT_KINDS.classes()
+
+
+def light_class(kind: int) -> type[Light]:
+    """The class registered for `kind`."""
+    return LIGHT_KINDS.lookup(kind)
 
 
 @dataclass(eq=False)
-class Light:
+class Light(Kind):
     """Lights compare by identity, as materials do."""
 
+    registry: ClassVar[KindRegistry] = LIGHT_KINDS
+    parameter_error: ClassVar[type[ValueError]] = LightError
     # the id the GPU switches on
     kind: ClassVar[int]
-    # the class name in upper snake case, set on registration: WGSL names the kind LIGHT_<kind_name>
-    kind_name: ClassVar[str]
     shader: ClassVar[LightShader]
     # a point or a single direction: no BSDF sample can hit it, only light sampling reaches it
     delta: ClassVar[bool] = False
     # infinitely far: its shadow rays run to infinity and its power is what crosses the scene
     distant: ClassVar[bool] = False
 
-    def __init_subclass__(cls, **kwargs) -> None:
-        super().__init_subclass__(**kwargs)
-        if "kind" in cls.__dict__:
-            _register(cls)
-
-    def __post_init__(self) -> None:
-        for parameter, value in self.checked_parameters().items():
-            object.__setattr__(self, parameter, value)
-        object.__setattr__(self, "version", 0)
-
-    def __setattr__(self, key: str, value) -> None:
-        if "version" not in self.__dict__ or key not in self.parameter_names():
-            object.__setattr__(self, key, value)
-            return
-        previous = self.__dict__[key]
-        object.__setattr__(self, key, value)
-        try:
-            checked = self.checked_parameters()
-        except LightError:
-            object.__setattr__(self, key, previous)
-            raise
-        for parameter, normalized in checked.items():
-            object.__setattr__(self, parameter, normalized)
-        object.__setattr__(self, "version", self.version + 1)
-
-    @classmethod
-    def parameter_names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls) if f.name != "name")
-
     @property
     def label(self) -> str:
         """How errors name the light: its class, and its name where it has one."""
         name = getattr(self, "name", None)
         return type(self).__name__ + (f" {name!r}" if name else "")
-
-    def checked_parameters(self) -> dict[str, object]:
-        """Every parameter validated and normalized, or LightError naming the first bad one."""
-        raise NotImplementedError
 
     def fill_record(self, record: np.void) -> None:
         """Write the parameters into `record`, one LIGHT_SOURCE record (gpu/layout.py), by field name,

@@ -28,14 +28,12 @@ knows which material record to upload again.
 from __future__ import annotations
 
 import math
-import re
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
-# Kind ids are u32 on the GPU; 0 is the kind of a zeroed record, which no material has.
-KIND_MAX = 2**32 - 1
+from ..registry import Kind, KindRegistry
 
 
 class MaterialError(ValueError):
@@ -102,60 +100,36 @@ class MaterialShader:
     pdf: str
 
 
-_KINDS: dict[int, type[Material]] = {}
-
-
-def material_classes() -> tuple[type[Material], ...]:
-    """Every registered material kind, in id order."""
-    return tuple(_KINDS[kind] for kind in sorted(_KINDS))
-
-
-def material_class(kind: int) -> type[Material]:
-    """The class registered for `kind`."""
-    if kind not in _KINDS:
-        raise ValueError(f"no material kind {kind} is registered; the kinds are {_registered()}")
-    return _KINDS[kind]
-
-
-def _registered() -> str:
-    return ", ".join(f"{cls.kind} ({cls.__name__})" for cls in material_classes())
-
-
-def _register(cls: type[Material]) -> None:
-    where = f"{cls.__module__}.{cls.__qualname__}"
-    kind = cls.kind
-    if isinstance(kind, bool) or not isinstance(kind, int) or not 1 <= kind <= KIND_MAX:
-        raise TypeError(f"{where}: kind must be an int in [1, {KIND_MAX}], got {kind!r}")
-    taken = _KINDS.get(kind)
-    if taken is not None:
-        raise TypeError(
-            f"{where}: material kind {kind} is already {taken.__module__}.{taken.__qualname__}'s; "
-            f"the kinds are {_registered()}"
-        )
-    cls.kind_name = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", cls.__name__).upper()
-    namesake = next((other for other in _KINDS.values() if other.kind_name == cls.kind_name), None)
-    if namesake is not None:
-        raise TypeError(
-            f"{where}: WGSL constant MATERIAL_{cls.kind_name} is already kind {namesake.kind} "
-            f"({namesake.__module__}.{namesake.__qualname__}); rename the class"
-        )
+def _check_kind(cls: type[Material], where: str) -> None:
     if cls.shader is not None and not isinstance(cls.shader, MaterialShader):
         raise TypeError(f"{where}: shader must be a MaterialShader or None, got {cls.shader!r}")
     if cls.emission is not None and cls.record_radiance.__func__ is Material.record_radiance.__func__:
         raise TypeError(f"{where}: declares an emission but no record_radiance for the light table")
-    _KINDS[kind] = cls
+
+
+MATERIAL_KINDS = KindRegistry("material", _check_kind)
+
+
+def material_classes() -> tuple[type[Material], ...]:
+    """Every registered material kind, in id order."""
+    return MATERIAL_KINDS.classes()
+
+
+def material_class(kind: int) -> type[Material]:
+    """The class registered for `kind`."""
+    return MATERIAL_KINDS.lookup(kind)
 
 
 @dataclass(eq=False)
-class Material:
+class Material(Kind):
     """Materials compare by identity: two triangles share a material only if they share the object."""
 
     name: str
 
+    registry: ClassVar[KindRegistry] = MATERIAL_KINDS
+    parameter_error: ClassVar[type[ValueError]] = MaterialError
     # the id the GPU switches on; trac0r's numbering for the first four (emitter 1 ... glossy 4)
     kind: ClassVar[int]
-    # the class name in upper snake case, set on registration: WGSL names the kind MATERIAL_<kind_name>
-    kind_name: ClassVar[str]
     # its BSDF code; None: it reflects nothing
     shader: ClassVar[MaterialShader | None] = None
     # every lobe is a delta (mirror, refraction): no light sample lands in one
@@ -167,37 +141,6 @@ class Material:
     two_sided: ClassVar[bool] = True
     # WGSL vec3<f32> over `material`: the radiance it emits; None: it emits nothing
     emission: ClassVar[str | None] = None
-
-    def __init_subclass__(cls, **kwargs) -> None:
-        super().__init_subclass__(**kwargs)
-        if "kind" in cls.__dict__:
-            _register(cls)
-
-    def __post_init__(self) -> None:
-        for parameter, value in self.checked_parameters().items():
-            object.__setattr__(self, parameter, value)
-        object.__setattr__(self, "version", 0)
-
-    def __setattr__(self, key: str, value) -> None:
-        # During __init__ (no version yet) and for the name, a plain assignment: names never
-        # reach the GPU.
-        if "version" not in self.__dict__ or key not in self.parameter_names():
-            object.__setattr__(self, key, value)
-            return
-        previous = self.__dict__[key]
-        object.__setattr__(self, key, value)
-        try:
-            checked = self.checked_parameters()
-        except MaterialError:
-            object.__setattr__(self, key, previous)
-            raise
-        for parameter, normalized in checked.items():
-            object.__setattr__(self, parameter, normalized)
-        object.__setattr__(self, "version", self.version + 1)
-
-    @classmethod
-    def parameter_names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls) if f.name != "name")
 
     @classmethod
     def light_sampling(cls) -> str:
@@ -211,10 +154,6 @@ class Material:
         """(n, 3) float64: what `emission` gives for MATERIAL `records` of this kind, as the light
         table weighs lights by it (render/lights.py). Needed where `emission` is set."""
         raise NotImplementedError(f"{cls.__name__} emits nothing")
-
-    def checked_parameters(self) -> dict[str, object]:
-        """Every parameter validated and normalized, or MaterialError naming the first bad one."""
-        raise NotImplementedError
 
     def fill_record(self, record: np.void) -> None:
         """Write the parameters into `record`, one MATERIAL record (gpu/layout.py), by field name, as
