@@ -1,8 +1,8 @@
-"""The benchmark suite: issue 8's benchmarks and issue 16's denoising on the current adapter, and a
-summary of every target.
+"""The benchmark suite: issue 8's benchmarks, issue 16's denoising and issue 15's environment lighting
+on the current adapter, and a summary of every target.
 
-    python -m bench                       (about 20 minutes on lavapipe, 2 cores; denoise about 8)
-    python -m bench --quick               (about 4 minutes: smaller images, fewer repeats and counts)
+    python -m bench                       (about 25 minutes on lavapipe, 2 cores; denoise about 8, environment 5)
+    python -m bench --quick               (about 5 minutes: smaller images, fewer repeats and counts)
     python -m bench --gpu                 (on a GPU: more samples per timed run, which lasts milliseconds there)
     python -m bench --only scaling bvh_build
     python -m bench --only soak           (not in the default run: 10 minutes of viewer, 10,000 library cycles)
@@ -186,6 +186,33 @@ def denoise_targets(result: dict) -> list[Target]:
     return rows
 
 
+def environment_targets(result: dict) -> list[Target]:
+    ratio, target = result["efficiency_ratio"], result["efficiency_target"]
+    costs = result["cost_per_sample"]
+    cornell = result["cornell"]
+    return [
+        Target(
+            "environment",
+            f"efficiency 1/(MSE x s), importance sampled / uniform sphere (sunny map, {result['width']}x{result['height']})",
+            f"{ratio:.1f}x",
+            f">= {target:g}x",
+            ratio >= target,
+        ),
+        Target(
+            "environment",
+            "time per sample, map / constant / no environment (sunny scene)",
+            f"{costs['map']['over_none']:.3f} / {costs['constant']['over_none']:.3f} / 1",
+        ),
+        Target(
+            "environment",
+            f"Cornell box time, current / {cornell['baseline_revision']} (median of paired rounds; process CPU)",
+            f"{cornell['ratio_wall']:.3f} ({cornell['ratio_process_cpu']:.3f})",
+            f"<= {cornell['target']:g}",
+            cornell["ratio_wall"] <= cornell["target"],
+        ),
+    ]
+
+
 def denoiser_missing() -> str | None:
     """Why the denoising benchmark cannot run here, or None."""
     return None if denoiser_available() else f"Intel Open Image Denoise is missing: {INSTALL_HINT}"
@@ -319,6 +346,27 @@ BENCHMARKS = (
         denoise_targets,
         skip_reason=denoiser_missing,
     ),
+    Benchmark(
+        "environment",
+        (
+            "--size",
+            "64",
+            "--reference-spp",
+            "1024",
+            "--repeats",
+            "3",
+            "--cost-rounds",
+            "3",
+            "--cornell-size",
+            "128",
+            "--cornell-spp",
+            "8",
+            "--cornell-rounds",
+            "5",
+        ),
+        ("--spp", "256", "--reference-spp", "65536", "--validation-spp", "1024", "--cornell-spp", "1024"),
+        environment_targets,
+    ),
     Benchmark("soak", ("--minutes", "1", "--cycles", "1000"), (), soak_targets, in_default_run=False),
 )
 
@@ -372,7 +420,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="+", choices=names, metavar="NAME", help=f"run only these: {', '.join(names)}")
     presets = parser.add_mutually_exclusive_group()
-    presets.add_argument("--quick", action="store_true", help="smaller settings: about 4 minutes on lavapipe")
+    presets.add_argument("--quick", action="store_true", help="smaller settings: about 5 minutes on lavapipe")
     presets.add_argument("--gpu", action="store_true", help="more samples per timed run, for a GPU")
     parser.add_argument("--out", type=Path, default=RESULTS_DIR, help="results folder (default bench/results)")
     args = parser.parse_args(argv)
