@@ -72,16 +72,9 @@ def _check_kind(cls: type[Light], where: str) -> None:
 
 
 LIGHT_KINDS = KindRegistry("light", _check_kind)
-
-
-def light_classes() -> tuple[type[Light], ...]:
-    """Every registered light kind, in id order."""
-    return LIGHT_KINDS.classes()
-
-
-def light_class(kind: int) -> type[Light]:
-    """The class registered for `kind`."""
-    return LIGHT_KINDS.lookup(kind)
+# every registered light kind in id order, and the class registered for a kind
+light_classes = LIGHT_KINDS.classes
+light_class = LIGHT_KINDS.lookup
 
 
 @dataclass(eq=False)

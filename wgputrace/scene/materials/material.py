@@ -108,16 +108,9 @@ def _check_kind(cls: type[Material], where: str) -> None:
 
 
 MATERIAL_KINDS = KindRegistry("material", _check_kind)
-
-
-def material_classes() -> tuple[type[Material], ...]:
-    """Every registered material kind, in id order."""
-    return MATERIAL_KINDS.classes()
-
-
-def material_class(kind: int) -> type[Material]:
-    """The class registered for `kind`."""
-    return MATERIAL_KINDS.lookup(kind)
+# every registered material kind in id order, and the class registered for a kind
+material_classes = MATERIAL_KINDS.classes
+material_class = MATERIAL_KINDS.lookup
 
 
 @dataclass(eq=False)
