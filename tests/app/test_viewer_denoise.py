@@ -13,16 +13,16 @@ import numpy as np
 import pytest
 
 from wgputrace import Renderer, default_scene, load_image
-from wgputrace.app.viewer import DENOISER_KEY, Viewer, ViewerOptions
+from wgputrace.app.viewer import DENOISER_KEY, Viewer
 from wgputrace.denoise import denoiser_available
 from wgputrace.image_io import tonemap
+from wgputrace.testing.offscreen_viewer import LAMP_OVER_FLOOR, SIZE, frames, offscreen_viewer, red_text
 from wgputrace.view.denoised import IDLE_FACTOR, SAMPLE_GROWTH, DenoiseSchedule
 
 denoise_module = importlib.import_module("wgputrace.denoise")
 denoised_module = importlib.import_module("wgputrace.view.denoised")
 viewer_module = importlib.import_module("wgputrace.app.viewer")
 
-SIZE = (96, 72)
 # The converged picture the viewer's is compared with: another seed than the viewer's.
 REFERENCE_SEED = 99
 REFERENCE_SPP = 64
@@ -38,43 +38,7 @@ ERROR_RATIO_BOUND = 0.5
 # (tests/view/test_banded.py).
 RESOLVE_RTOL = 2.0**-22
 
-# A lamp over a white floor: nothing red in the picture but the overlay's error text.
-WHITE_SCENE = """import wgputrace as wt
-
-
-def scene():
-    lamp = wt.Emitter("lamp")
-    white = wt.Diffuse("white")
-    return wt.Scene(
-        [
-            wt.make_plane((0, 1, 2), (-1.5707963, 0, 0), (1, 1), lamp, "lamp"),
-            wt.make_plane((0, 0, 2), (0, 0, 0), (4, 4), white, "floor"),
-        ],
-        wt.Camera.looking_at((0, 1, 0), (0, 0.5, 2)),
-    )
-"""
-
 needs_oidn = pytest.mark.skipif(not denoiser_available(), reason="pyoidn (the denoise extra) is not installed")
-
-
-# The overlay's error text is drawn in (255, 90, 90): red well above green and blue.
-def red_text(frame: np.ndarray) -> np.ndarray:
-    pixels = frame[..., :3].astype(int)
-    return (pixels[..., 0] > 200) & (pixels[..., 1] < 150) & (pixels[..., 2] < 150)
-
-
-def offscreen_viewer(tmp_path, scene: str = "cornell") -> Viewer:
-    from wgputrace.app.window import create_canvas
-
-    canvas = create_canvas(SIZE, "test", offscreen=True)
-    return Viewer(canvas, ViewerOptions(scene=scene, size=SIZE, screenshot_dir=tmp_path))
-
-
-def frames(viewer: Viewer, count: int) -> np.ndarray:
-    """Draw `count` frames; the last one's pixels."""
-    for _ in range(count):
-        frame = np.asarray(viewer.canvas.draw())
-    return frame
 
 
 def draw_until(viewer: Viewer, condition, what: str) -> None:
@@ -92,7 +56,7 @@ def srgb_error(image: np.ndarray, reference: np.ndarray) -> float:
 @pytest.mark.slow
 @needs_oidn
 def test_oidns_picture_is_shown_closer_to_the_converged_one_and_switching_off_shows_the_raw(gpu_context, tmp_path):
-    viewer = offscreen_viewer(tmp_path)
+    viewer = offscreen_viewer("cornell", tmp_path)
     frames(viewer, 2)
     viewer.press(DENOISER_KEY)
     assert viewer.view.renderer.guides_enabled
@@ -126,7 +90,7 @@ def test_oidns_picture_is_shown_closer_to_the_converged_one_and_switching_off_sh
 def test_a_denoise_of_samples_from_before_the_camera_moved_is_not_shown_and_moving_shows_the_a_trous(
     gpu_context, tmp_path
 ):
-    viewer = offscreen_viewer(tmp_path)
+    viewer = offscreen_viewer("cornell", tmp_path)
     frames(viewer, 1)  # the view is made at the first frame's size
     viewer.press(DENOISER_KEY)
     banded, denoised = viewer.view.banded, viewer.view.denoised
@@ -147,8 +111,8 @@ def test_without_oidn_the_overlay_says_how_to_install_it_and_the_a_trous_filter_
     monkeypatch.setitem(sys.modules, "pyoidn", None)  # the import fails
     monkeypatch.setattr(denoise_module, "_shared", None)
     scene = tmp_path / "white.py"
-    scene.write_text(WHITE_SCENE)
-    viewer = offscreen_viewer(tmp_path, str(scene))
+    scene.write_text(LAMP_OVER_FLOOR)
+    viewer = offscreen_viewer(str(scene), tmp_path)
     frames(viewer, 2)
     assert not red_text(frames(viewer, 1)).any()
     viewer.press(DENOISER_KEY)
@@ -173,8 +137,8 @@ def test_a_failing_denoise_switches_the_denoiser_off_saying_why(gpu_context, mon
     monkeypatch.setattr(viewer_module, "denoiser_device", lambda: "CPU")  # whether pyoidn is there or not
     monkeypatch.setattr(denoised_module, "denoise", failing)
     scene = tmp_path / "white.py"
-    scene.write_text(WHITE_SCENE)
-    viewer = offscreen_viewer(tmp_path, str(scene))
+    scene.write_text(LAMP_OVER_FLOOR)
+    viewer = offscreen_viewer(str(scene), tmp_path)
     viewer.press(DENOISER_KEY)
     draw_until(viewer, lambda: not viewer.denoising, "switching the denoiser off")
     assert "OIDN (CPU) failed on the viewer's image: OIDN broke; the denoiser is off" in viewer.status

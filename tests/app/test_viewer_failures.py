@@ -5,62 +5,17 @@ one line and closes with exit status 1."""
 
 from __future__ import annotations
 
-import os
-import time
-
-import numpy as np
 import pytest
 
-from wgputrace.app.viewer import Viewer, ViewerOptions
 from wgputrace.gpu import device as gpu_device
+from wgputrace.testing.offscreen_viewer import LAMP_OVER_FLOOR, frames, offscreen_viewer, red_text, rewrite
 
 pytestmark = pytest.mark.gpu
 
-SIZE = (96, 72)
-# max-texture-dimension-2d as this test pretends the device offers it: the small scene's triangle
+# max-texture-dimension-2d as this test pretends the device offers it: LAMP_OVER_FLOOR's triangle
 # texture (4 triangles, 6 rows) fits, the default scene's (676 triangles, 64 rows) does not.
 SMALL_TEXTURE_LIMIT = 16
-SMALL = """import wgputrace as wt
-
-
-def scene():
-    lamp = wt.Emitter("lamp")
-    white = wt.Diffuse("white")
-    return wt.Scene(
-        [
-            wt.make_plane((0, 1, 2), (-1.5707963, 0, 0), (1, 1), lamp, "lamp"),
-            wt.make_plane((0, 0, 2), (0, 0, 0), (4, 4), white, "floor"),
-        ],
-        wt.Camera.looking_at((0, 1, 0), (0, 0.5, 2)),
-    )
-"""
 DEFAULT = "import wgputrace as wt\n\n\ndef scene():\n    return wt.default_scene()\n"
-
-
-# The overlay's error text is drawn in (255, 90, 90): red well above green and blue.
-def red_text(frame: np.ndarray) -> np.ndarray:
-    pixels = frame[..., :3].astype(int)
-    return (pixels[..., 0] > 200) & (pixels[..., 1] < 150) & (pixels[..., 2] < 150)
-
-
-def offscreen_viewer(scene: str, tmp_path) -> Viewer:
-    from wgputrace.app.window import create_canvas
-
-    canvas = create_canvas(SIZE, "test", offscreen=True)
-    return Viewer(canvas, ViewerOptions(scene=scene, size=SIZE, screenshot_dir=tmp_path))
-
-
-def rewrite(path, text: str) -> None:
-    path.write_text(text)
-    later = time.time() + 1
-    os.utime(path, (later, later))  # a new modification time even within the file system's resolution
-
-
-def frames(viewer: Viewer, count: int) -> np.ndarray:
-    """Draw `count` frames; the last one's pixels."""
-    for _ in range(count):
-        frame = np.asarray(viewer.canvas.draw())
-    return frame
 
 
 @pytest.fixture
@@ -75,7 +30,7 @@ def test_a_reloaded_scene_beyond_the_device_limits_is_reported_and_the_scene_sho
 ):
     monkeypatch.setitem(gpu_context.device.limits, "max-texture-dimension-2d", SMALL_TEXTURE_LIMIT)
     path = tmp_path / "scene.py"
-    path.write_text(SMALL)
+    path.write_text(LAMP_OVER_FLOOR)
     viewer = offscreen_viewer(str(path), tmp_path)
     frames(viewer, 2)
     shown, view = viewer.scene, viewer.view
@@ -91,7 +46,7 @@ def test_a_reloaded_scene_beyond_the_device_limits_is_reported_and_the_scene_sho
     assert red_text(frame).sum() > 20, "the error is not in the picture"
     assert frame[..., :3].max() > 0
 
-    rewrite(path, SMALL)
+    rewrite(path, LAMP_OVER_FLOOR)
     viewer._next_scene_poll = 0.0
     frame = frames(viewer, 3)
     assert viewer.scene is not shown and viewer.errors == [] and not red_text(frame).any()

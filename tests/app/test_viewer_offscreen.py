@@ -4,51 +4,16 @@ file reloads it. And the notebook backend's code path, where jupyter_rfb is inst
 
 from __future__ import annotations
 
-import os
 import time
 
 import numpy as np
 import pytest
 
-from wgputrace.app.viewer import Viewer, ViewerOptions
+from wgputrace.testing.offscreen_viewer import LAMP_OVER_FLOOR, SIZE, offscreen_viewer, red_text, rewrite
 
 pytestmark = pytest.mark.gpu
 
-SIZE = (96, 72)
 BROKEN = "import wgputrace as wt\n\n\ndef scene():\n    return wt.Scene([wt.make_plane((0, 0, 2), (0, 0, 0), (1, 1), None)])\n"
-GOOD = """import wgputrace as wt
-
-
-def scene():
-    lamp = wt.Emitter("lamp")
-    white = wt.Diffuse("white")
-    return wt.Scene(
-        [
-            wt.make_plane((0, 1, 2), (-1.5707963, 0, 0), (1, 1), lamp, "lamp"),
-            wt.make_plane((0, 0, 2), (0, 0, 0), (4, 4), white, "floor"),
-        ],
-        wt.Camera.looking_at((0, 1, 0), (0, 0.5, 2)),
-    )
-"""
-
-
-# The overlay's error text is drawn in (255, 90, 90): red well above green and blue.
-def red_text(frame: np.ndarray) -> np.ndarray:
-    pixels = frame[..., :3].astype(int)
-    return (pixels[..., 0] > 200) & (pixels[..., 1] < 150) & (pixels[..., 2] < 150)
-
-
-def offscreen_viewer(scene: str, tmp_path) -> Viewer:
-    from wgputrace.app.window import create_canvas
-
-    canvas = create_canvas(SIZE, "test", offscreen=True)
-    return Viewer(canvas, ViewerOptions(scene=scene, size=SIZE, screenshot_dir=tmp_path))
-
-
-def touch_later(path, text: str) -> None:
-    path.write_text(text)
-    later = time.time() + 1
-    os.utime(path, (later, later))  # a new modification time even within the file system's resolution
 
 
 def test_a_failing_scene_file_is_shown_and_the_viewer_keeps_running(gpu_context, tmp_path, capsys):
@@ -60,14 +25,14 @@ def test_a_failing_scene_file_is_shown_and_the_viewer_keeps_running(gpu_context,
     assert "scene.py:5: " in capsys.readouterr().err
     assert red_text(frame).sum() > 20, "the error is not in the picture"
 
-    touch_later(path, GOOD)
+    rewrite(path, LAMP_OVER_FLOOR)
     viewer._next_scene_poll = 0.0  # do not wait for the next poll
     for _ in range(3):
         frame = np.asarray(viewer.canvas.draw())
     assert viewer.scene is not None and viewer.errors == []
     assert frame[..., :3].max() > 0 and not red_text(frame).any()
 
-    touch_later(path, BROKEN)
+    rewrite(path, BROKEN)
     viewer._next_scene_poll = 0.0
     viewer.canvas.draw()
     frame = np.asarray(viewer.canvas.draw())
