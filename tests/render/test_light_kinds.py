@@ -13,10 +13,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Emitter, Environment, Renderer, Scene, make_icosphere, make_plane
-from wgputrace.gpu.bindings import ARRAY_WORKGROUP, lights_group, scene_group
-from wgputrace.gpu.buffers import read_buffer, storage_buffer, uniform_buffer
+from wgputrace.gpu.bindings import lights_group
 from wgputrace.gpu.device import DeviceLimitError
-from wgputrace.gpu.kernel import ComputeKernel
 from wgputrace.gpu.layout import FRAME, LIGHT_SOURCE
 from wgputrace.gpu.light_dispatch import GENERATED_LIGHTS, light_dispatch
 from wgputrace.gpu.texels import TrackedTexels
@@ -25,7 +23,7 @@ from wgputrace.render.limits import SceneCounts, check_scene_counts, environment
 from wgputrace.render.scene_sync import SceneMirror
 from wgputrace.scene import DirectionalLight, LightError, PointLight, SpotLight, Sun
 from wgputrace.scene.environment import cell_of_uv
-from wgputrace.testing.harness import harness_group, run_kernel
+from wgputrace.testing.harness import run_kernel
 from wgputrace.testing.stats import chi_square, sidak, z_limit
 from wgputrace.view.banded import BandedRenderer
 
@@ -156,7 +154,7 @@ def test_light_parameters_are_checked_where_set():
     assert sun.version == 1
 
 
-# ---- the GPU side with a lights group: the harness binds the scene group, this adds the lights group
+# ---- the GPU side with a lights group: the harness binds the scene group and this file's lights group
 
 
 def run_with_lights(context, scene: Scene, wgsl: str, inputs: np.ndarray, count: int) -> np.ndarray:
@@ -164,44 +162,27 @@ def run_with_lights(context, scene: Scene, wgsl: str, inputs: np.ndarray, count:
     records bound as the renderer binds them: its scene group and its lights group."""
     mirror = SceneMirror(scene, "bvh")
     features = mirror.light_features
-    harness = harness_group(["vec4<f32>"], "vec4<f32>")
-    entry = "\n".join(
-        [
-            wgsl,
-            f'//! include "{harness.file}"',
-            '//! include "generated/workgroup.wgsl"',
-            "@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)",
-            "fn main(@builtin(global_invocation_id) id: vec3<u32>) {",
-            f"    if id.x >= {count}u {{ return; }}",
-            "    output[id.x] = compute(id.x);",
-            "}",
-        ]
-    )
-    kernel = ComputeKernel(
-        context,
-        "lights_entry.wgsl",
-        (scene_group("bvh"), harness, lights_group(features)),
-        workgroup_size=ARRAY_WORKGROUP,
-        generated={"lights_entry.wgsl": entry, GENERATED_LIGHTS: light_dispatch(features)},
-        label="light kinds test",
-    )
     frame = FRAME.zeros(1)
     frame["light_count"], frame["light_weight_total"] = mirror.lights.count, mirror.lights.total_weight
-    scene_resources = {
-        "frame": uniform_buffer(context, "frame", frame),
-        "triangles": TrackedTexels(context, "triangles", mirror.triangles).resource,
+    scene_records = {
+        "frame": frame,
+        "triangles": mirror.triangles,
         "nodes": TrackedTexels(context, "nodes", mirror.nodes).resource,
-        "materials": storage_buffer(context, "materials", mirror.materials),
-        "lights": storage_buffer(context, "lights", mirror.lights.entries),
+        "materials": mirror.materials,
+        "lights": mirror.lights.entries,
     }
-    output = storage_buffer(context, "output", np.zeros((count, 4), np.float32), read_back=True)
-    bind_groups = {
-        "scene": kernel.bind("scene", **scene_resources),
-        "harness": kernel.bind("harness", inputs_0=storage_buffer(context, "inputs", inputs), output=output),
-        "lights": kernel.bind("lights", **LightBuffers(context, mirror).resources),
-    }
-    kernel.dispatch((count,), bind_groups)
-    return read_buffer(context, output, np.dtype((np.float32, 4)), count)
+    return run_kernel(
+        context,
+        wgsl,
+        [inputs],
+        np.dtype((np.float32, 4)),
+        count,
+        input_types=["vec4<f32>"],
+        output_type="vec4<f32>",
+        scene=scene_records,
+        groups={lights_group(features): LightBuffers(context, mirror).resources},
+        generated={GENERATED_LIGHTS: light_dispatch(features)},
+    )
 
 
 def ground(material=None) -> Scene:

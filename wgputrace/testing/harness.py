@@ -53,6 +53,8 @@ def run_kernel(
     input_types: list[str],
     output_type: str,
     scene: dict[str, np.ndarray | object] | None = None,
+    groups: dict[BindGroup, dict[str, object]] | None = None,
+    generated: dict[str, str] | None = None,
 ) -> np.ndarray:
     """Run `wgsl` (which defines `fn compute(i: u32) -> OUTPUT`) for i in [0, count).
 
@@ -60,7 +62,10 @@ def run_kernel(
     group (gpu/bindings.py SCENE_GROUP) by binding name: frame, triangles, nodes, materials, lights.
     Arrays are uploaded (the triangles as texels), GPU resources (`node_binding`) bound as they
     are; nodes given as an array are the flat list's storage buffer, else the BVH's texels.
+    `groups` adds bind groups (the lights group, say) with their GPU resources by binding name, and
+    `generated` the generated files their WGSL includes (the light dispatch).
     """
+    groups = dict(groups or {})
     scene = dict(scene or {})
     acceleration = "flat" if isinstance(scene.get("nodes"), np.ndarray) else "bvh"
     harness = harness_group(input_types, output_type)
@@ -79,9 +84,9 @@ def run_kernel(
     kernel = ComputeKernel(
         context,
         "harness_entry.wgsl",
-        (scene_group(acceleration), harness),
+        (scene_group(acceleration), harness, *groups),
         workgroup_size=ARRAY_WORKGROUP,
-        generated={"harness_entry.wgsl": entry},
+        generated={"harness_entry.wgsl": entry, **(generated or {})},
         label="test harness",
     )
     result = storage_buffer(context, "output", np.zeros(count, dtype=output_dtype), read_back=True)
@@ -90,6 +95,7 @@ def run_kernel(
     bind_groups = {
         "scene": kernel.bind("scene", **scene_resources),
         "harness": kernel.bind("harness", **buffers, output=result),
+        **{group.name: kernel.bind(group.name, **resources) for group, resources in groups.items()},
     }
     kernel.dispatch((count,), bind_groups)
     return read_buffer(context, result, output_dtype, count)
