@@ -9,8 +9,7 @@ for one texel lights one side of a sphere, and Mitsuba must light the same side 
 (tests/render/test_light_closed_form.py pins the same map against a closed form).
 
 The significance of each block test is Sidak's share of FAMILY_SIGNIFICANCE over every block,
-channel and case of this module (test_references.py's helper applies its own module's level, which
-is smaller than this module's share: each test here is, if anything, stricter about false alarms).
+channel and case of this module.
 """
 
 from __future__ import annotations
@@ -20,10 +19,18 @@ from functools import cache
 
 import pytest
 
-from tests.render.test_references import SEED, SIZE, assert_same_expectation
-from wgputrace.testing.references import STORAGE_RTOL, load_reference, render_batches
+from wgputrace.testing.references import STORAGE_RTOL, assert_same_expectation, load_reference, render_batches
+from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
+
+SIZE = 64
+# Block sizes tested: 8x8 finds local errors, the whole image small ones spread everywhere.
+BLOCKS = (8, SIZE)
+# test_references.py's seed: the outcome these tests were checked with
+SEED = 20261123
+# Probability that this module reports a difference somewhere when there is none.
+FAMILY_SIGNIFICANCE = 1e-3
 
 
 @dataclass(frozen=True)
@@ -47,6 +54,10 @@ CASES = [
 ]
 
 
+BLOCK_TESTS = sum((SIZE // block) ** 2 for block in BLOCKS) * 3
+PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, BLOCK_TESTS * len(CASES))
+
+
 @cache
 def reference(name: str):
     return load_reference(name)
@@ -68,4 +79,13 @@ def test_matches_mitsuba_reference(gpu_context, failure_dir, case):
     assert render.nonfinite_samples == 0
     expected = ref.estimate.downsampled(ref.metadata["width"] // SIZE)
     label = f"{case.scene}_{case.integrator}_vs_mitsuba"
-    assert_same_expectation(label, render.estimate, expected, expected.mean, STORAGE_RTOL, failure_dir)
+    assert_same_expectation(
+        label,
+        render.estimate,
+        expected,
+        expected.mean,
+        STORAGE_RTOL,
+        failure_dir,
+        blocks=BLOCKS,
+        per_test_significance=PER_TEST_SIGNIFICANCE,
+    )

@@ -26,20 +26,19 @@ What it catches, each shader broken on purpose in a copy of the tree (2026-11-23
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cache
+from functools import cache, partial
 
 import numpy as np
 import pytest
 
-from wgputrace.testing.image_statistics import Estimate, compare_blocks
+from wgputrace.testing.image_statistics import Estimate
 from wgputrace.testing.references import (
     STORAGE_RTOL,
     BatchedRender,
+    assert_same_expectation,
     load_reference,
     reference_dir,
     render_batches,
-    worst_blocks,
-    write_failure_images,
 )
 from wgputrace.testing.stats import sidak
 
@@ -55,7 +54,6 @@ REFERENCES_MAX_BYTES = 5 * 1024 * 1024
 # smaller: float32 rounds them differently (a few steps of 2^-24 per bounce), which moves the
 # expectation by far less than this fraction; the same bound as test_closed_form's EXACT_RTOL.
 SCALED_RTOL = 1e-5
-WORST_BLOCKS_SHOWN = 5
 
 
 @dataclass(frozen=True)
@@ -93,6 +91,7 @@ INTEGRATOR_BATCHES = 8
 
 BLOCK_TESTS = sum((SIZE // block) ** 2 for block in BLOCKS) * 3
 PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, BLOCK_TESTS * (len(CASES) + len(SCALED) + len(INTEGRATOR_CASES)))
+same_expectation = partial(assert_same_expectation, blocks=BLOCKS, per_test_significance=PER_TEST_SIGNIFICANCE)
 
 
 @cache
@@ -107,24 +106,6 @@ def rendered(scene: str) -> BatchedRender:
     return render_batches(scene, SIZE, batches=case.batches, spp=case.spp, seed=SEED, max_depth=max_depth)
 
 
-def assert_same_expectation(
-    label: str, ours: Estimate, other: Estimate, other_image: np.ndarray, relative_tolerance: float, failure_dir
-) -> None:
-    """Every block of `ours` has the expectation of `other`'s, up to `relative_tolerance` of
-    `other_image`'s block mean (a systematic difference that more samples would not reduce)."""
-    for block in BLOCKS:
-        image_blocks = Estimate(other_image, np.zeros_like(other_image), np.inf).blocks(block)[0]
-        comparison = compare_blocks(ours, other, block, relative_tolerance * np.abs(image_blocks))
-        failing = comparison.p_value < PER_TEST_SIGNIFICANCE
-        if failing.any():
-            paths = write_failure_images(failure_dir, label, ours.mean, other_image, comparison, PER_TEST_SIGNIFICANCE)
-            pytest.fail(
-                f"{label}: {int(failing.sum())} of {failing.size} tests of {block}x{block} blocks reject equal "
-                f"expectations at p < {PER_TEST_SIGNIFICANCE:.3g}; worst:\n"
-                f"{worst_blocks(comparison, ours, other, block, WORST_BLOCKS_SHOWN)}\nimages: {', '.join(map(str, paths))}"
-            )
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("scene", list(CASES))
 def test_matches_mitsuba_reference(gpu_context, failure_dir, scene):
@@ -132,7 +113,7 @@ def test_matches_mitsuba_reference(gpu_context, failure_dir, scene):
     ours = rendered(scene).estimate
     ref = reference(case.reference)
     expected = ref.estimate.downsampled(ref.metadata["width"] // SIZE)
-    assert_same_expectation(f"{scene}_vs_mitsuba", ours, expected, expected.mean, STORAGE_RTOL, failure_dir)
+    same_expectation(f"{scene}_vs_mitsuba", ours, expected, expected.mean, STORAGE_RTOL, failure_dir)
 
 
 @pytest.mark.slow
@@ -154,7 +135,7 @@ def test_scaled_cornell_box_gives_the_same_image(gpu_context, failure_dir, scale
     difference = Estimate.from_batches(scaled_batches - unscaled_batches)
     zero = Estimate(np.zeros_like(difference.mean), np.zeros_like(difference.mean), np.inf)
     unscaled = unscaled_batches.mean(axis=0)
-    assert_same_expectation(f"{scaled}_vs_{UNSCALED}", difference, zero, unscaled, SCALED_RTOL, failure_dir)
+    same_expectation(f"{scaled}_vs_{UNSCALED}", difference, zero, unscaled, SCALED_RTOL, failure_dir)
 
 
 def test_references_are_small_and_match_their_settings():
@@ -191,4 +172,4 @@ def test_each_integrator_matches_mitsuba_reference(gpu_context, failure_dir, sce
     assert render.nonfinite_samples == 0
     expected = ref.estimate.downsampled(ref.metadata["width"] // SIZE)
     label = f"{scene}_{integrator}_vs_mitsuba"
-    assert_same_expectation(label, render.estimate, expected, expected.mean, STORAGE_RTOL, failure_dir)
+    same_expectation(label, render.estimate, expected, expected.mean, STORAGE_RTOL, failure_dir)

@@ -1,11 +1,12 @@
 """Mitsuba 3 references (tests/references/<scene>.npz in the checkout, made by
-scripts/make_references.py), batched renders of ours, and images of a failed comparison for a
-person to look at."""
+scripts/make_references.py), batched renders of ours, the per-block comparison of two estimates,
+and images of a failed comparison for a person to look at."""
 
 from __future__ import annotations
 
 import json
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,11 +16,13 @@ from wgputrace import Renderer, save_image
 from wgputrace.scene import DegenerateTrianglesWarning
 from wgputrace.scenes import scene_by_name
 from wgputrace.testing.checkout import checkout_file
-from wgputrace.testing.image_statistics import BlockComparison, Estimate
+from wgputrace.testing.image_statistics import BlockComparison, Estimate, compare_blocks
 
 # References are stored as float16, whose 11 significant bits move a value by at most this fraction
 # when rounding. Pixels of one value all round alike, so this is a bias bound, not noise.
 STORAGE_RTOL = 2.0**-11
+# How many of the blocks with the smallest p-values a failed comparison lists.
+WORST_BLOCKS_SHOWN = 5
 
 
 def reference_dir() -> Path:
@@ -121,3 +124,31 @@ def worst_blocks(comparison: BlockComparison, ours: Estimate, reference: Estimat
             f"dof {comparison.dof[index]:.0f}, p {comparison.p_value[index]:.3g}"
         )
     return "\n".join(lines)
+
+
+def assert_same_expectation(
+    label: str,
+    ours: Estimate,
+    other: Estimate,
+    other_image: np.ndarray,
+    relative_tolerance: float,
+    failure_dir: Path,
+    *,
+    blocks: Sequence[int],
+    per_test_significance: float,
+) -> None:
+    """Every block of `ours` (of each size in `blocks`, per channel) has the expectation of `other`'s
+    by Welch's t-test at `per_test_significance`, up to `relative_tolerance` of `other_image`'s
+    block mean (a systematic difference that more samples would not reduce). A failure writes the
+    images under `failure_dir` and names the worst blocks."""
+    for block in blocks:
+        image_blocks = Estimate(other_image, np.zeros_like(other_image), np.inf).blocks(block)[0]
+        comparison = compare_blocks(ours, other, block, relative_tolerance * np.abs(image_blocks))
+        failing = comparison.p_value < per_test_significance
+        if failing.any():
+            paths = write_failure_images(failure_dir, label, ours.mean, other_image, comparison, per_test_significance)
+            raise AssertionError(
+                f"{label}: {int(failing.sum())} of {failing.size} tests of {block}x{block} blocks reject equal "
+                f"expectations at p < {per_test_significance:.3g}; worst:\n"
+                f"{worst_blocks(comparison, ours, other, block, WORST_BLOCKS_SHOWN)}\nimages: {', '.join(map(str, paths))}"
+            )
