@@ -68,9 +68,9 @@ from bench.common import (
 from wgputrace import Renderer
 from wgputrace.cli_arguments import parse_size
 from wgputrace.denoise import INSTALL_HINT, QUALITIES, denoise, denoiser_available, denoiser_device
-from wgputrace.image_io import linear_to_srgb
 from wgputrace.scene import DegenerateTrianglesWarning
 from wgputrace.scenes import DEFAULT_SCENE, scene_by_name
+from wgputrace.testing.image_statistics import displayed_psnr
 from wgputrace.testing.references import Reference, load_reference, reference_dir
 from wgputrace.view import display as viewer_display
 from wgputrace.view.banded import BandedRenderer
@@ -104,12 +104,6 @@ def scenes_with_references() -> list[str]:
 # README's table). Named, not globbed, so that a new reference changes neither the table's scenes
 # nor the suite's run time; --scenes takes any scene with a reference.
 SCENES = (DEFAULT_SCENE, "axis_boxes", "glass_grazing", "glossy_spheres", "slivers", "tiny_light")
-
-
-def psnr(image: np.ndarray, reference: np.ndarray) -> float:
-    """On the displayed values, as bench/filter_psnr.py takes it: clipped to [0, 1], sRGB-encoded, peak 1."""
-    shown, expected = (linear_to_srgb(x.astype(np.float64)) for x in (image, reference))
-    return float(10.0 * np.log10(1.0 / np.mean((shown - expected) ** 2)))
 
 
 def new_renderer(scene: str, reference: Reference, seed: int, guides: bool) -> Renderer:
@@ -332,7 +326,7 @@ def measure_scene(scene: str, args: argparse.Namespace, z_critical: float) -> di
     def add_raw_point(spp: int) -> None:
         image = with_guides.image()
         raw_curve["spp"].append(spp)
-        raw_curve["psnr"].append(psnr(image, mean))
+        raw_curve["psnr"].append(displayed_psnr(image, mean))
         raw_curve["relative_mse"].append(errors(image, mean, variance)["relative_mse"])
 
     for repeat in range(args.repeats):
@@ -345,7 +339,7 @@ def measure_scene(scene: str, args: argparse.Namespace, z_critical: float) -> di
                 add_raw_point(spp)
             if spp in levels:
                 for method, image in pictures().items():
-                    psnr_runs[method][spp].append(psnr(image, mean))
+                    psnr_runs[method][spp].append(displayed_psnr(image, mean))
                     relative_runs[method][spp].append(errors(image, mean, variance)["relative_mse"])
         log(
             f"{scene} repeat {repeat + 1}/{args.repeats}: "

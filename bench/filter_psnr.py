@@ -24,8 +24,8 @@ import numpy as np
 
 from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_csv, write_result
 from wgputrace import Renderer, default_scene
-from wgputrace.image_io import linear_to_srgb
 from wgputrace.scenes import DEFAULT_SCENE
+from wgputrace.testing.image_statistics import displayed_psnr
 from wgputrace.testing.references import load_reference
 from wgputrace.view import display as viewer_display
 from wgputrace.view.banded import BandedRenderer
@@ -47,12 +47,6 @@ def reference_image() -> tuple[np.ndarray, dict]:
     renderer = Renderer(default_scene(), FALLBACK_SIZE, FALLBACK_SIZE, seed=1_000_003, max_depth=MAX_DEPTH)
     renderer.render(FALLBACK_REFERENCE_SPP)
     return renderer.image(), {"kind": "wgputrace", "spp": FALLBACK_REFERENCE_SPP, "note": "Mitsuba reference missing"}
-
-
-def psnr(image: np.ndarray, reference: np.ndarray) -> float:
-    """On the displayed values: clipped to [0, 1] and sRGB-encoded, peak 1."""
-    shown, expected = (linear_to_srgb(x.astype(np.float64)) for x in (image, reference))
-    return float(10.0 * np.log10(1.0 / np.mean((shown - expected) ** 2)))
 
 
 def measure(
@@ -80,7 +74,7 @@ def measure(
             for name, setting in settings.items():
                 display.render(setting)
                 image = display.read_image()
-                results[name][spp].append(psnr(image, reference))
+                results[name][spp].append(displayed_psnr(image, reference))
                 means[name][spp].append(float(image.mean(dtype=np.float64)))
         levels = (
             f"{spp} spp {results['unfiltered'][spp][-1]:.2f}/{results['filtered'][spp][-1]:.2f} dB"

@@ -15,7 +15,7 @@ import pytest
 from wgputrace import Renderer, default_scene, load_image
 from wgputrace.app.viewer import DENOISER_KEY, Viewer
 from wgputrace.denoise import denoiser_available
-from wgputrace.image_io import tonemap
+from wgputrace.testing.image_statistics import displayed_mse
 from wgputrace.testing.offscreen_viewer import LAMP_OVER_FLOOR, SIZE, frames, offscreen_viewer, red_text
 from wgputrace.view.denoised import IDLE_FACTOR, SAMPLE_GROWTH, DenoiseSchedule
 
@@ -29,7 +29,7 @@ REFERENCE_SPP = 64
 # A denoise of 96x72 pixels takes well under a second on two CPU cores; this bounds the wait on a
 # busy machine.
 DENOISE_WAIT_SECONDS = 60.0
-# OIDN's picture against the reference: its mean squared error (of the displayed sRGB codes) is
+# OIDN's picture against the reference: its mean squared error (of the displayed sRGB values) is
 # below this fraction of the raw mean's, of the same samples. Measured 0.16-0.19 at 1 spp (the
 # first denoise on lavapipe), 0.35 at 16 (the most the first full-size frame can add:
 # MAX_PASSES_PER_CALL); the reference's own noise at 64 spp is most of what remains.
@@ -46,10 +46,6 @@ def draw_until(viewer: Viewer, condition, what: str) -> None:
     while not condition():
         assert time.monotonic() < deadline, f"{what} did not happen within {DENOISE_WAIT_SECONDS} s"
         viewer.canvas.draw()
-
-
-def srgb_error(image: np.ndarray, reference: np.ndarray) -> float:
-    return float(np.mean((tonemap(image).astype(float) - tonemap(reference).astype(float)) ** 2))
 
 
 @pytest.mark.gpu
@@ -81,7 +77,7 @@ def test_oidns_picture_is_shown_closer_to_the_converged_one_and_switching_off_sh
     scene.camera = viewer.controller.camera()
     reference = Renderer(scene, *SIZE, seed=REFERENCE_SEED)
     reference.render(REFERENCE_SPP)
-    errors = {name: srgb_error(image, reference.image()) for name, image in (("denoised", denoised), ("raw", raw))}
+    errors = {name: displayed_mse(image, reference.image()) for name, image in (("denoised", denoised), ("raw", raw))}
     assert errors["denoised"] < ERROR_RATIO_BOUND * errors["raw"], f"at {samples} spp: {errors}"
 
 

@@ -1,5 +1,6 @@
 """Comparing Monte Carlo images statistically: per-pixel estimates with their variance and
-per-block Welch t-tests between two estimates; per-block z-scores of two single images.
+per-block Welch t-tests between two estimates; per-block z-scores of two single images; and the
+error of an image as it is displayed (MSE and PSNR of the clipped, sRGB-encoded values).
 
 Every pixel of our renderer has its own random stream, and Mitsuba's passes are independent, so
 pixel estimates are independent of each other: the variance of a block's mean is the sum of its
@@ -13,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
+
+from wgputrace.image_io import linear_to_srgb
 
 # Each image is cut into BLOCKS x BLOCKS regions and each channel tested in each: a shifted,
 # mirrored or wrongly lit picture fails in some region even where the whole-image mean agrees.
@@ -119,3 +122,15 @@ def block_z_scores(image: np.ndarray, other: np.ndarray) -> np.ndarray:
             error = block.std(axis=0, ddof=1) / np.sqrt(len(block))
             scores[row, column] = np.divide(block.mean(axis=0), error, out=np.zeros(CHANNELS), where=error > 0)
     return scores
+
+
+def displayed_mse(image: np.ndarray, reference: np.ndarray) -> float:
+    """The mean squared difference of the displayed values: clipped to [0, 1] and sRGB-encoded, so
+    that an error weighs as much as it shows."""
+    shown, expected = (linear_to_srgb(np.asarray(x, np.float64)) for x in (image, reference))
+    return float(np.mean((shown - expected) ** 2))
+
+
+def displayed_psnr(image: np.ndarray, reference: np.ndarray) -> float:
+    """10 log10(1 / displayed_mse), in dB: the displayed values' peak is 1."""
+    return float(10.0 * np.log10(1.0 / displayed_mse(image, reference)))
