@@ -5,8 +5,6 @@ the bound of 4-wide BVH records holds for trees built, lopsided ones too."""
 
 from __future__ import annotations
 
-import tracemalloc
-
 import numpy as np
 import pytest
 
@@ -34,12 +32,11 @@ from wgputrace.render.limits import (
 )
 from wgputrace.render.rng_seed import pixel_rng_states
 from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.testing.memory import TRACEMALLOC_SLACK_BYTES, traced_peak
 
 # Rows of the images probed against the per-pixel buffer limits: wide enough that the dispatch's
 # workgroups never bind first, narrow enough that one more row is just above the limit.
 PROBE_WIDTH = 2048
-# The peaks measured with tracemalloc may exceed the model by Python's own bookkeeping, no more.
-TRACEMALLOC_SLACK_BYTES = 64 * 1024
 # Pixels of the images whose host memory is measured: large enough that bookkeeping is negligible.
 MEASURED_PIXELS = 256 * 256
 UNLIMITED = 2**62
@@ -130,12 +127,7 @@ def test_host_memory_is_read_from_meminfo():
 
 
 def test_seeding_peak_is_within_the_model():
-    tracemalloc.start()
-    try:
-        pixel_rng_states(1, MEASURED_PIXELS)
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    peak = traced_peak(lambda: pixel_rng_states(1, MEASURED_PIXELS))
     assert peak <= host_steps(MEASURED_PIXELS)["seeding"] + TRACEMALLOC_SLACK_BYTES
 
 
@@ -147,12 +139,7 @@ def test_image_read_back_peak_is_within_the_model(gpu_context):
     side = int(np.sqrt(MEASURED_PIXELS))
     renderer = Renderer(Scene([Shape("lamp", triangle, lamp)]), side, side)
     renderer.image()  # the first read-back also sets up wgpu-py's own state, a quarter of a MB
-    tracemalloc.start()
-    try:
-        renderer.image()
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    peak = traced_peak(renderer.image)
     staging = side * side * PIXEL_BUFFERS["accumulation"]
     assert peak <= max(host_steps(side * side).values()) - staging + TRACEMALLOC_SLACK_BYTES
 

@@ -5,8 +5,6 @@ the main RGB (image_io.save_image(layers=), load_layers)."""
 
 from __future__ import annotations
 
-import tracemalloc
-
 import numpy as np
 import pytest
 
@@ -16,13 +14,12 @@ from wgputrace.gpu.device import DeviceLimitError
 from wgputrace.image_io import load_layers
 from wgputrace.render import limits
 from wgputrace.render.limits import GUIDE_BUFFERS, PIXEL_BUFFERS, check_image_size, host_bytes, host_steps
+from wgputrace.testing.memory import TRACEMALLOC_SLACK_BYTES, traced_peak
 
 SIZE, SPP, SEED = 48, 4, 3
 LAYERS = ("raw", "albedo", "normal")
 # Rows of the images probed against a buffer limit: wide enough that the dispatch never binds first.
 PROBE_WIDTH = 2048
-# The peak measured with tracemalloc may exceed the model by Python's own bookkeeping, no more.
-TRACEMALLOC_SLACK_BYTES = 64 * 1024
 MEASURED_SIDE = 256
 
 
@@ -97,12 +94,7 @@ def test_guides_read_back_peak_is_within_the_model(gpu_context):
     renderer = Renderer(default_scene(), MEASURED_SIDE, MEASURED_SIDE, guides=True)
     image = renderer.image()
     renderer.guides()  # the first read-back of a buffer sets up wgpu-py's state for it
-    tracemalloc.start()
-    try:
-        renderer.guides()
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+    peak = traced_peak(renderer.guides)
     pixels = image.shape[0] * image.shape[1]
     staging = pixels * (PIXEL_BUFFERS["accumulation"] + GUIDE_BUFFERS["guide sums"])
     # the image, which the model holds beside the guides, was allocated before tracing began
