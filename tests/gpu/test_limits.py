@@ -228,3 +228,26 @@ def test_flat_list_nodes_count_shapes():
     shapes = [Shape(f"s{k}", np.eye(3, dtype=np.float32)[None] + k, grey) for k in range(3)]
     scene = Scene(shapes)
     assert scene_counts(scene).shapes == len(SceneMirror(scene, "flat").nodes)
+
+
+def test_a_map_larger_than_the_adapter_holds_is_downscaled_with_a_warning(gpu_context, monkeypatch):
+    from wgputrace import Environment
+    from wgputrace.scene.environment import EnvironmentWarning
+
+    side = 64
+    monkeypatch.setitem(gpu_context.device.limits, "max-texture-dimension-2d", side)
+    scene = default_scene()
+    texels = np.random.default_rng(3).uniform(0.0, 2.0, (40, 200, 3)).astype(np.float32)
+    scene.environment = Environment(texels=texels)
+    with pytest.warns(EnvironmentWarning, match="200x40 map downscaled"):
+        renderer = Renderer(scene, 8, 8)
+    width, height = scene.environment.size
+    assert width <= side and height <= side
+    assert scene.environment.texels.mean() == pytest.approx(texels.mean(), rel=0.05)
+    renderer.render(1)
+    assert np.isfinite(renderer.image()).all()
+    # a map assigned later is fitted at the next update too
+    scene.environment = Environment(texels=texels)
+    with pytest.warns(EnvironmentWarning):
+        renderer.render(1)
+    assert scene.environment.size[0] <= side

@@ -275,6 +275,22 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
         require_records(context, "environment tables", words, np.dtype(np.uint32).itemsize, storage)
 
 
+def fit_environment(context: GpuContext, scene: Scene) -> None:
+    """Replace an environment map larger than the adapter holds (its texture side, or its sampling
+    tables in one storage binding: 8k maps exceed lavapipe's 128 MiB) by a box-filtered copy that
+    fits, keeping its mean, with an EnvironmentWarning naming both sizes (scene/environment.py
+    fit_to): refusing the HDR maps users download would serve them worse than a softer sky."""
+    environment = scene.environment
+    if environment is None or environment.texels is None:
+        return
+    side = context.device.limits["max-texture-dimension-2d"]
+    words = context.device.limits["max-storage-buffer-binding-size"] // np.dtype(np.uint32).itemsize
+    # environment_table_words(w, h) <= 3 w h + 2 h: the cells the tables hold beside their rows
+    fitted = environment.fit_to(side, side, max(1, (words - 2 * side) // 3))
+    if fitted is not environment:
+        scene.environment = fitted
+
+
 def check_scene_size(context: GpuContext, scene: Scene, acceleration: str = "bvh") -> None:
     """DeviceLimitError, before the BVH is built, if the scene's records cannot fit the adapter,
     naming the texture or buffer, the limit, the value asked for and how many records it allows."""

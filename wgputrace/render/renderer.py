@@ -47,7 +47,7 @@ from ..scene import Camera, Scene
 from .interrupts import Deferral, deferred_signals
 from .light_buffers import LightBuffers
 from .lights import LightTable
-from .limits import check_image_size, check_scene_size
+from .limits import check_image_size, check_scene_size, fit_environment
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
 from .scene_sync import LIGHTS, MATERIALS, NODES, TRIANGLES, SceneMirror
@@ -196,6 +196,7 @@ class Renderer:
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before anything is allocated and before the BVH build, which takes seconds for millions of triangles
         check_image_size(self.context, width, height, guides)
+        fit_environment(self.context, scene)
         check_scene_size(self.context, scene, accel)
         self._mirror = SceneMirror(scene, accel)
         self.accel = accel
@@ -302,6 +303,7 @@ class Renderer:
         for buffer in (self._frame, *self._scene_buffers.values()):
             buffer.uploads = UploadCount()
         generations = [buffer.generation for buffer in self._scene_buffers.values()]
+        fit_environment(self.context, self.scene)
         changes = self._mirror.update()
         arrays = {
             TRIANGLES: self._mirror.triangles,
