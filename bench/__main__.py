@@ -205,10 +205,10 @@ def environment_targets(result: dict) -> list[Target]:
         ),
         Target(
             "environment",
-            f"Cornell box time, current / {cornell['baseline_revision']} (median of paired rounds; process CPU)",
-            f"{cornell['ratio_wall']:.3f} ({cornell['ratio_process_cpu']:.3f})",
+            f"Cornell box time, current / {cornell['baseline_revision']} (median of paired rounds: process CPU; wall)",
+            f"{cornell['ratio_process_cpu']:.3f}; {cornell['ratio_wall']:.3f}",
             f"<= {cornell['target']:g}",
-            cornell["ratio_wall"] <= cornell["target"],
+            cornell["ratio_process_cpu"] <= cornell["target"],
         ),
     ]
 
