@@ -8,10 +8,11 @@ file material a primitive used), and it ignores cameras without the optional asp
 What is read: the default scene's node tree (`matrix` or translation/rotation/scale), each mesh
 instance becoming one Shape per primitive with the node's world matrix as its `transform`;
 primitives in mode TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN (points and lines are skipped with a
-SceneLoadWarning), their POSITION (float VEC3) and indices; the first perspective camera met in
-the tree (looking along its node's -z, +y up, vertical field of view `yfov`). Sparse accessors,
-textures, normals, skins and morph targets are not read; closed shapes are wound outwards
-(orientation.py).
+SceneLoadWarning), their POSITION (float VEC3), NORMAL (float VEC3: the corner normals of smooth
+shading; a primitive without them shades flat, as the glTF specification asks) and indices; the
+first perspective camera met in the tree (looking along its node's -z, +y up, vertical field of
+view `yfov`). Sparse accessors, textures, skins and morph targets are not read; closed shapes are
+wound outwards (orientation.py).
 
 Materials (metallic-roughness; the first rule that applies):
 
@@ -371,10 +372,24 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: dict
         faces = _triangles(indices, mode)
         if faces.size == 0:
             continue
+        normals = None
+        if "NORMAL" in attributes:
+            normals = reader.accessor(
+                reader.get(attributes, "NORMAL", int, f"{primitive_where}.attributes"),
+                f"{primitive_where}.attributes.NORMAL",
+                (5126,),
+                ("VEC3",),
+            )
+            if len(normals) != len(positions):
+                raise reader.fail(
+                    f"{primitive_where}.attributes.NORMAL",
+                    f"has {len(normals)} normals for {len(positions)} positions",
+                )
+            normals = normals[faces]
         material = _material(reader, primitive.get("material"), materials, primitive_where)
         label = name if len(primitives) == 1 else f"{name}.{number}"
         try:
-            shapes.append(Shape(label, positions[faces], material, transform=world))
+            shapes.append(Shape(label, positions[faces], material, transform=world, normals=normals))
         except SceneError as error:
             raise reader.fail(f"{where} ({primitive_where})", str(error)) from None
     return shapes

@@ -7,9 +7,11 @@ lines it cannot parse without saying which, and keeps MTL keys it does not know 
 Geometry: `v x y z` (a fourth coordinate or vertex colours are ignored); `f` with `i`, `i/t`,
 `i//n` or `i/t/n` references, negative ones counting back from the latest vertex; a polygon
 becomes a fan of triangles (right for convex polygons). `o`, `g` and `usemtl` each start a new
-shape, named after the latest `o` or `g` (the file's stem before any). Texture coordinates,
-normals, smoothing groups, lines, points and free-form geometry are ignored: we shade flat
-triangles. Closed shapes are wound outwards (orientation.py), which Glass needs.
+shape, named after the latest `o` or `g` (the file's stem before any). `vn` normals referenced by
+faces (`i//n`, `i/t/n`) become the shape's corner normals (smooth shading); a shape none of whose
+faces names a normal shades flat, and a face without them in a shape with some takes its flat
+normal at its corners. Texture coordinates, smoothing groups, lines, points and free-form
+geometry are ignored. Closed shapes are wound outwards (orientation.py), which Glass needs.
 
 Materials come from `mtllib` files beside the OBJ. The first rule that applies:
 
@@ -35,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Shape
+from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, SceneError, Shape
 from .errors import SceneLoadError, SceneLoadWarning
 from .orientation import wind_outwards
 
@@ -45,6 +47,7 @@ DEFAULT_ROUGHNESS = 0.1
 # We have no blend of metal and dielectric: a shape is Glossy from this metallic factor up.
 METALLIC_THRESHOLD = 0.5
 TRANSPARENT_ILLUM_MODELS = (4, 6, 7, 9)
+NO_NORMAL = -1
 _COLOR_KEYS = ("kd", "ks", "ke", "tf")
 _NUMBER_KEYS = ("ns", "ni", "d", "tr", "pr", "pm", "illum")
 
@@ -64,12 +67,14 @@ def read_obj(path: Path) -> list[Shape]:
     library: dict[str, Material] = {}
     default = Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
     vertices: list[tuple[float, float, float]] = []
-    runs: list[tuple[str, Material, list[int]]] = []
-    name, material, faces = path.stem, default, []
+    normals: list[tuple[float, float, float]] = []
+    runs: list[tuple[str, Material, list[int], list[int]]] = []
+    # normal_refs: a normal index (0-based) per corner of `faces`, NO_NORMAL where the face names none
+    name, material, faces, normal_refs = path.stem, default, [], []
 
     def close_run() -> None:
         if faces:
-            runs.append((name, material, faces))
+            runs.append((name, material, faces, normal_refs))
 
     lines = _text_lines(path)
     for number, line in enumerate(lines, start=1):
@@ -88,13 +93,24 @@ def read_obj(path: Path) -> list[Shape]:
                 plain = len(tokens) == 4 and 0 < a <= count and 0 < b <= count and 0 < c <= count
             except (ValueError, IndexError):
                 plain = False
-            faces.extend((a - 1, b - 1, c - 1) if plain else _face(path, number, tokens, count))
+            if plain:
+                faces.extend((a - 1, b - 1, c - 1))
+                normal_refs.extend((NO_NORMAL,) * 3)
+            else:
+                fan, fan_normals = _face(path, number, tokens, count, len(normals))
+                faces.extend(fan)
+                normal_refs.extend(fan_normals)
+        elif key == "vn":
+            normal = _vertex(path, number, tokens, "a normal")
+            if normal == (0.0, 0.0, 0.0):
+                raise SceneLoadError(path, "a normal must have a direction, got vn 0 0 0", number)
+            normals.append(normal)
         elif key in ("o", "g"):
             close_run()
-            name, faces = " ".join(tokens[1:]) or path.stem, []
+            name, faces, normal_refs = " ".join(tokens[1:]) or path.stem, [], []
         elif key == "usemtl":
             close_run()
-            faces = []
+            faces, normal_refs = [], []
             wanted = " ".join(tokens[1:])
             material = library.get(wanted, default)
             if wanted not in library:
@@ -120,18 +136,39 @@ def read_obj(path: Path) -> list[Shape]:
             f"vertex {bad[0] + 1} {corners[bad[0]].tolist()} is beyond float32's range (3.4e38)",
             vertex_lines[bad[0]],
         )
-    return _shapes(path, corners, runs)
+    return _shapes(path, corners, np.array(normals, dtype=np.float64).reshape(-1, 3), runs)
 
 
-def _shapes(path: Path, corners: np.ndarray, runs) -> list[Shape]:
+def _shapes(path: Path, corners: np.ndarray, normals: np.ndarray, runs) -> list[Shape]:
     shapes, seen = [], {}
-    for name, material, faces in runs:
+    for name, material, faces, normal_refs in runs:
         seen[name] = seen.get(name, 0) + 1
         triangles = corners[np.asarray(faces, np.int64).reshape(-1, 3)]
+        refs = np.asarray(normal_refs, np.int64).reshape(-1, 3)
+        corner_normals = _corner_normals(triangles, normals, refs) if (refs != NO_NORMAL).any() else None
+        before = triangles.copy()
         wind_outwards(triangles, path, f"shape {name!r}", stacklevel=4)
+        if corner_normals is not None:  # a turned triangle's corners 1 and 2 swapped: its normals follow
+            turned = (triangles != before).any(axis=(1, 2))
+            corner_normals[turned] = corner_normals[turned][:, [0, 2, 1]]
         label = name if seen[name] == 1 else f"{name}#{seen[name]}"
-        shapes.append(Shape(label, triangles, material))
+        try:
+            shapes.append(Shape(label, triangles, material, normals=corner_normals))
+        except SceneError as error:
+            raise SceneLoadError(path, str(error)) from None
     return shapes
+
+
+def _corner_normals(triangles: np.ndarray, normals: np.ndarray, refs: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) corner normals: the referenced `vn`, or the face's own normal where a face names
+    none (flat shading there); a degenerate face without normals gets +z, its shading unseen."""
+    face = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]).astype(np.float64)
+    length = np.linalg.norm(face, axis=1, keepdims=True)
+    face = np.where(length > 0.0, face / np.where(length > 0.0, length, 1.0), [0.0, 0.0, 1.0])
+    corner = np.repeat(face[:, None, :], 3, axis=1)
+    named = refs != NO_NORMAL
+    corner[named] = normals[refs[named]]
+    return corner
 
 
 def _text_lines(path: Path) -> list[str]:
@@ -153,9 +190,9 @@ def _numbers(path: Path, number: int, tokens: list[str], what: str) -> tuple[flo
     return values
 
 
-def _vertex(path: Path, number: int, tokens: list[str]) -> tuple[float, float, float]:
+def _vertex(path: Path, number: int, tokens: list[str], what: str = "a vertex") -> tuple[float, float, float]:
     if len(tokens) < 4:
-        raise SceneLoadError(path, f"a vertex needs 3 coordinates, got {' '.join(tokens)!r}", number)
+        raise SceneLoadError(path, f"{what} needs 3 coordinates, got {' '.join(tokens)!r}", number)
     try:
         x, y, z = float(tokens[1]), float(tokens[2]), float(tokens[3])
     except ValueError:
@@ -165,30 +202,48 @@ def _vertex(path: Path, number: int, tokens: list[str]) -> tuple[float, float, f
     return x, y, z
 
 
-def _face(path: Path, number: int, tokens: list[str], vertex_count: int) -> list[int]:
-    """Vertex indices (0-based) of the face's fan triangles, flattened."""
+def _face(path: Path, number: int, tokens: list[str], vertex_count: int, normal_count: int) -> tuple[list, list]:
+    """Vertex indices and normal indices (NO_NORMAL where a reference has none), 0-based, of the
+    face's fan triangles, flattened."""
     if len(tokens) < 4:
         raise SceneLoadError(path, f"a face needs at least 3 vertices, got {' '.join(tokens)!r}", number)
-    indices = []
+    indices, normal_indices = [], []
     for reference in tokens[1:]:
-        text = reference.split("/", 1)[0]
+        parts = reference.split("/")
         try:
-            index = int(text)
+            index = int(parts[0])
         except ValueError:
             raise SceneLoadError(path, f"face vertex {reference!r} does not start with an index", number) from None
-        resolved = index - 1 if index > 0 else vertex_count + index
-        if index == 0 or not 0 <= resolved < vertex_count:
+        indices.append(_resolved(path, number, index, vertex_count, "vertex", "vertices"))
+        normal_text = parts[2] if len(parts) > 2 else ""
+        if not normal_text:
+            normal_indices.append(NO_NORMAL)
+            continue
+        try:
+            normal = int(normal_text)
+        except ValueError:
             raise SceneLoadError(
-                path,
-                f"face vertex index {index} is out of range: {vertex_count} vertices are defined before this line "
-                "(indices count from 1, negative ones back from the latest)",
-                number,
-            )
-        indices.append(resolved)
-    fan = []
+                path, f"face vertex {reference!r} has a normal reference that is no index", number
+            ) from None
+        normal_indices.append(_resolved(path, number, normal, normal_count, "normal", "normals (vn)"))
+    fan, fan_normals = [], []
     for k in range(1, len(indices) - 1):
         fan += (indices[0], indices[k], indices[k + 1])
-    return fan
+        fan_normals += (normal_indices[0], normal_indices[k], normal_indices[k + 1])
+    return fan, fan_normals
+
+
+def _resolved(path: Path, number: int, index: int, count: int, what: str, plural: str) -> int:
+    """A 1-based or negative (counting back) OBJ index made 0-based, or SceneLoadError."""
+    resolved = index - 1 if index > 0 else count + index
+    if index == 0 or not 0 <= resolved < count:
+        raise SceneLoadError(
+            path,
+            f"face {what} index {index} is out of range: {count} {plural} are defined before this line "
+            "(indices count from 1, negative ones back from the latest)",
+            number,
+        )
+    return resolved
 
 
 def _read_mtl(obj_path: Path, obj_line: int, path: Path) -> dict[str, Material]:

@@ -1,5 +1,9 @@
 """Shape generators with trac0r's parameters: planes, boxes and icospheres made of flat triangles.
 
+A shape may carry per-corner attributes beside its corners, each an array (n, 3, k) in the
+triangles' order: so far `normals` (k = 3) for smooth shading; texture coordinates and tangents
+join as one more such array each.
+
 Every generator places a unit shape with model = translate(position) . rotate(orientation) .
 scale(size). `orientation` holds Euler angles in radians, applied about x, then y, then z
 (R = Rz Ry Rx, right-handed). Triangles wind counter-clockwise seen from the side their normal
@@ -93,6 +97,12 @@ _ICOSAHEDRON_FACES = np.array(
 class Shape:
     """A named group of flat triangles sharing one material, placed in the world by a 4x4 transform.
 
+    `normals`, optional (n, 3, 3), are the shading normals at each triangle's corners, interpolated
+    across it (smooth shading); None shades every triangle with its geometric normal (flat). They
+    must be finite and non-zero (SceneError naming the triangle otherwise) and are stored unit
+    length; `world_normals` are them under the inverse transpose of the transform. Assigning
+    `normals` bumps `geometry_version`, as new vertices do.
+
     `vertices` (n, 3, 3) float32 are local coordinates (triangle, corner, xyz); the world sees
     `world_vertices`, the transform applied in float64 (a mirroring transform swaps two corners so
     normals keep their side). Assigning `vertices`, `transform` or `material` checks the value
@@ -102,13 +112,15 @@ class Shape:
     arrays are read-only, so an in-place edit cannot slip past the versions.
     """
 
-    def __init__(self, name: str, vertices, material: Material, tags: dict | None = None, transform=None) -> None:
+    def __init__(
+        self, name: str, vertices, material: Material, tags: dict | None = None, transform=None, normals=None
+    ) -> None:
         self.name = name
         self.tags = dict(tags or {})
         self.geometry_version = self.transform_version = self.material_version = 0
-        self._place(
-            _checked_vertices(name, vertices), _IDENTITY if transform is None else checked_transform(name, transform)
-        )
+        checked = _checked_vertices(name, vertices)
+        self._normals = None if normals is None else _checked_normals(name, normals, len(checked))
+        self._place(checked, _IDENTITY if transform is None else checked_transform(name, transform))
         self.material = material
 
     def __repr__(self) -> str:
@@ -120,7 +132,24 @@ class Shape:
 
     @vertices.setter
     def vertices(self, value) -> None:
-        self._place(_checked_vertices(self.name, value), self._transform)
+        vertices = _checked_vertices(self.name, value)
+        if self._normals is not None and len(vertices) != len(self._normals):
+            raise SceneError(
+                f"shape {self.name!r}: {len(vertices)} triangles of vertices but {len(self._normals)} of normals "
+                "(assign normals = None first, or build a new Shape)"
+            )
+        self._place(vertices, self._transform)
+        self.geometry_version += 1
+
+    @property
+    def normals(self) -> np.ndarray | None:
+        """Unit shading normals at the corners, (n, 3, 3) float32 local, or None (flat shading)."""
+        return self._normals
+
+    @normals.setter
+    def normals(self, value) -> None:
+        self._normals = None if value is None else _checked_normals(self.name, value, len(self._vertices))
+        self._place(self._vertices, self._transform)
         self.geometry_version += 1
 
     @property
@@ -137,6 +166,11 @@ class Shape:
     def world_vertices(self) -> np.ndarray:
         """The triangles in world coordinates, float32 (computed once per edit)."""
         return self._world
+
+    @property
+    def world_normals(self) -> np.ndarray | None:
+        """The corner normals in world coordinates, unit length, float32, or None (computed once per edit)."""
+        return self._world_normals
 
     @property
     def material(self) -> Material:
@@ -156,7 +190,8 @@ class Shape:
     def transformed(self, matrix: np.ndarray) -> Shape:
         """This shape's world triangles under an affine 4x4 or linear 3x3 matrix, baked into new
         local vertices; a mirror keeps normals facing out."""
-        return Shape(self.name, transform_points(self._world, matrix), self.material, dict(self.tags))
+        normals = None if self._world_normals is None else transform_normals(self._world_normals, matrix)
+        return Shape(self.name, transform_points(self._world, matrix), self.material, dict(self.tags), normals=normals)
 
     def _place(self, vertices: np.ndarray, transform: np.ndarray) -> None:
         # an identity stays exact: float64 arithmetic would turn -0.0 into 0.0
@@ -168,7 +203,11 @@ class Shape:
                 f"{world[bad[0]].tolist()} ({bad.size} triangle(s) affected; float32 ends near 3.4e38)"
             )
         world.flags.writeable = False
-        self._vertices, self._transform, self._world = vertices, transform, world
+        world_normals = self._normals
+        if world_normals is not None and world is not vertices:
+            world_normals = transform_normals(self._normals, transform)
+            world_normals.flags.writeable = False
+        self._vertices, self._transform, self._world, self._world_normals = vertices, transform, world, world_normals
 
 
 _IDENTITY = np.eye(4)
@@ -197,6 +236,31 @@ def _checked_vertices(name: str, value) -> np.ndarray:
         )
     vertices.flags.writeable = False
     return vertices
+
+
+def _checked_normals(name: str, value, triangle_count: int) -> np.ndarray:
+    """A read-only (n, 3, 3) float32 copy of corner normals scaled to unit length, or SceneError
+    naming the first triangle with a NaN, infinite or zero-length normal (which has no direction)."""
+    try:
+        with np.errstate(over="ignore"):
+            normals = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise SceneError(f"shape {name!r}: normals must be numbers, got {error}") from None
+    if normals.shape != (triangle_count, 3, 3):
+        raise SceneError(
+            f"shape {name!r}: normals must have shape ({triangle_count}, 3, 3) like the vertices, got {normals.shape}"
+        )
+    with np.errstate(all="ignore"):
+        lengths = np.linalg.norm(normals, axis=-1, keepdims=True)
+    bad = np.flatnonzero(~(np.isfinite(normals).all(axis=(1, 2)) & (lengths > 0.0).all(axis=(1, 2))))
+    if bad.size:
+        raise SceneError(
+            f"shape {name!r}: triangle {int(bad[0])} has a NaN, infinite or zero-length normal "
+            f"{normals[bad[0]].tolist()} ({bad.size} triangle(s) affected)"
+        )
+    unit = (normals / lengths).astype(np.float32)
+    unit.flags.writeable = False
+    return unit
 
 
 def checked_transform(name: str, value) -> np.ndarray:
@@ -259,6 +323,18 @@ def transform_points(vertices: np.ndarray, matrix: np.ndarray) -> np.ndarray:
         return moved.astype(np.float32)
 
 
+def transform_normals(normals: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) unit normals under a 4x4 affine (or 3x3 linear) matrix: the inverse transpose of
+    its linear part, renormalised, in float32; corners swapped as transform_points swaps them."""
+    matrix = np.asarray(matrix, dtype=np.float64)
+    linear = matrix[:3, :3] if matrix.shape == (4, 4) else matrix
+    moved = normals.astype(np.float64) @ np.linalg.inv(linear)
+    moved /= np.linalg.norm(moved, axis=-1, keepdims=True)
+    if np.linalg.det(linear) < 0:
+        moved = moved[:, [0, 2, 1], :]
+    return moved.astype(np.float32)
+
+
 def _place(name: str, corners: np.ndarray, faces: np.ndarray, matrix: np.ndarray, material: Material) -> Shape:
     return Shape(name, transform_points(corners[faces], matrix), material)
 
@@ -277,9 +353,16 @@ def make_box(position, orientation, size, material: Material, name: str = "box")
 
 
 def make_icosphere(
-    position, orientation, radius: float, iterations: int, material: Material, name: str = "icosphere"
+    position,
+    orientation,
+    radius: float,
+    iterations: int,
+    material: Material,
+    name: str = "icosphere",
+    smooth: bool = False,
 ) -> Shape:
-    """An icosahedron subdivided `iterations` times (20 * 4**iterations triangles), radius `radius`.
+    """An icosahedron subdivided `iterations` times (20 * 4**iterations triangles), radius `radius`;
+    `smooth` gives it the sphere's normals at the corners (smooth shading), else it shades flat.
 
     Each subdivision splits a triangle (a, b, c) into (a, ab, ca), (b, bc, ab), (c, ca, bc),
     (ab, bc, ca), the new vertices pushed out to the unit sphere.
@@ -295,7 +378,9 @@ def make_icosphere(
             [np.stack(t, axis=1) for t in ((a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca))], axis=1
         ).reshape(-1, 3, 3)
     matrix = model_matrix(position, orientation, float(radius))
-    return Shape(name, transform_points(triangles, matrix), material)
+    # a corner of the unit sphere is its own normal
+    normals = transform_normals(triangles, matrix) if smooth else None
+    return Shape(name, transform_points(triangles, matrix), material, normals=normals)
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
