@@ -46,6 +46,12 @@ equal cones are read as a hard edge; an inner cone wider than the outer is an er
 
 Errors name the file and the JSON path of the offending entry (`meshes[0].primitives[1].indices`,
 `extensions.KHR_lights_punctual.lights[2].intensity`).
+
+Extensions: the ones read above, and KHR_draco_mesh_compression when DracoPy (the `draco` extra)
+is installed (gltf_compression.py: the decoded arrays stand in for the primitive's accessors). As
+glTF requires, a file whose `extensionsRequired` names any other is refused, naming each one and,
+where there is one, the way to support it; one that is only in `extensionsUsed` is ignored with a
+SceneLoadWarning (the file then holds what a reader without it needs, such as uncompressed data).
 """
 
 from __future__ import annotations
@@ -78,6 +84,15 @@ from ..scene import (
     SpotLight,
 )
 from .errors import SceneLoadError, SceneLoadWarning
+from .gltf_compression import (
+    DRACO_EXTENSION,
+    DRACO_INSTALL_HINT,
+    DracoDecodeError,
+    DracoMesh,
+    DracoMissing,
+    decode_draco,
+    draco_available,
+)
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -95,6 +110,22 @@ LIGHTS_EXTENSION = "KHR_lights_punctual"
 LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
 # KHR_lights_punctual's defaults and limit for a spot's cones (radians)
 DEFAULT_INNER_CONE, DEFAULT_OUTER_CONE, MAX_OUTER_CONE = 0.0, math.pi / 4, math.pi / 2
+# The extensions whose data this module reads (Draco's only while its decoder imports).
+READ_EXTENSIONS = {
+    LIGHTS_EXTENSION,
+    "KHR_materials_emissive_strength",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+}
+# What the refusal of a required extension says about it: what it is, and how to get support.
+UNREAD_EXTENSIONS = {
+    DRACO_EXTENSION: ("Draco-compressed meshes", f"needs DracoPy: {DRACO_INSTALL_HINT}"),
+    "EXT_meshopt_compression": (
+        "meshoptimizer-compressed buffers",
+        "no decoder here: save the file without meshopt compression",
+    ),
+    "KHR_texture_basisu": ("KTX2 textures", "textures are not read yet"),
+}
 
 
 class _Reader:
@@ -105,6 +136,9 @@ class _Reader:
         self.binary_chunk: bytes | None = None
         self.document = self._document()
         self._buffers: dict[int, bytes] = {}
+        self._check_extensions()
+        self._draco_accessors = self._draco_sources()
+        self._draco_meshes: dict[int, DracoMesh] = {}
 
     def fail(self, where: str, problem: str) -> SceneLoadError:
         return SceneLoadError(self.path, f"{where}: {problem}")
@@ -151,6 +185,58 @@ class _Reader:
         if len(chunks) > 1 and chunks[1][0] == GLB_BIN_CHUNK:
             self.binary_chunk = chunks[1][1]
         return chunks[0][1]
+
+    def _check_extensions(self) -> None:
+        """Refuse a file requiring an extension we do not read, and warn of those it only uses."""
+        required = self._extension_names("extensionsRequired")
+        used = self._extension_names("extensionsUsed")
+        readable = READ_EXTENSIONS | ({DRACO_EXTENSION} if draco_available() else set())
+        unread = [name for name in required if name not in readable]
+        if unread:
+            raise self.fail(
+                "extensionsRequired",
+                "not supported here: " + "; ".join(_unread_extension(name, detail=True) for name in unread),
+            )
+        ignored = [name for name in used if name not in readable and name not in required]
+        if ignored:
+            warnings.warn(
+                f"{self.path}: extensionsUsed: {', '.join(_unread_extension(name) for name in ignored)} "
+                "not supported: ignored",
+                SceneLoadWarning,
+                stacklevel=5,
+            )
+
+    def _extension_names(self, key: str) -> list[str]:
+        names = self.get(self.document, key, list, "glTF", [])
+        if not all(isinstance(name, str) for name in names):
+            raise self.fail(key, f"must be a list of extension names, got {names!r:.80}")
+        return list(dict.fromkeys(names))
+
+    def _draco_sources(self) -> dict[int, tuple[str, str, dict]]:
+        """accessor index -> (JSON path of the Draco extension of the primitive using it, the
+        attribute it holds there or "indices", the extension) for every accessor whose data a
+        Draco primitive decodes."""
+        sources: dict[int, tuple[str, str, dict]] = {}
+        meshes = self.document.get("meshes")
+        for mesh_index, mesh in enumerate(meshes if isinstance(meshes, list) else []):
+            primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
+            for number, primitive in enumerate(primitives if isinstance(primitives, list) else []):
+                extensions = primitive.get("extensions") if isinstance(primitive, dict) else None
+                if not isinstance(extensions, dict) or DRACO_EXTENSION not in extensions:
+                    continue
+                where = f"meshes[{mesh_index}].primitives[{number}]"
+                block = self.get(extensions, DRACO_EXTENSION, dict, f"{where}.extensions")
+                accessors = self.get(primitive, "attributes", dict, where) | {"indices": primitive.get("indices")}
+                where = f"{where}.extensions.{DRACO_EXTENSION}"
+                for name, index in accessors.items():
+                    if not isinstance(index, int) or isinstance(index, bool):
+                        continue  # reading the primitive names what is wrong with it
+                    if index in sources and sources[index][:2] != (where, name):
+                        raise self.fail(
+                            where, f"accessors[{index}] is also decoded by {sources[index][0]} as {sources[index][1]}"
+                        )
+                    sources[index] = (where, name, block)
+        return sources
 
     def get(self, node: dict, key: str, kind, where: str, default=None):
         value = node.get(key, default)
@@ -235,34 +321,92 @@ class _Reader:
             raise self.fail(where, f"count must be >= 0, got {count}")
         dtype = np.dtype(COMPONENT_TYPES[component])
         width = ELEMENT_SIZES[shape]
+        # A Draco primitive's accessors keep a bufferView only as the fallback of a file that
+        # does not require the extension; without DracoPy that fallback is read.
+        if index in self._draco_accessors and ("bufferView" not in entry or draco_available()):
+            return self._decoded_accessor(index, dtype, width, where)
         if "bufferView" not in entry:  # the spec says: all zeros
             return np.zeros((count, width), dtype)
         view_index = entry["bufferView"]
-        view = self.item("bufferViews", view_index, where)
         view_where = f"bufferViews[{view_index}]"
-        data = self.buffer(self.get(view, "buffer", int, view_where), view_where)
-        view_offset = self.get(view, "byteOffset", int, view_where, 0)
-        view_length = self.get(view, "byteLength", int, view_where)
+        view, stride = self.view(view_index, where)
         element = dtype.itemsize * width
-        stride = self.get(view, "byteStride", int, view_where, element)
+        stride = element if stride is None else stride
         offset = self.get(entry, "byteOffset", int, where, 0)
-        if min(view_offset, view_length, offset) < 0 or stride < element:
+        if offset < 0 or stride < element:
             raise self.fail(
-                where, f"negative offset or length, or byteStride {stride} below the element size {element}"
-            )
-        if view_offset + view_length > len(data):
-            raise self.fail(
-                view_where,
-                f"bytes {view_offset}..{view_offset + view_length} lie beyond the buffer ({len(data)} bytes)",
+                where, f"negative byteOffset {offset}, or byteStride {stride} below the element size {element}"
             )
         end = offset + (stride * (count - 1) + element if count else 0)
-        if end > view_length:
-            raise self.fail(where, f"reads {end} bytes of {view_where}, which holds {view_length}")
+        if end > len(view):
+            raise self.fail(where, f"reads {end} bytes of {view_where}, which holds {len(view)}")
         if count == 0:
             return np.zeros((0, width), dtype)
-        raw = np.frombuffer(data, np.uint8, count=view_length, offset=view_offset)
+        raw = np.frombuffer(view, np.uint8)
         rows = np.lib.stride_tricks.as_strided(raw[offset:], shape=(count, element), strides=(stride, 1))
         return np.ascontiguousarray(rows).view(dtype).reshape(count, width)
+
+    def view(self, index, where: str) -> tuple[memoryview, int | None]:
+        """The bytes of bufferView `index`, bounds-checked, and its byteStride (None if unset)."""
+        view = self.item("bufferViews", index, where)
+        view_where = f"bufferViews[{index}]"
+        data = self.buffer(self.get(view, "buffer", int, view_where), view_where)
+        offset = self.get(view, "byteOffset", int, view_where, 0)
+        length = self.get(view, "byteLength", int, view_where)
+        stride = self.get(view, "byteStride", int, view_where, None) if "byteStride" in view else None
+        if min(offset, length) < 0:
+            raise self.fail(view_where, f"negative byteOffset {offset} or byteLength {length}")
+        if offset + length > len(data):
+            raise self.fail(view_where, f"bytes {offset}..{offset + length} lie beyond the buffer ({len(data)} bytes)")
+        return memoryview(data)[offset : offset + length], stride
+
+    def _decoded_accessor(self, index: int, dtype: np.dtype, width: int, where: str) -> np.ndarray:
+        """Accessor `index`'s data decoded from its Draco primitive, as `accessor` returns it."""
+        draco_where, name, block = self._draco_accessors[index]
+        view_index = self.get(block, "bufferView", int, draco_where)
+        if view_index not in self._draco_meshes:
+            data, _ = self.view(view_index, draco_where)
+            try:
+                self._draco_meshes[view_index] = decode_draco(data)
+            except DracoMissing as error:
+                raise self.fail(draco_where, str(error)) from None
+            except DracoDecodeError as error:
+                raise self.fail(f"{draco_where}.bufferView", str(error)) from None
+        mesh = self._draco_meshes[view_index]
+        if name == "indices":
+            values = mesh.triangles.reshape(-1, 1)
+        else:
+            ids = self.get(block, "attributes", dict, draco_where)
+            attribute = self.get(ids, name, int, f"{draco_where}.attributes")
+            if attribute not in mesh.attributes:
+                raise self.fail(
+                    f"{draco_where}.attributes.{name}",
+                    f"Draco attribute {attribute} is not in the decoded mesh (its ids: {sorted(mesh.attributes)})",
+                )
+            values = mesh.attributes[attribute]
+        # The count is the decoded one: an encoder that merges equal vertices leaves fewer than
+        # the accessor says, and what the indices refer to is the decoded list.
+        if values.shape[1] != width:
+            raise self.fail(where, f"has {width} components, its Draco data {values.shape[1]}")
+        if not _holds(dtype, values):
+            raise self.fail(where, f"its {dtype} cannot hold the {values.dtype} values its Draco data decodes to")
+        return values.astype(dtype)
+
+
+def _holds(dtype: np.dtype, values: np.ndarray) -> bool:
+    """Whether `values` convert to `dtype` unchanged but for float rounding."""
+    if dtype.kind == "f" or values.size == 0:
+        return True
+    limits = np.iinfo(dtype)
+    return values.dtype.kind in "iu" and limits.min <= values.min() and values.max() <= limits.max
+
+
+def _unread_extension(name: str, detail: bool = False) -> str:
+    """An extension we do not read, named with what it is and, in `detail`, how to get support."""
+    if name not in UNREAD_EXTENSIONS:
+        return name
+    what, how = UNREAD_EXTENSIONS[name]
+    return f"{name} ({what}): {how}" if detail else f"{name} ({what})"
 
 
 class GltfContents(NamedTuple):
