@@ -1,8 +1,8 @@
 """Property-based fuzzing of the loaders: random and mutated OBJ/MTL text, truncated and garbled
-GLB, PLY and STL files, and glTF JSON (materials, nodes and KHR_lights_punctual lights) with random
-values in random places. Every input must end in a Scene or a SceneLoadError, within a time limit:
-no other exception, no hang, no NaN or infinity in a shape or a light. Mutated Cornell
-boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
+GLB, PLY and STL files, and glTF JSON (materials, nodes, KHR_lights_punctual lights and the
+extension lists) with random values in random places. Every input must end in a Scene or a
+SceneLoadError, within a time limit: no other exception, no hang, no NaN or infinity in a shape or
+a light. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
 
 from __future__ import annotations
 
@@ -88,8 +88,10 @@ def workdir(tmp_path_factory):
 
 def lit_boxes() -> tuple[dict, bytes]:
     """Two boxes (a red diffuse one and a gold glossy one) and one light of each type, the spot
-    turned by its node, as a JSON document and its buffer."""
-    document, blob = gltf_document([(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 3)], materials=MATERIALS)
+    turned by its node, the lights' extension required, as a JSON document and its buffer."""
+    document, blob = gltf_document(
+        [(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 3)], materials=MATERIALS, extensionsRequired=["KHR_lights_punctual"]
+    )
     nodes = [light_node(0, translation=[0, 3, 0]), light_node(1, rotation=[0.5, 0.5, 0.5, 0.5]), light_node(2)]
     return with_lights(json.loads(json.dumps(document)), json.loads(json.dumps(LIGHTS)), nodes), blob
 
