@@ -353,7 +353,7 @@ class _Reader:
         data = self.buffer(self.get(view, "buffer", int, view_where), view_where)
         offset = self.get(view, "byteOffset", int, view_where, 0)
         length = self.get(view, "byteLength", int, view_where)
-        stride = self.get(view, "byteStride", int, view_where, None) if "byteStride" in view else None
+        stride = self.get(view, "byteStride", int, view_where) if "byteStride" in view else None
         if min(offset, length) < 0:
             raise self.fail(view_where, f"negative byteOffset {offset} or byteLength {length}")
         if offset + length > len(data):
