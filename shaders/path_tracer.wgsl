@@ -11,6 +11,9 @@
 //! include "generated/path_guides.wgsl"
 // escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (gpu/light_dispatch.py)
 //! include "generated/escaped_light.wgsl"
+// shading_normal and shading_weight: the geometric normal and 1 unless the scene has per-vertex
+// normals (gpu/shading_normals.py)
+//! include "generated/shading_normals.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
 
@@ -59,9 +62,11 @@ fn light_occluded(origin: vec3<f32>, light: LightSample, skip_triangle: u32) -> 
 }
 
 // Light reaching the surface point `p` of `triangle` from one sampled light point, times the
-// BSDF (cosine included), over the sample's density, weighted against BSDF sampling under MIS
-// (delta lights: weight 1). Under plain path tracing only delta lights count here.
-fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, material: Material, wi: vec3<f32>) -> vec3<f32> {
+// BSDF (cosine included, in the shading frame `local`, with what shading_weight keeps of it), over
+// the sample's density, weighted against BSDF sampling under MIS (delta lights: weight 1). Under
+// plain path tracing only delta lights count here. `geometric`: the triangle's normal, which the
+// shadow ray starts from; `towards_viewer`: wi in world space.
+fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, geometric: vec3<f32>, towards_viewer: vec3<f32>, material: Material, wi: vec3<f32>) -> vec3<f32> {
     let light = sample_light(p, rng_next_2d(), rng_next_2d());
     // An environment sample's density is evaluated again from its direction, which f32 rounding
     // can put in a neighbouring cell of density 0 (and radiance 0): no light, not 0 / 0.
@@ -84,11 +89,11 @@ fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: Sh
         return vec3<f32>(0.0);
     }
     let wo = to_local(local, direction);
-    let f = bsdf_eval(material, wi, wo);
+    let f = bsdf_eval(material, wi, wo) * shading_weight(local.normal, geometric, towards_viewer, direction);
     if all(f == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
-    let origin = offset_ray_origin(p, local.normal, direction, triangle.v0, triangle.v1, triangle.v2);
+    let origin = offset_ray_origin(p, geometric, direction, triangle.v0, triangle.v1, triangle.v2);
     if light_occluded(origin, light, triangle_index) {
         return vec3<f32>(0.0);
     }
@@ -152,7 +157,10 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         let triangle = scene_triangle(hit.triangle);
         let material = materials[triangle.material];
         let normal = triangle_normal(triangle);
-        guide_vertex(material, normal, ray.direction);
+        let p = ray.origin + hit.t * ray.direction;
+        let towards_viewer = -ray.direction;
+        let shading = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
+        guide_vertex(material, shading, ray.direction);
         if material_emits(material) {
             // emission shines from both sides
             let emitted = material_emitted(material);
@@ -163,21 +171,25 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         if !material_reflects(material) || depth >= frame.max_depth {
             break;
         }
-        let local = shading_frame(normal);
-        let wi = to_local(local, -ray.direction);
-        let p = ray.origin + hit.t * ray.direction;
+        let local = shading_frame(shading);
+        let wi = to_local(local, towards_viewer);
         previous_sampled_lights = samples_lights(material);
         previous_position = p;
         if previous_sampled_lights || samples_delta_lights_only(material) {
-            radiance += throughput * direct_light(p, triangle, hit.triangle, local, material, wi);
+            radiance += throughput * direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
         }
         let u = rng_next_2d();
         let sample = bsdf_sample(material, wi, u, rng_next_f32());
         if sample.pdf <= 0.0 {
             break;
         }
+        let direction = to_world(local, sample.direction);
+        let kept = shading_weight(shading, normal, towards_viewer, direction);
+        if kept <= 0.0 {
+            break;
+        }
         previous_bsdf_pdf = sample.pdf;
-        throughput *= sample.weight;
+        throughput *= sample.weight * kept;
         eta_scale /= sample.eta * sample.eta;
         if depth >= RUSSIAN_ROULETTE_DEPTH {
             let survival = min(max_component(throughput) * eta_scale, RUSSIAN_ROULETTE_MAX_SURVIVAL);
@@ -186,7 +198,6 @@ fn trace_path(camera: Ray) -> vec3<f32> {
             }
             throughput /= survival;
         }
-        let direction = to_world(local, sample.direction);
         ray = Ray(offset_ray_origin(p, normal, direction, triangle.v0, triangle.v1, triangle.v2), direction);
         skip_triangle = hit.triangle;
     }

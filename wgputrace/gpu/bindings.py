@@ -15,7 +15,17 @@ from dataclasses import dataclass, replace
 import wgpu
 
 from .device import GpuContext
-from .layout import ACCUMULATED_PIXEL, BVH_NODE, FRAME, LIGHT, LIGHT_SOURCE, LIGHTING, MATERIAL, GpuStruct
+from .layout import (
+    ACCUMULATED_PIXEL,
+    BVH_NODE,
+    CORNER_ATTRIBUTES,
+    FRAME,
+    LIGHT,
+    LIGHT_SOURCE,
+    LIGHTING,
+    MATERIAL,
+    GpuStruct,
+)
 from .light_dispatch import ENVIRONMENT_MAP, LightFeatures
 
 # The workgroup of every kernel that runs one invocation per pixel: its y extent is also the
@@ -249,3 +259,13 @@ def lights_group(features: LightFeatures) -> BindGroup:
     if features.environment == ENVIRONMENT_MAP:
         group = group.extended(_ENVIRONMENT_MAP).extended(_ENVIRONMENT_TABLES)
     return group
+
+
+# The triangles' corner attributes (shading normals) in BVH order, bound only in the variant of the
+# path tracer for scenes with per-vertex normals (gpu/shading_normals.py). Its own group, like the
+# lights, so the scene group every ray-tracing kernel shares stays the same with or without them;
+# index 5 needs max-bind-groups >= 6.
+SHADING_GROUP_INDEX = 5
+SHADING_GROUP = BindGroup(
+    "shading", SHADING_GROUP_INDEX, (Binding("corner_attributes", STORAGE_READ, CORNER_ATTRIBUTES),)
+)

@@ -168,4 +168,13 @@ LIGHTING = GpuStruct(
     "of the turn about +y; size: the map's width and height.",
 )
 
+# Per-corner attributes of a triangle, in the triangles' (BVH) order, bound only for scenes that
+# have some (gpu/bindings.py shading_group): the shading normals, zero for a flat triangle. Texture
+# coordinates and tangents join as fields of their own.
+CORNER_ATTRIBUTES = GpuStruct(
+    "CornerAttributes",
+    (("normal0", "vec3<f32>"), ("normal1", "vec3<f32>"), ("normal2", "vec3<f32>")),
+    "A triangle's corner normals (unit length; all zero: shade it flat).",
+)
+
 ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

@@ -18,7 +18,7 @@ import numpy as np
 import wgpu
 
 from ..denoise import denoise
-from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, lights_group, pixels_group, scene_group
+from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, SHADING_GROUP, lights_group, pixels_group, scene_group
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.generated import (
@@ -41,6 +41,7 @@ from ..gpu.light_dispatch import (
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
+from ..gpu.shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
 from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..scene import Camera, Scene
@@ -50,7 +51,7 @@ from .lights import LightTable
 from .limits import check_image_size, check_scene_size, fit_environment
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
-from .scene_sync import LIGHTS, MATERIALS, NODES, TRIANGLES, SceneMirror
+from .scene_sync import CORNER_ATTRIBUTES, LIGHTS, MATERIALS, NODES, TRIANGLES, SceneMirror
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -103,6 +104,7 @@ def path_tracer_kernel(
     guides: bool = False,
     stack_size: int = BVH_STACK_SIZE,
     lights: LightFeatures = NO_LIGHTS,
+    smooth: bool = False,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
@@ -113,7 +115,8 @@ def path_tracer_kernel(
     denoiser's albedo and normal guides (gpu/path_guides.py) and binds their sums in the pixels
     group. `stack_size` sizes the BVH traversal's stack (gpu/generated.py traversal_stack_size).
     `lights` compiles in the code of the lights besides emissive triangles (gpu/light_dispatch.py)
-    and declares the lights group they are bound in; none by default."""
+    and declares the lights group they are bound in; none by default. `smooth` compiles in shading
+    with per-vertex normals (gpu/shading_normals.py) and declares the shading group."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
@@ -129,11 +132,13 @@ def path_tracer_kernel(
         guides,
         stack_size,
         lights,
+        smooth,
     )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         groups = (scene_group(acceleration), pixels_group(guides), *((BAND_GROUP,) if rows else ()))
         groups += ((RAY_COUNT_GROUP,) if count_rays else ()) + ((lights_group(lights),) if lights.any else ())
+        groups += (SHADING_GROUP,) if smooth else ()
         _kernels[key] = ComputeKernel(
             context,
             "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
@@ -146,11 +151,12 @@ def path_tracer_kernel(
                 GENERATED_TRAVERSAL_STACK: traversal_stack(stack_size),
                 GENERATED_LIGHTS: light_dispatch(lights),
                 GENERATED_ESCAPED_LIGHT: escaped_light_hook(lights),
+                GENERATED_SHADING_NORMALS: shading_normals_hook(smooth),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
             f"{', counting rays' if count_rays else ''}{', guides' if guides else ''}"
-            f"{', ' + lights.description if lights.any else ''})",
+            f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''})",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -220,6 +226,8 @@ class Renderer:
         self._lights = LightBuffers(self.context, self._mirror)
         self._light_features = self._mirror.light_features
         self._guides = guides
+        # the corner attributes (shading normals), only for a scene with per-vertex normals
+        self._corner_attributes = self._new_corner_attributes()
         self.kernel = self.kernel_variant()
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
@@ -270,18 +278,27 @@ class Renderer:
         return len(self._mirror.triangles)
 
     @property
+    def smooth_shading(self) -> bool:
+        """Whether the scene has per-vertex normals, which the path tracer then shades with."""
+        return self._corner_attributes is not None
+
+    @property
+    def _shading_buffers(self) -> list[TrackedBuffer]:
+        return [] if self._corner_attributes is None else [self._corner_attributes]
+
+    @property
     def upload_stats(self) -> dict[str, UploadCount]:
         """Bytes and write_buffer calls per buffer made by the last `update` (which every `render`
         starts with); buffers it did not write are absent. Restarting accumulation clears and
         copies buffers on the GPU and uploads nothing."""
-        buffers = [self._frame, *self._scene_buffers.values(), *self._lights.buffers.values()]
+        buffers = [self._frame, *self._scene_buffers.values(), *self._lights.buffers.values(), *self._shading_buffers]
         return {buffer.label: buffer.uploads for buffer in buffers if buffer.uploads.calls}
 
     @property
     def gpu_scene_bytes(self) -> dict[str, int]:
         """Bytes allocated on the GPU for the scene, by buffer (capacity, spare rows included), the
-        lights besides emissive triangles included."""
-        buffers = [*self._scene_buffers.values(), *self._lights.buffers.values()]
+        lights besides emissive triangles and the corner attributes included."""
+        buffers = [*self._scene_buffers.values(), *self._lights.buffers.values(), *self._shading_buffers]
         return {buffer.label: buffer.capacity_bytes for buffer in buffers}
 
     @property
@@ -300,7 +317,7 @@ class Renderer:
         """Bring the GPU up to date with the scene: upload only the records that changed, refit or
         rebuild the BVH, switch to the pipeline for the scene's material kinds, and restart
         accumulation if anything the GPU reads changed. Returns `upload_stats`."""
-        for buffer in (self._frame, *self._scene_buffers.values()):
+        for buffer in (self._frame, *self._scene_buffers.values(), *self._shading_buffers):
             buffer.uploads = UploadCount()
         generations = [buffer.generation for buffer in self._scene_buffers.values()]
         fit_environment(self.context, self.scene)
@@ -316,6 +333,8 @@ class Renderer:
                 self._scene_buffers[name].upload(arrays[name], rows)
         light_generation = self._lights.generation
         self._lights.sync(self._mirror, changes)
+        shading_before = self._shading_state()
+        self._sync_corner_attributes(changes)
         frame = self._frame_record()
         frame_changed = frame.tobytes() != self._frame_bytes
         if frame_changed:
@@ -323,14 +342,20 @@ class Renderer:
             self._frame_bytes = frame.tobytes()
         kinds, stack_size = shaded_kinds(self._mirror.material_kinds), self._needed_stack_size()
         features = self._mirror.light_features
-        new_pipeline = (kinds, stack_size, features) != (self._kinds, self._stack_size, self._light_features)
+        smoothness_changed = (shading_before is not None) != self.smooth_shading
+        new_pipeline = smoothness_changed or (kinds, stack_size, features) != (
+            self._kinds,
+            self._stack_size,
+            self._light_features,
+        )
         if new_pipeline:
             self._kinds, self._stack_size, self._light_features = kinds, stack_size, features
             self.kernel = self.kernel_variant()
         rebind = generations != [buffer.generation for buffer in self._scene_buffers.values()]
+        rebind = rebind or shading_before != self._shading_state()
         if new_pipeline or rebind or light_generation != self._lights.generation:
             self._bind()
-        if changes or frame_changed:
+        if changes or frame_changed or smoothness_changed:
             self.restart()
         return self.upload_stats
 
@@ -343,6 +368,34 @@ class Renderer:
         }
         if self._light_features.any:
             self._bind_groups["lights"] = self.kernel.bind("lights", **self._lights.resources)
+        if self._corner_attributes is not None:
+            self._bind_groups["shading"] = self.kernel.bind("shading", corner_attributes=self._corner_attributes.buffer)
+
+    def _new_corner_attributes(self) -> TrackedBuffer | None:
+        """The corner attributes' buffer, for a scene with per-vertex normals (else None)."""
+        records = self._mirror.corner_attributes
+        if records is None:
+            return None
+        usage = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST | wgpu.BufferUsage.COPY_SRC
+        return TrackedBuffer(
+            self.context, "corner attributes", usage, records, binding_limit="max-storage-buffer-binding-size"
+        )
+
+    def _shading_state(self) -> tuple[int, int] | None:
+        """Which corner attributes' buffer is bound (None: flat shading): a change means rebinding."""
+        buffer = self._corner_attributes
+        return None if buffer is None else (id(buffer), buffer.generation)
+
+    def _sync_corner_attributes(self, changes: dict[str, np.ndarray]) -> None:
+        """Upload the corner attributes' changed rows; make or free their buffer where the scene
+        gained or lost its per-vertex normals."""
+        records = self._mirror.corner_attributes
+        if records is None or self._corner_attributes is None:
+            if self._corner_attributes is not None:
+                self._corner_attributes.buffer.destroy()
+            self._corner_attributes = self._new_corner_attributes()
+        elif CORNER_ATTRIBUTES in changes:
+            self._corner_attributes.upload(records, changes[CORNER_ATTRIBUTES])
 
     def _pixel_resources(self) -> dict[str, wgpu.GPUBuffer]:
         """What the pixels group binds: the guide sums too where guides are on."""
@@ -402,6 +455,7 @@ class Renderer:
             material_kinds=self._kinds,
             stack_size=self._stack_size,
             lights=self._light_features,
+            smooth=self.smooth_shading,
             **{"guides": self._guides, **options},
         )
 
@@ -432,7 +486,8 @@ class Renderer:
         texel views, rng_states, accumulation, and guide_sums where guides are on), for kernels that
         read them elsewhere (the viewer's)."""
         scene = {name: buffer.resource for name, buffer in self._scene_buffers.items()}
-        return {"frame": self._frame.buffer, **scene, **self._pixel_resources(), **self._lights.resources}
+        shading = {} if self._corner_attributes is None else {"corner_attributes": self._corner_attributes.buffer}
+        return {"frame": self._frame.buffer, **scene, **self._pixel_resources(), **self._lights.resources, **shading}
 
     def set_camera(self, camera: Camera) -> None:
         """Look through `camera` from now on: uploads only the frame uniform, restarts accumulation."""

@@ -6,7 +6,10 @@ each edit needs, and reporting which rows changed so only those are uploaded.
 | material parameter                          | that material's record                        | one material record                  |
 | shape transform (same zero-area triangles)  | its world triangles, BVH refit                | its triangles, nodes whose bounds moved |
 | shape material reassigned                   | material list and every triangle's index      | materials and triangles whose index moved |
-| shapes added/removed, vertices replaced     | arrays, BVH build                             | whatever differs (nearly all)        |
+| shapes added/removed, vertices or normals replaced | arrays, BVH build                      | whatever differs (nearly all)        |
+
+Scenes with per-vertex normals also keep each triangle's corner normals in BVH order (zero for a
+flat shape's triangles); a transform moves its shape's rows of them with its triangles.
 
 The light table (next-event estimation) is rebuilt when an emitter's triangles or record change,
 when a light is added, removed or edited, when the environment or its parameters change, and, with
@@ -53,6 +56,8 @@ from .lights import LightTable, emitting, light_table
 from .scene_buffers import (
     SceneRecords,
     build_acceleration,
+    corner_attribute_records,
+    corner_normals,
     gpu_node_records,
     material_records,
     set_wide_bounds,
@@ -70,6 +75,7 @@ from .scene_buffers import (
 REBUILD_DEGRADATION = 1.2
 
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights"
+CORNER_ATTRIBUTES = "corner attributes"
 LIGHT_SOURCES, LIGHTING_PARAMETERS = "light sources", "lighting"
 ENVIRONMENT_TEXELS, ENVIRONMENT_TABLES = "environment map", "environment tables"
 
@@ -93,6 +99,8 @@ class SceneMirror:
     def __init__(self, scene: Scene, acceleration: str) -> None:
         self.scene, self.acceleration_kind = scene, acceleration
         self.triangles = self.nodes = self.materials = None
+        # CORNER_ATTRIBUTES records in BVH order, None for a scene without per-vertex normals
+        self.corner_attributes: np.ndarray | None = None
         self.lights: LightTable | None = None
         # the light sources' records (LIGHT_SOURCE), the lighting parameters (one LIGHTING record),
         # and an environment map's texels (float32 (H, W, 4)) and sampling tables (uint32 words)
@@ -110,7 +118,7 @@ class SceneMirror:
 
     @property
     def records(self) -> SceneRecords:
-        return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh, self.wide)
+        return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.corner_attributes)
 
     @property
     def material_kinds(self) -> frozenset:
@@ -220,16 +228,26 @@ class SceneMirror:
         order = bvh.triangle_order
         vertices = arrays.vertices[order]
         nodes, wide = gpu_node_records(bvh)
+        normals = corner_normals(self.scene.shapes, arrays)
         new = {
             TRIANGLES: triangle_records(vertices, arrays.material_index[order]),
             NODES: nodes,
             MATERIALS: material_records(arrays.materials),
+            CORNER_ATTRIBUTES: None if normals is None else corner_attribute_records(normals[order]),
         }
-        old = {TRIANGLES: self.triangles, NODES: self.nodes, MATERIALS: self.materials}
+        old = {
+            TRIANGLES: self.triangles,
+            NODES: self.nodes,
+            MATERIALS: self.materials,
+            CORNER_ATTRIBUTES: self.corner_attributes,
+        }
         changes = {
-            name: np.arange(len(new[name])) if old[name] is None else changed_rows(old[name], new[name]) for name in new
+            name: np.arange(len(new[name])) if old[name] is None else changed_rows(old[name], new[name])
+            for name in new
+            if new[name] is not None
         }
         self.triangles, self.nodes, self.materials = new[TRIANGLES], new[NODES], new[MATERIALS]
+        self.corner_attributes = new[CORNER_ATTRIBUTES]
         self.bvh: BVH = bvh
         self.wide = wide
         self.refitter = Refitter(bvh, vertices)
@@ -249,7 +267,7 @@ class SceneMirror:
     def _refit(self, moved: list[int]) -> dict[str, np.ndarray] | None:
         """New world triangles of the moved shapes and a refit BVH; None where only a rebuild will do
         (a triangle turned zero-area or back, or the refit tree got too slow)."""
-        positions, corners = [], []
+        positions, corners, normals = [], [], []
         for index in moved:
             shape = self.scene.shapes[index]
             span = slice(self._input_start[index], self._input_start[index + 1])
@@ -259,9 +277,12 @@ class SceneMirror:
                 return None
             positions.append(self._position[span])
             corners.append(world[kept])
+            if shape.world_normals is not None:
+                normals.append((self._position[span], shape.world_normals[kept]))
         positions, corners = np.concatenate(positions), np.concatenate(corners)
         order = np.argsort(positions)
         positions, corners = positions[order], corners[order]
+        changes = self._move_corner_normals(normals)
         touched = self.refitter.move(positions, corners)
         if self.bvh.kind == "bvh" and self.refitter.degradation > REBUILD_DEGRADATION:
             return None
@@ -271,7 +292,18 @@ class SceneMirror:
             triangles[f"v{corner}"] = corners[:, corner]
         rows = positions[changed_rows(self.triangles[positions], triangles)]
         self.triangles[positions] = triangles
-        return {TRIANGLES: rows, NODES: self._refit_nodes(touched)}
+        return {**changes, TRIANGLES: rows, NODES: self._refit_nodes(touched)}
+
+    def _move_corner_normals(self, moved: list[tuple[np.ndarray, np.ndarray]]) -> dict[str, np.ndarray]:
+        """Write the (BVH positions, world corner normals) of moved shapes with normals into the
+        corner attributes; their changed rows."""
+        if not moved:
+            return {}
+        positions = np.concatenate([position for position, _ in moved])
+        records = corner_attribute_records(np.concatenate([normals for _, normals in moved]))
+        rows = positions[changed_rows(self.corner_attributes[positions], records)]
+        self.corner_attributes[positions] = records
+        return {CORNER_ATTRIBUTES: rows}
 
     def _refit_nodes(self, touched: np.ndarray) -> np.ndarray:
         """Bring the GPU node records up to date with the refit `touched` binary nodes; the rows
