@@ -6,7 +6,9 @@
     image = mi.render(scene, spp=64, seed=1)
 
 Used by scripts/make_references.py (the test references) and bench/versus_mitsuba.py. Each of
-our materials becomes one mesh, flat shaded (README: Conventions; tests/data/README.md);
+our materials becomes one mesh, flat shaded (README: Conventions; tests/data/README.md) unless its
+shapes have per-vertex normals, which become Mitsuba's vertex normals (`face_normals` false; the
+triangles of shapes without them get their face normal at each corner, flat as ours);
 the integrator is Mitsuba's `path` at our max depth, the pixel filter a box.
 
 Lights: each light's own `mitsuba_emitter()` (scene/lights/: `point`, `spot`, `directional`); the
@@ -32,6 +34,7 @@ import numpy as np
 from wgputrace.scene import Light, Material, Scene
 from wgputrace.scene.environment import Environment
 from wgputrace.scene.materials.material import mitsuba_rgb
+from wgputrace.scene.shapes import corner_normals
 
 DEBIAN_LIBLLVM = Path("/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
 LLVM_VARIANT = "llvm_ad_rgb"
@@ -149,21 +152,45 @@ def emitters(mi: ModuleType, scene: Scene, has_emitting_triangles: bool) -> tupl
     return found, not environment.visible
 
 
-def mitsuba_mesh(mi: ModuleType, name: str, triangles: np.ndarray, bsdf: dict, emitter: dict | None):
-    """A flat-shaded Mitsuba mesh of (n, 3, 3) float32 triangles, corners not shared."""
+def mitsuba_mesh(
+    mi: ModuleType,
+    name: str,
+    triangles: np.ndarray,
+    bsdf: dict,
+    emitter: dict | None,
+    normals: np.ndarray | None = None,
+):
+    """A Mitsuba mesh of (n, 3, 3) float32 triangles, corners not shared: flat shaded, or smooth
+    with (n, 3, 3) corner `normals`."""
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(bsdf)
     if emitter is not None:
         props["emitter"] = mi.load_dict(emitter)
+    smooth = normals is not None
+    if smooth:
+        props["face_normals"] = False
     count = len(triangles)
-    mesh = mi.Mesh(name, 3 * count, count, props=props, has_vertex_normals=False, has_vertex_texcoords=False)
+    mesh = mi.Mesh(name, 3 * count, count, props=props, has_vertex_normals=smooth, has_vertex_texcoords=False)
     params = mi.traverse(mesh)
     # the buffers' own types: dynamic arrays in scalar variants, JIT arrays in llvm ones
     positions, faces = type(params["vertex_positions"]), type(params["faces"])
     params["vertex_positions"] = positions(np.ascontiguousarray(triangles, dtype=np.float32).ravel())
     params["faces"] = faces(np.arange(3 * count, dtype=np.uint32))
+    if smooth:
+        params["vertex_normals"] = type(params["vertex_normals"])(np.ascontiguousarray(normals, np.float32).ravel())
     params.update()
     return mesh
+
+
+def face_normals_where_flat(triangles: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """`normals` with the all-zero corners of flat triangles replaced by their face normal."""
+    v = triangles.astype(np.float64)
+    face = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    face /= np.linalg.norm(face, axis=1, keepdims=True)
+    flat = ~normals.any(axis=(1, 2))
+    filled = normals.copy()
+    filled[flat] = face[flat, None, :].astype(np.float32)
+    return filled
 
 
 def behind(triangles: np.ndarray, distance: float) -> np.ndarray:
@@ -180,16 +207,20 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
     corners = arrays.vertices.reshape(-1, 3).astype(np.float64)
     extent = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
     magnitude = float(np.max(np.abs(corners)))
+    all_normals = corner_normals(scene.shapes, arrays.shape_index, arrays.local_index)
     shapes = {}
     for index, material in enumerate(arrays.materials):
         triangles = arrays.vertices[arrays.material_index == index]
+        normals = None
+        if all_normals is not None and all_normals[arrays.material_index == index].any():
+            normals = face_normals_where_flat(triangles, all_normals[arrays.material_index == index])
         bsdf, emitter = bsdf_dict(material), emitter_dict(material)
         if emitter is not None:
             shapes[f"{index}_front"] = mitsuba_mesh(mi, f"{material.name}_front", triangles, bsdf, emitter)
             back = behind(triangles, EMITTER_BACK_OFFSET_RELATIVE * magnitude)
             shapes[f"{index}_back"] = mitsuba_mesh(mi, f"{material.name}_back", back, bsdf, emitter)
         else:
-            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None)
+            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals)
     lights, hide_emitters = emitters(mi, scene, any(m.emission is not None for m in arrays.materials))
     camera = scene.camera
     position = np.asarray(camera.position)

@@ -13,7 +13,7 @@ import numpy as np
 from ..bvh import BVH, build_bvh, build_flat
 from ..bvh.wide import BUILD_MAX_DEPTH, WideBVH, collapse
 from ..gpu.layout import BVH_NODE, CORNER_ATTRIBUTES, MATERIAL, TRIANGLE, WIDE_BVH_NODE
-from ..scene import Material, Shape, TriangleArrays
+from ..scene import Material, TriangleArrays
 
 ACCELERATIONS = ("bvh", "flat")
 
@@ -85,21 +85,6 @@ def triangle_records(vertices: np.ndarray, material_index: np.ndarray) -> np.nda
     triangles["v0"], triangles["v1"], triangles["v2"] = vertices[:, 0], vertices[:, 1], vertices[:, 2]
     triangles["material"] = material_index
     return triangles
-
-
-def corner_normals(shapes: list[Shape], arrays: TriangleArrays) -> np.ndarray | None:
-    """The world corner normals (n, 3, 3) of `arrays`' triangles, zero for those of shapes without
-    normals (shaded flat); None where no shape has normals (the GPU then binds none)."""
-    if all(shape.normals is None for shape in shapes):
-        return None
-    normals = np.zeros((len(arrays.shape_index), 3, 3), np.float32)
-    # the arrays hold each shape's kept triangles together, in shape order
-    starts = np.searchsorted(arrays.shape_index, np.arange(len(shapes) + 1))
-    for index, shape in enumerate(shapes):
-        if shape.world_normals is not None:
-            rows = slice(starts[index], starts[index + 1])
-            normals[rows] = shape.world_normals[arrays.local_index[rows]]
-    return normals
 
 
 def corner_attribute_records(normals: np.ndarray) -> np.ndarray:

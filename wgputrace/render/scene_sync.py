@@ -45,6 +45,7 @@ from ..gpu.layout import LIGHT_SOURCE, LIGHTING
 from ..gpu.light_dispatch import CONSTANT_ENVIRONMENT, ENVIRONMENT_MAP, LightFeatures
 from ..scene import Scene, Shape
 from ..scene.scene import zero_area
+from ..scene.shapes import corner_normals
 from .environment_records import (
     environment_power,
     environment_state,
@@ -57,7 +58,6 @@ from .scene_buffers import (
     SceneRecords,
     build_acceleration,
     corner_attribute_records,
-    corner_normals,
     gpu_node_records,
     material_records,
     set_wide_bounds,
@@ -228,7 +228,7 @@ class SceneMirror:
         order = bvh.triangle_order
         vertices = arrays.vertices[order]
         nodes, wide = gpu_node_records(bvh)
-        normals = corner_normals(self.scene.shapes, arrays)
+        normals = corner_normals(self.scene.shapes, arrays.shape_index, arrays.local_index)
         new = {
             TRIANGLES: triangle_records(vertices, arrays.material_index[order]),
             NODES: nodes,

@@ -335,6 +335,21 @@ def transform_normals(normals: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     return moved.astype(np.float32)
 
 
+def corner_normals(shapes: list[Shape], shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray | None:
+    """The world corner normals (n, 3, 3) float32 of the triangles that `shape_index` and
+    `local_index` pick (Scene.arrays' order: each shape's triangles together, in shape order), zero
+    for those of shapes without normals (shaded flat); None where no shape has normals."""
+    if all(shape.normals is None for shape in shapes):
+        return None
+    normals = np.zeros((len(shape_index), 3, 3), np.float32)
+    starts = np.searchsorted(shape_index, np.arange(len(shapes) + 1))
+    for index, shape in enumerate(shapes):
+        if shape.world_normals is not None:
+            rows = slice(starts[index], starts[index + 1])
+            normals[rows] = shape.world_normals[local_index[rows]]
+    return normals
+
+
 def _place(name: str, corners: np.ndarray, faces: np.ndarray, matrix: np.ndarray, material: Material) -> Shape:
     return Shape(name, transform_points(corners[faces], matrix), material)
 
