@@ -32,12 +32,14 @@ def test_trac0r_numbering_and_wgsl_names():
         (2, "Diffuse"),
         (3, "Glass"),
         (4, "Glossy"),
+        (5, "Principled"),
     ]
     assert material_kind_constants() == [
         "const MATERIAL_EMITTER: u32 = 1u;",
         "const MATERIAL_DIFFUSE: u32 = 2u;",
         "const MATERIAL_GLASS: u32 = 3u;",
         "const MATERIAL_GLOSSY: u32 = 4u;",
+        "const MATERIAL_PRINCIPLED: u32 = 5u;",
     ]
 
 
@@ -99,8 +101,10 @@ def test_integrator_flags_come_from_the_classes():
     # a delta lobe never meets a light sample; glossy decides by roughness; an emitter has no BSDF
     assert (Glass.light_sampling(), Diffuse.light_sampling()) == ("false", "true")
     assert f"case MATERIAL_GLOSSY: {{ return {Glossy.samples_lights}; }}" in code
-    assert "case MATERIAL_DIFFUSE, MATERIAL_GLOSSY: { return true; }" in code  # two-sided: not glass
-    assert "case MATERIAL_DIFFUSE, MATERIAL_GLASS, MATERIAL_GLOSSY: { return true; }" in code  # reflects
+    two_sided = "MATERIAL_DIFFUSE, MATERIAL_GLOSSY, MATERIAL_PRINCIPLED"  # not glass
+    reflecting = "MATERIAL_DIFFUSE, MATERIAL_GLASS, MATERIAL_GLOSSY, MATERIAL_PRINCIPLED"
+    assert f"case {two_sided}: {{ return true; }}" in code
+    assert f"case {reflecting}: {{ return true; }}" in code
 
 
 def test_records_and_light_radiance_agree():

@@ -102,7 +102,7 @@ WIDE_BVH_NODE = GpuStruct(
 )
 MATERIAL = GpuStruct(
     "Material",
-    (("color", "vec3<f32>"), ("kind", "u32"), ("alpha", "f32"), ("ior", "f32")),
+    (("color", "vec3<f32>"), ("kind", "u32"), ("alpha", "f32"), ("ior", "f32"), ("metallic", "f32")),
     "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind.",
 )
 FRAME = GpuStruct(

@@ -1,0 +1,79 @@
+"""Writes tests/shaders/data/principled_mitsuba.npz: Mitsuba 3's `principled` BSDF evaluated (eval,
+which includes cos theta_o, and pdf) at random directions for a few parameter sets, the independent
+implementation tests/shaders/test_principled.py compares shaders/materials/principled.wgsl with.
+
+Run with a Python that has Mitsuba 3 (tested with 3.9.1, variant llvm_ad_rgb):
+    python scripts/make_principled_fixture.py
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+FIXTURE = Path(__file__).resolve().parent.parent / "tests" / "shaders" / "data" / "principled_mitsuba.npz"
+SEED = 20261201
+DIRECTIONS = 64
+# base_color, metallic, roughness, eta: the corners of the range, and eta below 1 (Schlick on the
+# refracted side)
+PARAMETERS = (
+    ((0.9, 0.5, 0.2), 0.0, 0.5, 1.5),
+    ((0.3, 0.6, 0.9), 0.5, 0.2, 1.33),
+    ((1.0, 1.0, 1.0), 1.0, 0.05, 1.5),
+    ((0.8, 0.8, 0.8), 0.25, 1.0, 2.4),
+    ((0.2, 0.9, 0.4), 0.75, 0.7, 0.8),
+    ((0.0, 0.0, 0.0), 0.0, 0.0, 1.5),
+)
+
+
+def upper_hemisphere(rng: np.random.Generator, count: int) -> np.ndarray:
+    """Directions with cos theta in [0.01, 1] at random azimuths (grazing ones included)."""
+    z = rng.uniform(0.01, 1.0, count)
+    phi = rng.uniform(0.0, 2.0 * np.pi, count)
+    s = np.sqrt(1.0 - z * z)
+    return np.stack([s * np.cos(phi), s * np.sin(phi), z], axis=1).astype(np.float32)
+
+
+def main() -> None:
+    mi.set_variant("llvm_ad_rgb")
+    rng = np.random.default_rng(SEED)
+    wi = upper_hemisphere(rng, DIRECTIONS)
+    wo = upper_hemisphere(rng, DIRECTIONS)
+    si = dr.zeros(mi.SurfaceInteraction3f)
+    si.wi = mi.Vector3f(wi.T)
+    si.sh_frame = mi.Frame3f(mi.Vector3f(0.0, 0.0, 1.0))
+    context = mi.BSDFContext()
+    evals, pdfs = [], []
+    for base_color, metallic, roughness, eta in PARAMETERS:
+        bsdf = mi.load_dict(
+            {
+                "type": "principled",
+                "base_color": {"type": "rgb", "value": list(base_color)},
+                "metallic": metallic,
+                "roughness": roughness,
+                "eta": eta,
+            }
+        )
+        evals.append(np.array(bsdf.eval(context, si, mi.Vector3f(wo.T))).T)
+        pdfs.append(np.array(bsdf.pdf(context, si, mi.Vector3f(wo.T))))
+    FIXTURE.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(
+        FIXTURE,
+        base_color=np.array([p[0] for p in PARAMETERS], np.float32),
+        metallic=np.array([p[1] for p in PARAMETERS], np.float32),
+        roughness=np.array([p[2] for p in PARAMETERS], np.float32),
+        eta=np.array([p[3] for p in PARAMETERS], np.float32),
+        wi=wi,
+        wo=wo,
+        eval=np.array(evals, np.float32),
+        pdf=np.array(pdfs, np.float32),
+        mitsuba_version=mi.__version__,
+    )
+    print(f"wrote {FIXTURE}")
+
+
+if __name__ == "__main__":
+    main()

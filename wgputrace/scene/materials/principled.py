@@ -1,0 +1,74 @@
+"""Principled: Mitsuba 3's `principled` BSDF for the parameters glTF's metallic-roughness materials
+need, the same on both sides.
+
+| parameter  | type          | default | meaning                                                          |
+|------------|---------------|---------|------------------------------------------------------------------|
+| base_color | RGB in [0, 1] | 0.5     | diffuse albedo, and the metallic Fresnel reflectance at normal incidence |
+| metallic   | float [0, 1]  | 0       | blends a dielectric (0) into a Schlick conductor tinted by base_color (1) |
+| roughness  | float [0, 1]  | 0.5     | GGX alpha = roughness^2 (at least 0.001); also drives retro-reflection |
+| eta        | float > 0     | 1.5     | index of refraction of the specular layer (Mitsuba's `specular` s is eta_from_specular(s)) |
+| spec_trans | 0             | 0       | transmission: not supported yet, any other value is refused      |
+
+A Disney diffuse lobe with retro-reflection, weighted by 1 - metallic, plus GGX reflection whose
+Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic Schlick(base_color). Sampling
+picks the diffuse lobe with probability (1 - metallic) / (2 - metallic), else a visible GGX normal.
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic.
+WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `twosided` `principled` with the same values.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .glass import IOR_MAX
+from .material import Material, MaterialError, MaterialShader, check_color, check_number, mitsuba_rgb
+
+
+def eta_from_specular(specular: float) -> float:
+    """Mitsuba's (and Disney's) mapping of `specular` in [0, 1] to an index of refraction:
+    Schlick's normal reflectance 0.08 specular; specular 0.5 is eta 1.5."""
+    return 2.0 / (1.0 - math.sqrt(0.08 * specular)) - 1.0
+
+
+@dataclass(eq=False)
+class Principled(Material):
+    base_color: tuple[float, float, float] = (0.5, 0.5, 0.5)
+    metallic: float = 0.0
+    roughness: float = 0.5
+    eta: float = 1.5
+    spec_trans: float = 0.0
+
+    kind = 5
+    shader = MaterialShader(
+        "materials/principled.wgsl",
+        sample="principled_sample(material, wi, u, u_lobe)",
+        eval="principled_eval(material, wi, wo)",
+        pdf="principled_pdf(material, wi, wo)",
+    )
+
+    def checked_parameters(self) -> dict[str, object]:
+        if self.spec_trans != 0:
+            raise MaterialError(
+                f"material {self.name!r}: spec_trans must be 0 (transmission is not supported yet), got {self.spec_trans!r}",
+                "spec_trans",
+            )
+        return {
+            "base_color": check_color(self.name, "base_color", self.base_color, upper=1.0),
+            "metallic": check_number(self.name, "metallic", self.metallic, low=0.0, high=1.0),
+            "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
+            "eta": check_number(self.name, "eta", self.eta, low=0.0, high=IOR_MAX, low_inclusive=False),
+        }
+
+    def fill_record(self, record) -> None:
+        record["color"], record["alpha"] = self.base_color, self.roughness
+        record["ior"], record["metallic"] = self.eta, self.metallic
+
+    def mitsuba_bsdf(self) -> dict:
+        return {
+            "type": "principled",
+            "base_color": mitsuba_rgb(self.base_color),
+            "metallic": self.metallic,
+            "roughness": self.roughness,
+            "eta": self.eta,
+        }
