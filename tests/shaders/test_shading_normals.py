@@ -1,0 +1,129 @@
+"""shading_normals.wgsl against a numpy oracle: the interpolated, normalised corner normal turned to
+the geometric side, the geometric normal where a triangle is flat, the interpolation cancels or the
+viewer is between the two horizons; the weight 0 where geometric and shading normals disagree on
+reflection against transmission, else Chiang et al. 2019's shadowing term, never above 1."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wgputrace.gpu.bindings import SHADING_GROUP
+from wgputrace.gpu.buffers import storage_buffer
+from wgputrace.gpu.layout import CORNER_ATTRIBUTES
+from wgputrace.gpu.shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
+from wgputrace.testing.harness import run_kernel
+
+pytestmark = pytest.mark.gpu
+
+SEED = 20_261_201
+COUNT = 4096
+# float32 against float64 arithmetic: the barycentric solve loses up to its condition number's
+# share of float32's precision on the random triangles' slivers (measured up to 3.3e-4)
+ATOL = 1e-3
+# cases this close to a decision (a side, a horizon) may fall either way in float32: not compared
+DECISION_MARGIN = 1e-3
+KERNEL = """
+//! include "generated/structs.wgsl"
+//! include "generated/shading_normals.wgsl"
+fn compute(i: u32) -> vec4<f32> {
+    let triangle = Triangle(inputs_0[6u * i].xyz, 0u, inputs_0[6u * i + 1u].xyz, inputs_0[6u * i + 2u].xyz);
+    let p = inputs_0[6u * i + 3u].xyz;
+    let towards_viewer = inputs_0[6u * i + 4u].xyz;
+    let direction = inputs_0[6u * i + 5u].xyz;
+    let geometric = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
+    let shading = shading_normal(i, triangle, p, geometric, towards_viewer);
+    return vec4<f32>(shading, shading_weight(shading, geometric, towards_viewer, direction));
+}
+"""
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def cases(rng: np.random.Generator) -> dict[str, np.ndarray]:
+    corners = rng.normal(size=(COUNT, 3, 3))
+    geometric = unit(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
+    # corner normals near the geometric one, some flipped against it, some of triangles shaded flat
+    normals = unit(geometric[:, None, :] + 0.6 * rng.normal(size=(COUNT, 3, 3)))
+    normals *= np.where(rng.random(COUNT) < 0.1, -1.0, 1.0)[:, None, None]
+    normals[rng.random(COUNT) < 0.1] = 0.0
+    # corner normals that cancel at the centroid
+    cancelling = rng.random(COUNT) < 0.05
+    normals[cancelling] = [[0, 0, 1], [0, 1, 0], [0, -1, -1]] / np.linalg.norm([0, -1, -1]) * [1, 1, 1]
+    normals[cancelling, 2] = -(normals[cancelling, 0] + normals[cancelling, 1])
+    weights = rng.dirichlet((1.0, 1.0, 1.0), COUNT)
+    weights[cancelling] = 1.0 / 3.0
+    p = np.einsum("nk,nkd->nd", weights, corners)
+    case = {
+        "corners": corners,
+        "normals": normals,
+        "p": p,
+        "towards_viewer": unit(rng.normal(size=(COUNT, 3))),
+        "direction": unit(rng.normal(size=(COUNT, 3))),
+    }
+    # the oracle works on the float32 values the shader reads
+    return {name: values.astype(np.float32).astype(np.float64) for name, values in case.items()}
+
+
+def oracle(case: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Expected shading normals and weights, and which cases sit clear of every decision."""
+    v0, v1, v2 = (case["corners"][:, k] for k in range(3))
+    geometric = unit(np.cross(v1 - v0, v2 - v0))
+    e1, e2, d = v1 - v0, v2 - v0, case["p"] - v0
+    d11, d12, d22 = (np.einsum("nd,nd->n", a, b) for a, b in ((e1, e1), (e1, e2), (e2, e2)))
+    d1, d2 = np.einsum("nd,nd->n", d, e1), np.einsum("nd,nd->n", d, e2)
+    det = d11 * d22 - d12 * d12
+    b1 = np.clip((d22 * d1 - d12 * d2) / det, 0.0, 1.0)
+    b2 = np.clip((d11 * d2 - d12 * d1) / det, 0.0, 1.0 - b1)
+    normals = case["normals"]
+    n = (1 - b1 - b2)[:, None] * normals[:, 0] + b1[:, None] * normals[:, 1] + b2[:, None] * normals[:, 2]
+    length = np.linalg.norm(n, axis=1)
+    n = n / np.maximum(length, 1e-30)[:, None]
+    n *= np.where(np.einsum("nd,nd->n", n, geometric) < 0, -1.0, 1.0)[:, None]
+    viewer = case["towards_viewer"]
+    view_s, view_g = np.einsum("nd,nd->n", n, viewer), np.einsum("nd,nd->n", geometric, viewer)
+    flat = ~normals[:, 0].any(axis=1) | (length <= 1e-6) | (view_s * view_g <= 0)
+    shading = np.where(flat[:, None], geometric, n)
+    direction = case["direction"]
+    s_i, s_o = np.einsum("nd,nd->n", shading, viewer), np.einsum("nd,nd->n", shading, direction)
+    g_o = np.einsum("nd,nd->n", geometric, direction)
+    agree = (view_g * g_o > 0) == (s_i * s_o > 0)
+    g = np.minimum(1.0, np.abs(g_o) / np.maximum(np.abs(s_o) * np.einsum("nd,nd->n", shading, geometric), 1e-6))
+    weight = np.where(agree, g * (1 + g - g * g), 0.0)
+    clear = (np.minimum.reduce([np.abs(view_s), np.abs(view_g), np.abs(s_o), np.abs(g_o)]) > DECISION_MARGIN) & (
+        (length > 1e-3) | ~normals[:, 0].any(axis=1)
+    )
+    return shading, weight, clear
+
+
+def test_shading_normal_and_weight_match_the_oracle(gpu_context):
+    case = cases(np.random.default_rng(SEED))
+    inputs = np.zeros((COUNT, 6, 4), np.float32)
+    for k in range(3):
+        inputs[:, k, :3] = case["corners"][:, k]
+    inputs[:, 3, :3], inputs[:, 4, :3], inputs[:, 5, :3] = case["p"], case["towards_viewer"], case["direction"]
+    records = CORNER_ATTRIBUTES.zeros(COUNT)
+    for k in range(3):
+        records[f"normal{k}"] = case["normals"][:, k]
+    result = run_kernel(
+        gpu_context,
+        KERNEL,
+        [inputs.reshape(-1, 4)],
+        np.dtype((np.float32, 4)),
+        COUNT,
+        input_types=["vec4<f32>"],
+        output_type="vec4<f32>",
+        groups={SHADING_GROUP: {"corner_attributes": storage_buffer(gpu_context, "corners", records)}},
+        generated={GENERATED_SHADING_NORMALS: shading_normals_hook(True)},
+    )
+    assert np.isfinite(result).all()
+    assert (result[:, 3] >= 0).all() and (result[:, 3] <= 1 + ATOL).all()
+    shading, weight, clear = oracle(case)
+    assert clear.mean() > 0.8  # the margin leaves most cases compared
+    np.testing.assert_allclose(result[clear, :3], shading[clear], atol=ATOL)
+    np.testing.assert_allclose(result[clear, 3], weight[clear], atol=ATOL)
+    # every kind of case is exercised: flat, dropped, shadowed and full weight
+    assert (weight[clear] == 0).any() and ((weight[clear] > 0) & (weight[clear] < 0.99)).any()
+    assert (weight[clear] > 0.999).any()
