@@ -49,10 +49,9 @@ def cases(rng: np.random.Generator) -> dict[str, np.ndarray]:
     normals = unit(geometric[:, None, :] + 0.6 * rng.normal(size=(COUNT, 3, 3)))
     normals *= np.where(rng.random(COUNT) < 0.1, -1.0, 1.0)[:, None, None]
     normals[rng.random(COUNT) < 0.1] = 0.0
-    # corner normals that cancel at the centroid
+    # corner normals that cancel at the centroid (the records need not be unit length)
     cancelling = rng.random(COUNT) < 0.05
-    normals[cancelling] = [[0, 0, 1], [0, 1, 0], [0, -1, -1]] / np.linalg.norm([0, -1, -1]) * [1, 1, 1]
-    normals[cancelling, 2] = -(normals[cancelling, 0] + normals[cancelling, 1])
+    normals[cancelling] = [[0, 0, 1], [0, 1, 0], [0, -1, -1]]
     weights = rng.dirichlet((1.0, 1.0, 1.0), COUNT)
     weights[cancelling] = 1.0 / 3.0
     p = np.einsum("nk,nkd->nd", weights, corners)
