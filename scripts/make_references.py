@@ -51,6 +51,7 @@ REFERENCES = {
     "tiny_light": ReferenceSettings(max_depth=9, spp=256, passes=16),
     "glass_grazing": ReferenceSettings(max_depth=12, spp=256, passes=16),
     "glossy_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
+    "principled_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
     "slivers": ReferenceSettings(max_depth=5, spp=256, passes=16),
     "axis_boxes": ReferenceSettings(max_depth=6, spp=256, passes=16),
     # lit by the environment and by point, spot and directional lights (wgputrace/scenes/)

@@ -13,6 +13,7 @@ from .cornell import cornell, scaled_cornell, tiny_light
 from .environment_lit import constant_env, env_one_texel, env_sun_spheres
 from .glass import glass_grazing
 from .glossy import glossy_spheres
+from .principled import principled_spheres
 from .punctual import point_spot_directional
 from .slivers import slivers
 
@@ -23,6 +24,7 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "cornell_1e4": partial(scaled_cornell, 1e4),
     "glass_grazing": glass_grazing,
     "glossy_spheres": glossy_spheres,
+    "principled_spheres": principled_spheres,
     "slivers": slivers,
     "axis_boxes": axis_boxes,
     "env_sun_spheres": env_sun_spheres,
