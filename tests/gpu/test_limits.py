@@ -251,3 +251,15 @@ def test_a_map_larger_than_the_adapter_holds_is_downscaled_with_a_warning(gpu_co
     with pytest.warns(EnvironmentWarning):
         renderer.render(1)
     assert scene.environment.size[0] <= side
+
+
+def test_smooth_shapes_need_the_shading_group(gpu_context, monkeypatch):
+    from wgputrace import make_icosphere
+
+    scene = Scene([make_icosphere((0, 0, 0), (0, 0, 0), 1.0, 1, Emitter("lamp"), "ball", smooth=True)])
+    check_scene_size(gpu_context, scene)
+    monkeypatch.setitem(gpu_context.device.limits, "max-bind-groups", 5)
+    with pytest.raises(DeviceLimitError, match="the shading group .* needs max-bind-groups = 6"):
+        check_scene_size(gpu_context, scene)
+    flat = Scene([make_icosphere((0, 0, 0), (0, 0, 0), 1.0, 1, Emitter("lamp"), "ball")])
+    check_scene_size(gpu_context, flat)

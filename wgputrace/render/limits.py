@@ -32,10 +32,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..gpu.bindings import IMAGE_WORKGROUP, LIGHTS_GROUP_INDEX
+from ..gpu.bindings import IMAGE_WORKGROUP, LIGHTS_GROUP_INDEX, SHADING_GROUP_INDEX
 from ..gpu.device import DeviceLimitError, GpuContext
 from ..gpu.float_texture import require_float_texture
-from ..gpu.layout import ACCUMULATED_PIXEL, BVH_NODE, LIGHT, LIGHT_SOURCE, MATERIAL, TRIANGLE, WIDE_BVH_NODE
+from ..gpu.layout import (
+    ACCUMULATED_PIXEL,
+    BVH_NODE,
+    CORNER_ATTRIBUTES,
+    LIGHT,
+    LIGHT_SOURCE,
+    MATERIAL,
+    TRIANGLE,
+    WIDE_BVH_NODE,
+)
 from ..gpu.texels import require_texels
 from ..gpu.tracked_buffer import require_records
 from ..scene import Scene
@@ -211,6 +220,8 @@ class SceneCounts:
     environment: bool = False
     # an environment map's width and height (0 x 0: none, or a constant)
     environment_map: tuple[int, int] = (0, 0)
+    # triangles of shapes with per-vertex normals (their corner attributes: gpu/shading_normals.py)
+    smooth_triangles: int = 0
 
     @property
     def light_table_entries(self) -> int:
@@ -229,6 +240,7 @@ def scene_counts(scene: Scene) -> SceneCounts:
         light_sources=len(scene.lights),
         environment=environment is not None,
         environment_map=(0, 0) if texels is None else (texels.shape[1], texels.shape[0]),
+        smooth_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.normals is not None),
     )
 
 
@@ -268,6 +280,10 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
     if counts.light_sources or counts.environment:
         context.require("max-bind-groups", LIGHTS_GROUP_INDEX + 1, "the lights group (gpu/bindings.py)")
     require_records(context, "light sources", counts.light_sources, LIGHT_SOURCE.size, storage)
+    if counts.smooth_triangles:
+        context.require("max-bind-groups", SHADING_GROUP_INDEX + 1, "the shading group (gpu/bindings.py)")
+        # every triangle has a record once one shape is smooth (a flat one, zeros: its face normal)
+        require_records(context, "corner attributes", counts.triangles, CORNER_ATTRIBUTES.size, storage)
     width, height = counts.environment_map
     if width:
         require_float_texture(context, "environment map", width, height)
