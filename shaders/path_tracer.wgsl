@@ -14,6 +14,8 @@
 // shading_normal and shading_weight: the geometric normal and 1 unless the scene has per-vertex
 // normals (gpu/shading_normals.py)
 //! include "generated/shading_normals.wgsl"
+// resolve_material: the material as stored unless the scene has textures (gpu/textures.py)
+//! include "generated/textures.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
 
@@ -155,9 +157,9 @@ fn trace_path(camera: Ray) -> vec3<f32> {
             break;
         }
         let triangle = scene_triangle(hit.triangle);
-        let material = materials[triangle.material];
         let normal = triangle_normal(triangle);
         let p = ray.origin + hit.t * ray.direction;
+        let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
         let towards_viewer = -ray.direction;
         let shading = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
         guide_vertex(material, shading, ray.direction);

@@ -17,6 +17,8 @@
 //   brightens (the weight is at most 1, so throughputs cannot grow) and cannot move an origin
 //   through nearby geometry; its cost is a slight darkening near the terminator.
 
+//! include "barycentric.wgsl"
+
 // The corner normals interpolated at `p` (barycentric), turned to the geometric side, unit length;
 // the geometric normal for flat triangles (zero corner normals), degenerate interpolations (opposite
 // corner normals cancelling: no NaN) and views from between the two horizons.
@@ -25,19 +27,8 @@ fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometr
     if all(corners.normal0 == vec3<f32>(0.0)) {
         return geometric;
     }
-    let e1 = triangle.v1 - triangle.v0;
-    let e2 = triangle.v2 - triangle.v0;
-    let d = p - triangle.v0;
-    let d11 = dot(e1, e1);
-    let d12 = dot(e1, e2);
-    let d22 = dot(e2, e2);
-    let d1 = dot(d, e1);
-    let d2 = dot(d, e2);
-    let determinant = d11 * d22 - d12 * d12;
-    // p is on the triangle up to rounding: clamping keeps the weights a convex combination
-    let b1 = clamp((d22 * d1 - d12 * d2) / determinant, 0.0, 1.0);
-    let b2 = clamp((d11 * d2 - d12 * d1) / determinant, 0.0, 1.0 - b1);
-    var n = (1.0 - b1 - b2) * corners.normal0 + b1 * corners.normal1 + b2 * corners.normal2;
+    let b = triangle_barycentric(triangle, p);
+    var n = (1.0 - b.x - b.y) * corners.normal0 + b.x * corners.normal1 + b.y * corners.normal2;
     let n_length = length(n);
     // NaN too: a zero-area triangle's determinant is 0
     if !(n_length > SHADING_NORMAL_MIN_LENGTH) {

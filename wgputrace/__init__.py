@@ -14,7 +14,7 @@ from .image_io import load_image, load_layers, save_image
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
-from .scene import Camera, Scene, Shape, make_box, make_icosphere, make_plane, model_matrix
+from .scene import Camera, Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
 from .scene.environment import Environment
 from .scene.lights import KINDS as LIGHT_KINDS
 from .scene.materials import KINDS
@@ -40,6 +40,8 @@ __all__ = [
     "SceneLoadError",
     "SceneLoadWarning",
     "Shape",
+    "Texture",
+    "TextureTransform",
     "default_scene",
     "denoise",
     "load_image",

@@ -19,11 +19,14 @@ from .layout import (
     ACCUMULATED_PIXEL,
     BVH_NODE,
     CORNER_ATTRIBUTES,
+    CORNER_UVS,
     FRAME,
     LIGHT,
     LIGHT_SOURCE,
     LIGHTING,
     MATERIAL,
+    MATERIAL_TEXTURES,
+    TEXTURE,
     GpuStruct,
 )
 from .light_dispatch import ENVIRONMENT_MAP, LightFeatures
@@ -269,3 +272,21 @@ SHADING_GROUP_INDEX = 5
 SHADING_GROUP = BindGroup(
     "shading", SHADING_GROUP_INDEX, (Binding("corner_attributes", STORAGE_READ, CORNER_ATTRIBUTES),)
 )
+# What textured scenes add to it (gpu/textures.py): the corner texture coordinates, the atlas
+# (linear rgba32float texels read with textureLoad and filtered by hand, as the environment map),
+# the textures' rectangles in it, and each material's textures.
+_TEXTURE_BINDINGS = (
+    Binding("corner_uvs", STORAGE_READ, CORNER_UVS),
+    Binding("texture_atlas", TEXTURE_F32),
+    Binding("textures", STORAGE_READ, TEXTURE),
+    Binding("material_textures", STORAGE_READ, MATERIAL_TEXTURES),
+)
+
+
+def shading_group(smooth: bool, textured: bool) -> BindGroup:
+    """The shading group of a path tracer for a scene with per-vertex normals (`smooth`), textures
+    (`textured`) or both; its file is SHADING_GROUP.file in every variant."""
+    if not (smooth or textured):
+        raise ValueError("a flat, untextured scene binds no shading group")
+    bindings = (SHADING_GROUP.bindings if smooth else ()) + (_TEXTURE_BINDINGS if textured else ())
+    return replace(SHADING_GROUP, bindings=bindings)

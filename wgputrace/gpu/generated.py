@@ -17,6 +17,7 @@ from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from .shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
 from .texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
+from .textures import GENERATED_TEXTURES, textures_hook
 
 GENERATED_STRUCTS = "generated/structs.wgsl"
 
@@ -68,7 +69,7 @@ def generated_structs() -> str:
 def standard_files() -> dict[str, str]:
     """The generated files every kernel gets unless it replaces them: structs and ids, the material
     dispatch for every kind, no lights besides emissive triangles, no ray counting, no denoiser
-    guides, flat shading, the texel loaders and the largest traversal stack."""
+    guides, flat shading, no textures, the texel loaders and the largest traversal stack."""
     return {
         GENERATED_STRUCTS: generated_structs(),
         GENERATED_MATERIALS: material_dispatch(),
@@ -77,6 +78,7 @@ def standard_files() -> dict[str, str]:
         GENERATED_RAY_COUNT: ray_count_hook(counting=False),
         GENERATED_PATH_GUIDES: path_guides_hook(guides=False),
         GENERATED_SHADING_NORMALS: shading_normals_hook(smooth=False),
+        GENERATED_TEXTURES: textures_hook(textured=False),
         GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),
         GENERATED_TRAVERSAL_STACK: traversal_stack(),
     }

@@ -177,4 +177,33 @@ CORNER_ATTRIBUTES = GpuStruct(
     "A triangle's corner normals (unit length; all zero: shade it flat).",
 )
 
+# A triangle's texture coordinates at its corners, in BVH order like CORNER_ATTRIBUTES but their own
+# array, so smooth scenes without textures and textured ones without normals pay only for theirs.
+CORNER_UVS = GpuStruct(
+    "CornerUvs",
+    (("uv0", "vec2<f32>"), ("uv1", "vec2<f32>"), ("uv2", "vec2<f32>")),
+    "A triangle's texture coordinates (glTF's: v down), zero where its shape has none.",
+)
+# One texture's rectangle in the texture atlas (render/texture_atlas.py) and how it is looked up.
+TEXTURE = GpuStruct(
+    "Texture",
+    (
+        ("transform_u", "vec3<f32>"),
+        ("wrap_s", "u32"),
+        ("transform_v", "vec3<f32>"),
+        ("wrap_t", "u32"),
+        ("origin", "vec2<u32>"),
+        ("size", "vec2<u32>"),
+    ),
+    "u' = dot(transform_u, (u, v, 1)), v' likewise (KHR_texture_transform); wrap modes as "
+    "scene/texture.py WRAP_MODES indexes them; the texels at origin, size in the atlas.",
+)
+# Which textures a material reads (an index into the TEXTURE records, NO_TEXTURE for none), one
+# record per material, and the parameters that only textured scenes need.
+MATERIAL_TEXTURES = GpuStruct(
+    "MaterialTextures",
+    (("base_color", "u32"), ("metallic_roughness", "u32"), ("alpha", "f32")),
+    "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's).",
+)
+
 ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

@@ -291,6 +291,11 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
         require_records(context, "environment tables", words, np.dtype(np.uint32).itemsize, storage)
 
 
+def atlas_side(context: GpuContext) -> int:
+    """The texture atlas's largest side on this device (render/texture_atlas.py fits textures to it)."""
+    return context.device.limits["max-texture-dimension-2d"]
+
+
 def fit_environment(context: GpuContext, scene: Scene) -> None:
     """Replace an environment map larger than the adapter holds (its texture side, or its sampling
     tables in one storage binding: 8k maps exceed lavapipe's 128 MiB) by a box-filtered copy that

@@ -18,7 +18,7 @@ import numpy as np
 import wgpu
 
 from ..denoise import denoise
-from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, SHADING_GROUP, lights_group, pixels_group, scene_group
+from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, lights_group, pixels_group, scene_group, shading_group
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.generated import (
@@ -43,15 +43,17 @@ from ..gpu.path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from ..gpu.shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
 from ..gpu.texels import TrackedTexels
+from ..gpu.textures import GENERATED_TEXTURES, textures_hook
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..scene import Camera, Scene
 from .interrupts import Deferral, deferred_signals
 from .light_buffers import LightBuffers
 from .lights import LightTable
-from .limits import check_image_size, check_scene_size, fit_environment
+from .limits import atlas_side, check_image_size, check_scene_size, fit_environment
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
 from .scene_sync import CORNER_ATTRIBUTES, LIGHTS, MATERIALS, NODES, TRIANGLES, SceneMirror
+from .texture_buffers import TextureBuffers
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -105,6 +107,7 @@ def path_tracer_kernel(
     stack_size: int = BVH_STACK_SIZE,
     lights: LightFeatures = NO_LIGHTS,
     smooth: bool = False,
+    textured: bool = False,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
@@ -116,7 +119,8 @@ def path_tracer_kernel(
     group. `stack_size` sizes the BVH traversal's stack (gpu/generated.py traversal_stack_size).
     `lights` compiles in the code of the lights besides emissive triangles (gpu/light_dispatch.py)
     and declares the lights group they are bound in; none by default. `smooth` compiles in shading
-    with per-vertex normals (gpu/shading_normals.py) and declares the shading group."""
+    with per-vertex normals (gpu/shading_normals.py) and declares the shading group; `textured`
+    compiles in the materials' textures (gpu/textures.py) and declares their bindings in that group."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
@@ -133,12 +137,13 @@ def path_tracer_kernel(
         stack_size,
         lights,
         smooth,
+        textured,
     )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
         groups = (scene_group(acceleration), pixels_group(guides), *((BAND_GROUP,) if rows else ()))
         groups += ((RAY_COUNT_GROUP,) if count_rays else ()) + ((lights_group(lights),) if lights.any else ())
-        groups += (SHADING_GROUP,) if smooth else ()
+        groups += (shading_group(smooth, textured),) if smooth or textured else ()
         _kernels[key] = ComputeKernel(
             context,
             "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
@@ -152,11 +157,12 @@ def path_tracer_kernel(
                 GENERATED_LIGHTS: light_dispatch(lights),
                 GENERATED_ESCAPED_LIGHT: escaped_light_hook(lights),
                 GENERATED_SHADING_NORMALS: shading_normals_hook(smooth),
+                GENERATED_TEXTURES: textures_hook(textured),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
             f"{', counting rays' if count_rays else ''}{', guides' if guides else ''}"
-            f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''})",
+            f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''}{', textured' if textured else ''})",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -204,7 +210,7 @@ class Renderer:
         check_image_size(self.context, width, height, guides)
         fit_environment(self.context, scene)
         check_scene_size(self.context, scene, accel)
-        self._mirror = SceneMirror(scene, accel)
+        self._mirror = SceneMirror(scene, accel, atlas_side(self.context))
         self.accel = accel
         loop_limit = self.context.loop_iteration_limit
         # The flat list tests every triangle for each of a path's rays (a camera or extension ray
@@ -228,6 +234,9 @@ class Renderer:
         self._guides = guides
         # the corner attributes (shading normals), only for a scene with per-vertex normals
         self._corner_attributes = self._new_corner_attributes()
+        # the textures' bindings, only for a scene whose materials read textures
+        self._textures = TextureBuffers(self.context, self._mirror)
+        self._textured = self._mirror.textured
         self.kernel = self.kernel_variant()
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
@@ -284,7 +293,8 @@ class Renderer:
 
     @property
     def _shading_buffers(self) -> list[TrackedBuffer]:
-        return [] if self._corner_attributes is None else [self._corner_attributes]
+        corner_attributes = [] if self._corner_attributes is None else [self._corner_attributes]
+        return corner_attributes + list(self._textures.buffers.values())
 
     @property
     def upload_stats(self) -> dict[str, UploadCount]:
@@ -297,7 +307,7 @@ class Renderer:
     @property
     def gpu_scene_bytes(self) -> dict[str, int]:
         """Bytes allocated on the GPU for the scene, by buffer (capacity, spare rows included), the
-        lights besides emissive triangles and the corner attributes included."""
+        lights besides emissive triangles, the corner attributes and the textures (the atlas) included."""
         buffers = [*self._scene_buffers.values(), *self._lights.buffers.values(), *self._shading_buffers]
         return {buffer.label: buffer.capacity_bytes for buffer in buffers}
 
@@ -319,6 +329,7 @@ class Renderer:
         accumulation if anything the GPU reads changed. Returns `upload_stats`."""
         for buffer in (self._frame, *self._scene_buffers.values(), *self._shading_buffers):
             buffer.uploads = UploadCount()
+        texture_generation = self._textures.generation
         generations = [buffer.generation for buffer in self._scene_buffers.values()]
         fit_environment(self.context, self.scene)
         changes = self._mirror.update()
@@ -335,6 +346,7 @@ class Renderer:
         self._lights.sync(self._mirror, changes)
         shading_before = self._shading_state()
         self._sync_corner_attributes(changes)
+        self._textures.sync(self._mirror, changes)
         frame = self._frame_record()
         frame_changed = frame.tobytes() != self._frame_bytes
         if frame_changed:
@@ -343,19 +355,26 @@ class Renderer:
         kinds, stack_size = shaded_kinds(self._mirror.material_kinds), self._needed_stack_size()
         features = self._mirror.light_features
         smoothness_changed = (shading_before is not None) != self.smooth_shading
-        new_pipeline = smoothness_changed or (kinds, stack_size, features) != (
-            self._kinds,
-            self._stack_size,
-            self._light_features,
+        texturing_changed = self._textured != self._mirror.textured
+        self._textured = self._mirror.textured
+        new_pipeline = (
+            smoothness_changed
+            or texturing_changed
+            or (kinds, stack_size, features)
+            != (
+                self._kinds,
+                self._stack_size,
+                self._light_features,
+            )
         )
         if new_pipeline:
             self._kinds, self._stack_size, self._light_features = kinds, stack_size, features
             self.kernel = self.kernel_variant()
         rebind = generations != [buffer.generation for buffer in self._scene_buffers.values()]
-        rebind = rebind or shading_before != self._shading_state()
+        rebind = rebind or shading_before != self._shading_state() or texture_generation != self._textures.generation
         if new_pipeline or rebind or light_generation != self._lights.generation:
             self._bind()
-        if changes or frame_changed or smoothness_changed:
+        if changes or frame_changed or smoothness_changed or texturing_changed:
             self.restart()
         return self.upload_stats
 
@@ -368,8 +387,14 @@ class Renderer:
         }
         if self._light_features.any:
             self._bind_groups["lights"] = self.kernel.bind("lights", **self._lights.resources)
-        if self._corner_attributes is not None:
-            self._bind_groups["shading"] = self.kernel.bind("shading", corner_attributes=self._corner_attributes.buffer)
+        if self._corner_attributes is not None or self._textured:
+            self._bind_groups["shading"] = self.kernel.bind("shading", **self._shading_resources())
+
+    def _shading_resources(self) -> dict[str, object]:
+        """What the shading group binds: the corner attributes where the scene is smooth, the
+        textures where it is textured."""
+        smooth = {} if self._corner_attributes is None else {"corner_attributes": self._corner_attributes.buffer}
+        return {**smooth, **self._textures.resources}
 
     def _new_corner_attributes(self) -> TrackedBuffer | None:
         """The corner attributes' buffer, for a scene with per-vertex normals (else None)."""
@@ -456,6 +481,7 @@ class Renderer:
             stack_size=self._stack_size,
             lights=self._light_features,
             smooth=self.smooth_shading,
+            textured=self._textured,
             **{"guides": self._guides, **options},
         )
 
@@ -486,7 +512,7 @@ class Renderer:
         texel views, rng_states, accumulation, and guide_sums where guides are on), for kernels that
         read them elsewhere (the viewer's)."""
         scene = {name: buffer.resource for name, buffer in self._scene_buffers.items()}
-        shading = {} if self._corner_attributes is None else {"corner_attributes": self._corner_attributes.buffer}
+        shading = self._shading_resources()
         return {"frame": self._frame.buffer, **scene, **self._pixel_resources(), **self._lights.resources, **shading}
 
     def set_camera(self, camera: Camera) -> None:

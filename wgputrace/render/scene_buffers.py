@@ -12,7 +12,7 @@ import numpy as np
 
 from ..bvh import BVH, build_bvh, build_flat
 from ..bvh.wide import BUILD_MAX_DEPTH, WideBVH, collapse
-from ..gpu.layout import BVH_NODE, CORNER_ATTRIBUTES, MATERIAL, TRIANGLE, WIDE_BVH_NODE
+from ..gpu.layout import BVH_NODE, CORNER_ATTRIBUTES, CORNER_UVS, MATERIAL, TRIANGLE, WIDE_BVH_NODE
 from ..scene import Material, TriangleArrays
 
 ACCELERATIONS = ("bvh", "flat")
@@ -91,4 +91,11 @@ def corner_attribute_records(normals: np.ndarray) -> np.ndarray:
     """CORNER_ATTRIBUTES records of (n, 3, 3) corner normals, in the given order."""
     records = CORNER_ATTRIBUTES.zeros(len(normals))
     records["normal0"], records["normal1"], records["normal2"] = normals[:, 0], normals[:, 1], normals[:, 2]
+    return records
+
+
+def corner_uv_records(uvs: np.ndarray) -> np.ndarray:
+    """CORNER_UVS records of (n, 3, 2) corner texture coordinates, in the given order."""
+    records = CORNER_UVS.zeros(len(uvs))
+    records["uv0"], records["uv1"], records["uv2"] = uvs[:, 0], uvs[:, 1], uvs[:, 2]
     return records

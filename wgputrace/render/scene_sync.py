@@ -11,6 +11,12 @@ each edit needs, and reporting which rows changed so only those are uploaded.
 Scenes with per-vertex normals also keep each triangle's corner normals in BVH order (zero for a
 flat shape's triangles); a transform moves its shape's rows of them with its triangles.
 
+Scenes whose materials read textures keep the atlas, its TEXTURE records, a MATERIAL_TEXTURES record
+per material and each triangle's corner texture coordinates in BVH order (render/texture_atlas.py);
+scenes without textures keep none of them, whatever UVs their shapes have. A material's factor is
+its material record; a texture swapped in or out repacks the atlas (uploaded whole) and its
+records; a moved shape's coordinates change only where a mirror swapped its corners.
+
 The light table (next-event estimation) is rebuilt when an emitter's triangles or record change,
 when a light is added, removed or edited, when the environment or its parameters change, and, with
 distant lights or an environment (whose power is what crosses the scene's bounding sphere), when
@@ -45,7 +51,7 @@ from ..gpu.layout import LIGHT_SOURCE, LIGHTING
 from ..gpu.light_dispatch import CONSTANT_ENVIRONMENT, ENVIRONMENT_MAP, LightFeatures
 from ..scene import Scene, Shape
 from ..scene.scene import zero_area
-from ..scene.shapes import corner_normals
+from ..scene.shapes import corner_normals, corner_uvs
 from .environment_records import (
     environment_power,
     environment_state,
@@ -58,11 +64,13 @@ from .scene_buffers import (
     SceneRecords,
     build_acceleration,
     corner_attribute_records,
+    corner_uv_records,
     gpu_node_records,
     material_records,
     set_wide_bounds,
     triangle_records,
 )
+from .texture_atlas import material_texture_records, pack_atlas, used_textures
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
 # Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
@@ -76,6 +84,9 @@ REBUILD_DEGRADATION = 1.2
 
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights"
 CORNER_ATTRIBUTES = "corner attributes"
+CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
+# WebGPU's default max-texture-dimension-2d: the atlas side where no device says otherwise
+DEFAULT_TEXTURE_SIDE = 8192
 LIGHT_SOURCES, LIGHTING_PARAMETERS = "light sources", "lighting"
 ENVIRONMENT_TEXELS, ENVIRONMENT_TABLES = "environment map", "environment tables"
 
@@ -96,11 +107,16 @@ class SceneMirror:
     """GPU records of `scene` (triangles in BVH order, nodes as the GPU traverses them, materials)
     and the state needed to update them incrementally."""
 
-    def __init__(self, scene: Scene, acceleration: str) -> None:
+    def __init__(self, scene: Scene, acceleration: str, texture_side: int = DEFAULT_TEXTURE_SIDE) -> None:
         self.scene, self.acceleration_kind = scene, acceleration
         self.triangles = self.nodes = self.materials = None
         # CORNER_ATTRIBUTES records in BVH order, None for a scene without per-vertex normals
         self.corner_attributes: np.ndarray | None = None
+        # for a scene with textures (else None): CORNER_UVS records in BVH order, the atlas's texels
+        # (float32 (H, W, 4), at most texture_side per side), TEXTURE and MATERIAL_TEXTURES records
+        self.texture_side = texture_side
+        self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
+        self._textures: list = []
         self.lights: LightTable | None = None
         # the light sources' records (LIGHT_SOURCE), the lighting parameters (one LIGHTING record),
         # and an environment map's texels (float32 (H, W, 4)) and sampling tables (uint32 words)
@@ -119,6 +135,11 @@ class SceneMirror:
     @property
     def records(self) -> SceneRecords:
         return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.corner_attributes)
+
+    @property
+    def textured(self) -> bool:
+        """Whether a material reads a texture (and the texture records exist)."""
+        return self.texture_records is not None
 
     @property
     def material_kinds(self) -> frozenset:
@@ -162,6 +183,7 @@ class SceneMirror:
             or (TRIANGLES in changes and self._has_distant_lights())
         ):
             changes.update(self._update_lights())
+        changes.update(self._update_textures(geometry_moved=bool(moved)))
         self._snapshot()
         return {name: rows for name, rows in changes.items() if rows.size}
 
@@ -186,6 +208,43 @@ class SceneMirror:
             or environment_state(environment) != self._environment_state
             or (environment is not None and environment.generation != self._environment_generation)
         )
+
+    def _update_textures(self, geometry_moved: bool) -> dict[str, np.ndarray]:
+        """The texture records of the scene's materials, repacking the atlas where the set of
+        textures changed and the corner coordinates where geometry moved; their changed rows."""
+        materials = self.scene.materials
+        textures = used_textures(materials)
+        if not textures:
+            self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
+            self._textures = []
+            return {}
+        changes = {}
+        if geometry_moved or self.corner_uvs is None:
+            changes[CORNER_UVS] = self._update_corner_uvs()
+        if [id(t) for t in textures] != [id(t) for t in self._textures]:
+            atlas = pack_atlas(textures, self.texture_side)
+            self.atlas_texels = atlas.texels
+            changes[TEXTURE_ATLAS] = np.arange(len(atlas.texels))
+            old = self.texture_records
+            changes[TEXTURES] = np.arange(len(textures)) if old is None else changed_rows(old, atlas.records)
+            self.texture_records, self._textures = atlas.records, textures
+        records = material_texture_records(materials, textures)
+        old = self.material_textures
+        changes[MATERIAL_TEXTURES] = np.arange(len(records)) if old is None else changed_rows(old, records)
+        self.material_textures = records
+        return changes
+
+    def _update_corner_uvs(self) -> np.ndarray:
+        """The corner texture coordinates in BVH order from the shapes as they are; the changed rows."""
+        shapes = self.scene.shapes
+        shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
+        uvs = np.zeros((len(self._position), 3, 2), np.float32)
+        scene_uvs = corner_uvs(shapes, shape_index, self._local_index)
+        uvs[self._position] = 0.0 if scene_uvs is None else scene_uvs
+        records = corner_uv_records(uvs)
+        old = self.corner_uvs
+        self.corner_uvs = records
+        return np.arange(len(records)) if old is None else changed_rows(old, records)
 
     def _update_environment_map(self) -> dict[str, np.ndarray]:
         """A new environment or new texels: the map's texels and sampling tables as the GPU holds
@@ -259,6 +318,8 @@ class SceneMirror:
         self._position = np.empty(len(order), np.int64)
         self._position[order] = np.arange(len(order))
         changes.update(self._update_lights())
+        self.corner_uvs = None  # new triangles: every row is new
+        changes.update(self._update_textures(geometry_moved=True))
         self.rebuilds += 1
         self._needs_rebuild = False
         self._snapshot()

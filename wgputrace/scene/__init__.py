@@ -8,6 +8,7 @@ from .lights import *  # noqa: F403 (the base, its error and every light kind, b
 from .materials import *  # noqa: F403 (the base, its error and every material kind, by module discovery)
 from .scene import DegenerateTrianglesWarning, Scene, TriangleArrays
 from .shapes import Shape, make_box, make_icosphere, make_plane, model_matrix
+from .texture import Texture, TextureTransform
 
 __all__ = [
     "Camera",
@@ -15,6 +16,8 @@ __all__ = [
     "Scene",
     "SceneError",
     "Shape",
+    "Texture",
+    "TextureTransform",
     "TriangleArrays",
     "cornell_box",
     "make_box",

@@ -1,8 +1,8 @@
 """Shape generators with trac0r's parameters: planes, boxes and icospheres made of flat triangles.
 
 A shape may carry per-corner attributes beside its corners, each an array (n, 3, k) in the
-triangles' order: so far `normals` (k = 3) for smooth shading; texture coordinates and tangents
-join as one more such array each.
+triangles' order: `normals` (k = 3) for smooth shading, `uvs` (k = 2) texture coordinates; tangents
+join as one more such array.
 
 Every generator places a unit shape with model = translate(position) . rotate(orientation) .
 scale(size). `orientation` holds Euler angles in radians, applied about x, then y, then z
@@ -103,6 +103,10 @@ class Shape:
     length; `world_normals` are them under the inverse transpose of the transform. Assigning
     `normals` bumps `geometry_version`, as new vertices do.
 
+    `uvs`, optional (n, 3, 2), are texture coordinates at the corners (glTF's convention,
+    scene/texture.py), finite; `world_uvs` swap corners where a mirroring transform swaps them.
+    Assigning `uvs` bumps `geometry_version` too.
+
     `vertices` (n, 3, 3) float32 are local coordinates (triangle, corner, xyz); the world sees
     `world_vertices`, the transform applied in float64 (a mirroring transform swaps two corners so
     normals keep their side). Assigning `vertices`, `transform` or `material` checks the value
@@ -113,13 +117,21 @@ class Shape:
     """
 
     def __init__(
-        self, name: str, vertices, material: Material, tags: dict | None = None, transform=None, normals=None
+        self,
+        name: str,
+        vertices,
+        material: Material,
+        tags: dict | None = None,
+        transform=None,
+        normals=None,
+        uvs=None,
     ) -> None:
         self.name = name
         self.tags = dict(tags or {})
         self.geometry_version = self.transform_version = self.material_version = 0
         checked = _checked_vertices(name, vertices)
         self._normals = None if normals is None else _checked_normals(name, normals, len(checked))
+        self._uvs = None if uvs is None else _checked_uvs(name, uvs, len(checked))
         self._place(checked, _IDENTITY if transform is None else checked_transform(name, transform))
         self.material = material
 
@@ -133,11 +145,12 @@ class Shape:
     @vertices.setter
     def vertices(self, value) -> None:
         vertices = _checked_vertices(self.name, value)
-        if self._normals is not None and len(vertices) != len(self._normals):
-            raise SceneError(
-                f"shape {self.name!r}: {len(vertices)} triangles of vertices but {len(self._normals)} of normals "
-                "(assign normals = None first, or build a new Shape)"
-            )
+        for attribute, values in (("normals", self._normals), ("uvs", self._uvs)):
+            if values is not None and len(vertices) != len(values):
+                raise SceneError(
+                    f"shape {self.name!r}: {len(vertices)} triangles of vertices but {len(values)} of {attribute} "
+                    f"(assign {attribute} = None first, or build a new Shape)"
+                )
         self._place(vertices, self._transform)
         self.geometry_version += 1
 
@@ -151,6 +164,24 @@ class Shape:
         self._normals = None if value is None else _checked_normals(self.name, value, len(self._vertices))
         self._place(self._vertices, self._transform)
         self.geometry_version += 1
+
+    @property
+    def uvs(self) -> np.ndarray | None:
+        """Texture coordinates at the corners, (n, 3, 2) float32, or None (no textures can apply)."""
+        return self._uvs
+
+    @uvs.setter
+    def uvs(self, value) -> None:
+        self._uvs = None if value is None else _checked_uvs(self.name, value, len(self._vertices))
+        self._place(self._vertices, self._transform)
+        self.geometry_version += 1
+
+    @property
+    def world_uvs(self) -> np.ndarray | None:
+        """The texture coordinates at the corners of `world_vertices` (a mirror swaps two corners)."""
+        if self._uvs is None or np.linalg.det(self._transform[:3, :3]) >= 0:
+            return self._uvs
+        return self._uvs[:, [0, 2, 1], :]
 
     @property
     def transform(self) -> np.ndarray:
@@ -191,7 +222,11 @@ class Shape:
         """This shape's world triangles under an affine 4x4 or linear 3x3 matrix, baked into new
         local vertices; a mirror keeps normals facing out."""
         normals = None if self._world_normals is None else transform_normals(self._world_normals, matrix)
-        return Shape(self.name, transform_points(self._world, matrix), self.material, dict(self.tags), normals=normals)
+        uvs = self.world_uvs
+        if uvs is not None and np.linalg.det(np.asarray(matrix, np.float64)[:3, :3]) < 0:
+            uvs = uvs[:, [0, 2, 1], :]
+        world = transform_points(self._world, matrix)
+        return Shape(self.name, world, self.material, dict(self.tags), normals=normals, uvs=uvs)
 
     def _place(self, vertices: np.ndarray, transform: np.ndarray) -> None:
         # an identity stays exact: float64 arithmetic would turn -0.0 into 0.0
@@ -261,6 +296,27 @@ def _checked_normals(name: str, value, triangle_count: int) -> np.ndarray:
     unit = (normals / lengths).astype(np.float32)
     unit.flags.writeable = False
     return unit
+
+
+def _checked_uvs(name: str, value, triangle_count: int) -> np.ndarray:
+    """A read-only (n, 3, 2) float32 copy of corner texture coordinates, or SceneError naming the
+    first triangle with a NaN or infinite one."""
+    try:
+        uvs = np.array(value, dtype=np.float32)
+    except (TypeError, ValueError) as error:
+        raise SceneError(f"shape {name!r}: uvs must be numbers, got {error}") from None
+    if uvs.shape != (triangle_count, 3, 2):
+        raise SceneError(
+            f"shape {name!r}: uvs must have shape ({triangle_count}, 3, 2) like the vertices, got {uvs.shape}"
+        )
+    bad = np.flatnonzero(~np.isfinite(uvs).all(axis=(1, 2)))
+    if bad.size:
+        raise SceneError(
+            f"shape {name!r}: triangle {int(bad[0])} has a NaN or infinite texture coordinate "
+            f"{uvs[bad[0]].tolist()} ({bad.size} triangle(s) affected)"
+        )
+    uvs.flags.writeable = False
+    return uvs
 
 
 def checked_transform(name: str, value) -> np.ndarray:
@@ -348,6 +404,21 @@ def corner_normals(shapes: list[Shape], shape_index: np.ndarray, local_index: np
             rows = slice(starts[index], starts[index + 1])
             normals[rows] = shape.world_normals[local_index[rows]]
     return normals
+
+
+def corner_uvs(shapes: list[Shape], shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray | None:
+    """The world corner texture coordinates (n, 3, 2) float32 of the triangles that `shape_index`
+    and `local_index` pick, as corner_normals picks them, zero for shapes without; None where no
+    shape has any."""
+    if all(shape.uvs is None for shape in shapes):
+        return None
+    uvs = np.zeros((len(shape_index), 3, 2), np.float32)
+    starts = np.searchsorted(shape_index, np.arange(len(shapes) + 1))
+    for index, shape in enumerate(shapes):
+        if shape.uvs is not None:
+            rows = slice(starts[index], starts[index + 1])
+            uvs[rows] = shape.world_uvs[local_index[rows]]
+    return uvs
 
 
 def _place(name: str, corners: np.ndarray, faces: np.ndarray, matrix: np.ndarray, material: Material) -> Shape:

@@ -8,11 +8,16 @@ need, the same on both sides.
 | roughness  | float [0, 1]  | 0.5     | GGX alpha = roughness^2 (at least 0.001); also drives retro-reflection |
 | eta        | float > 0     | 1.5     | index of refraction of the specular layer (Mitsuba's `specular` s is eta_from_specular(s)) |
 | spec_trans | 0             | 0       | transmission: not supported yet, any other value is refused      |
+| base_color_texture | Texture (sRGB) or None | None | RGB x base_color (glTF baseColorTexture); its alpha x alpha |
+| metallic_roughness_texture | Texture (linear) or None | None | G x roughness, B x metallic (glTF metallicRoughnessTexture) |
+| alpha      | float [0, 1]  | 1       | coverage x the base colour texture's alpha (alpha_mode: cut-outs, blending) |
 
 A Disney diffuse lobe with retro-reflection, weighted by 1 - metallic, plus GGX reflection whose
 Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic Schlick(base_color). Sampling
 picks the diffuse lobe with probability (1 - metallic) / (2 - metallic), else a visible GGX normal.
-GPU record: color = base_color, alpha = roughness, ior = eta, metallic.
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic. Textures and alpha are in
+the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
+reads these fields (shaders/textures.wgsl resolve_material), so the BSDF code sees constants.
 WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `twosided` `principled` with the same values.
 """
 
@@ -21,6 +26,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..texture import Texture
 from .glass import IOR_MAX
 from .material import Material, MaterialError, MaterialShader, check_color, check_number, mitsuba_rgb
 
@@ -38,6 +44,9 @@ class Principled(Material):
     roughness: float = 0.5
     eta: float = 1.5
     spec_trans: float = 0.0
+    base_color_texture: Texture | None = None
+    metallic_roughness_texture: Texture | None = None
+    alpha: float = 1.0
 
     kind = 5
     shader = MaterialShader(
@@ -53,7 +62,15 @@ class Principled(Material):
                 f"material {self.name!r}: spec_trans must be 0 (transmission is not supported yet), got {self.spec_trans!r}",
                 "spec_trans",
             )
+        for parameter in ("base_color_texture", "metallic_roughness_texture"):
+            value = getattr(self, parameter)
+            if value is not None and not isinstance(value, Texture):
+                raise MaterialError(
+                    f"material {self.name!r}: {parameter} must be a Texture or None, got {type(value).__name__}",
+                    parameter,
+                )
         return {
+            "alpha": check_number(self.name, "alpha", self.alpha, low=0.0, high=1.0),
             "base_color": check_color(self.name, "base_color", self.base_color, upper=1.0),
             "metallic": check_number(self.name, "metallic", self.metallic, low=0.0, high=1.0),
             "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),

@@ -1,0 +1,122 @@
+"""The scene's textures as the GPU holds them: one atlas of linear float32 RGBA texels with every
+texture a rectangle in it, a TEXTURE record per texture (its rectangle, wrap modes and transform)
+and a MATERIAL_TEXTURES record per material (which textures it reads).
+
+An atlas rather than array layers: layers share one size, so a scene's mixed sizes (a 2048 base
+colour beside a 256 mask) would pad every layer to the largest, and the layer count is a limit of
+its own (256 in WebGPU's defaults); one 2D texture holds any mix and binds as one resource. Shelf
+packing (tallest first, rows left to right) wastes little for the few textures a scene has.
+Textures are not padded against each other: the lookup wraps texel indices inside each rectangle
+(shaders/textures.wgsl), so no filter reaches a neighbour.
+
+A texture larger than the device's texture side (render/limits.py atlas_side) is box-filtered down
+until it fits, with a TextureWarning naming both sizes: refusing the large textures users download
+would serve them worse than a softer one.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..gpu.layout import MATERIAL_TEXTURES, TEXTURE
+from ..gpu.textures import NO_TEXTURE
+from ..scene import Material, SceneError
+from ..scene.texture import WRAP_MODES, Texture
+
+# the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
+TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name != "alpha")
+
+
+class TextureWarning(UserWarning):
+    """A texture was changed to fit the device (downscaled), and the warning says how."""
+
+
+@dataclass
+class Atlas:
+    texels: np.ndarray  # float32 (H, W, 4), linear RGBA
+    records: np.ndarray  # TEXTURE.dtype, one per texture in `used_textures` order
+
+
+def material_textures(material: Material) -> dict[str, Texture]:
+    """The textures `material` reads, by MATERIAL_TEXTURES slot."""
+    slots = {slot: getattr(material, f"{slot}_texture", None) for slot in TEXTURE_SLOTS}
+    return {slot: texture for slot, texture in slots.items() if texture is not None}
+
+
+def used_textures(materials: list[Material]) -> list[Texture]:
+    """Every texture the materials read, each once, in first-use order."""
+    seen: dict[int, Texture] = {}
+    for material in materials:
+        for texture in material_textures(material).values():
+            seen.setdefault(id(texture), texture)
+    return list(seen.values())
+
+
+def material_texture_records(materials: list[Material], textures: list[Texture]) -> np.ndarray:
+    """MATERIAL_TEXTURES records: each material's textures as indices into `textures`."""
+    index = {id(texture): i for i, texture in enumerate(textures)}
+    records = MATERIAL_TEXTURES.zeros(len(materials))
+    for record, material in zip(records, materials, strict=True):
+        slots = material_textures(material)
+        for slot in TEXTURE_SLOTS:
+            record[slot] = index[id(slots[slot])] if slot in slots else NO_TEXTURE
+        record["alpha"] = getattr(material, "alpha", 1.0)
+    return records
+
+
+def fitted_texels(texture: Texture, side: int) -> np.ndarray:
+    """The texture's texels, box-filtered by the smallest whole factor that fits `side` (with a
+    TextureWarning), or as they are where they fit."""
+    texels = texture.linear_texels
+    height, width = texels.shape[:2]
+    factor = math.ceil(max(width, height) / side)
+    if factor == 1:
+        return texels
+    fitted_height, fitted_width = math.ceil(height / factor), math.ceil(width / factor)
+    # the last block of a side that the factor does not divide repeats its edge texels
+    padded = np.pad(texels, ((0, fitted_height * factor - height), (0, fitted_width * factor - width), (0, 0)), "edge")
+    fitted = padded.reshape(fitted_height, factor, fitted_width, factor, 4).mean(axis=(1, 3), dtype=np.float64)
+    warnings.warn(
+        f"texture {texture.name!r} is {width}x{height} texels, over the device's {side} per side: "
+        f"downscaled to {fitted_width}x{fitted_height}",
+        TextureWarning,
+        stacklevel=2,
+    )
+    return fitted.astype(np.float32)
+
+
+def pack_atlas(textures: list[Texture], side: int) -> Atlas:
+    """The atlas of `textures` (each fitted to `side`), or SceneError naming the limit where their
+    rectangles cannot share one texture of that side."""
+    images = [fitted_texels(texture, side) for texture in textures]
+    area = sum(image.shape[0] * image.shape[1] for image in images)
+    widest = max(image.shape[1] for image in images)
+    width = min(side, max(widest, 2 ** math.ceil(math.log2(math.sqrt(area)))))
+    origins = np.zeros((len(images), 2), np.int64)
+    x = y = shelf_height = 0
+    for i in sorted(range(len(images)), key=lambda i: -images[i].shape[0]):
+        height_i, width_i = images[i].shape[:2]
+        if x + width_i > width:
+            x, y, shelf_height = 0, y + shelf_height, 0
+        origins[i] = x, y
+        x, shelf_height = x + width_i, max(shelf_height, height_i)
+    # the shelves' width as used: narrower than `width` where no shelf filled it
+    height, width = y + shelf_height, int((origins[:, 0] + [image.shape[1] for image in images]).max())
+    if height > side:
+        raise SceneError(
+            f"the scene's {len(textures)} textures ({area:,} texels) need an atlas {width}x{height}, "
+            f"over the device's {side} texels per side"
+        )
+    texels = np.zeros((height, width, 4), np.float32)
+    records = TEXTURE.zeros(len(textures))
+    for record, texture, image, (ox, oy) in zip(records, textures, images, origins, strict=True):
+        texels[oy : oy + image.shape[0], ox : ox + image.shape[1]] = image
+        rows = texture.transform.rows()
+        record["transform_u"], record["transform_v"] = rows[0], rows[1]
+        record["wrap_s"], record["wrap_t"] = WRAP_MODES.index(texture.wrap_s), WRAP_MODES.index(texture.wrap_t)
+        record["origin"], record["size"] = (ox, oy), (image.shape[1], image.shape[0])
+    return Atlas(texels, records)

@@ -1,0 +1,124 @@
+"""Textures: an image a material parameter reads through a shape's texture coordinates.
+
+Coordinates follow glTF: (0, 0) is the image's top-left texel corner, u runs right and v down, and
+texel (row i, column j) covers [j, j + 1] / W x [i, i + 1] / H. OBJ's `vt` has v up; its loader
+flips it. Outside [0, 1] each axis wraps by its mode: "repeat", "clamp" (to the edge texel) or
+"mirror" (glTF's 10497, 33071, 33648). A TextureTransform (KHR_texture_transform) maps a shape's
+coordinates before the lookup: uv' = offset + R(rotation) S(scale) uv, in glTF's convention.
+
+Texels are kept as linear float32 RGBA (`linear_texels`): 8-bit sRGB images are decoded here, once,
+so the GPU interpolates linear values (decoding after interpolating would darken edges). Fewer than
+four channels fill out as glTF reads them: grey -> RGB, grey+alpha, RGB with alpha 1.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import SceneError
+
+WRAP_MODES = ("repeat", "clamp", "mirror")
+# the largest side a Texture accepts; the GPU's own limit (render/limits.py) may be smaller, and
+# a texture over it is downscaled with a warning there
+MAX_TEXTURE_SIDE = 65536
+
+
+@dataclass(frozen=True)
+class TextureTransform:
+    """KHR_texture_transform: uv' = offset + R(rotation) S(scale) uv (rotation in radians,
+    counter-clockwise in the image as the extension defines it)."""
+
+    offset: tuple[float, float] = (0.0, 0.0)
+    rotation: float = 0.0
+    scale: tuple[float, float] = (1.0, 1.0)
+
+    def rows(self) -> np.ndarray:
+        """(2, 3) float32: u' = rows[0] . (u, v, 1), v' = rows[1] . (u, v, 1) (the extension's matrix)."""
+        c, s = math.cos(self.rotation), math.sin(self.rotation)
+        (su, sv), (ou, ov) = self.scale, self.offset
+        return np.array([[c * su, s * sv, ou], [-s * su, c * sv, ov]], np.float32)
+
+
+def srgb_to_linear(values: np.ndarray) -> np.ndarray:
+    """The sRGB transfer function inverted (IEC 61966-2-1), values in [0, 1]."""
+    return np.where(values <= 0.04045, values / 12.92, ((values + 0.055) / 1.055) ** 2.4)
+
+
+class Texture:
+    """`pixels`: uint8 (H, W, C) or float (H, W, C), C in 1..4 (a (H, W) array is one channel).
+    `srgb`: the colour channels are sRGB-encoded (base colour, emission), else linear data
+    (metallic-roughness, normals); alpha is always linear. Float pixels are taken as they are."""
+
+    def __init__(
+        self,
+        pixels,
+        *,
+        srgb: bool = True,
+        wrap_s: str = "repeat",
+        wrap_t: str = "repeat",
+        name: str = "",
+        transform: TextureTransform = TextureTransform(),
+    ) -> None:
+        self.name, self.srgb, self.transform = name, bool(srgb), transform
+        for axis, mode in (("wrap_s", wrap_s), ("wrap_t", wrap_t)):
+            if mode not in WRAP_MODES:
+                raise SceneError(f"texture {name!r}: {axis} must be one of {WRAP_MODES}, got {mode!r}")
+        self.wrap_s, self.wrap_t = wrap_s, wrap_t
+        self.linear_texels = _linear_texels(name, pixels, self.srgb)
+
+    @classmethod
+    def from_file(cls, path, *, srgb: bool = True, **options) -> Texture:
+        """A texture of an image file PIL reads; SceneError naming the file where it cannot."""
+        from PIL import Image, UnidentifiedImageError
+
+        path = Path(path)
+        try:
+            with Image.open(path) as image:
+                image.load()
+                mode = image.mode if image.mode in ("L", "LA", "RGB", "RGBA") else "RGBA"
+                pixels = np.asarray(image.convert(mode))
+        except (OSError, UnidentifiedImageError, Image.DecompressionBombError) as error:
+            raise SceneError(f"texture file {str(path)!r}: cannot read it as an image ({error})") from None
+        return cls(pixels, srgb=srgb, name=options.pop("name", path.name), **options)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(width, height) in texels."""
+        return self.linear_texels.shape[1], self.linear_texels.shape[0]
+
+    def __repr__(self) -> str:
+        return f"Texture({self.name!r}, {self.size[0]}x{self.size[1]}, srgb={self.srgb})"
+
+
+def _linear_texels(name: str, pixels, srgb: bool) -> np.ndarray:
+    """Read-only float32 (H, W, 4) linear RGBA of `pixels`, or SceneError naming what is wrong."""
+    array = np.asarray(pixels)
+    if array.ndim == 2:
+        array = array[:, :, None]
+    if array.ndim != 3 or not 1 <= array.shape[2] <= 4:
+        raise SceneError(f"texture {name!r}: pixels must be (H, W, C) with C in 1..4, got shape {array.shape}")
+    height, width, channels = array.shape
+    if not (0 < height <= MAX_TEXTURE_SIDE and 0 < width <= MAX_TEXTURE_SIDE):
+        raise SceneError(f"texture {name!r}: {width}x{height} texels, each side must be 1 to {MAX_TEXTURE_SIDE:,}")
+    if array.dtype == np.uint8:
+        values = array.astype(np.float32) / 255.0
+    elif np.issubdtype(array.dtype, np.floating):
+        values = array.astype(np.float32)
+        if not np.isfinite(values).all():
+            raise SceneError(f"texture {name!r}: pixels must be finite")
+    else:
+        raise SceneError(f"texture {name!r}: pixels must be uint8 or float, got {array.dtype}")
+    colour = values[:, :, : 3 if channels >= 3 else 1]
+    alpha = values[:, :, 3 if channels == 4 else 1 : 4 if channels == 4 else 2]
+    if array.dtype == np.uint8 and srgb:
+        colour = srgb_to_linear(colour).astype(np.float32)
+    texels = np.ones((height, width, 4), np.float32)
+    texels[:, :, :3] = colour
+    if channels in (2, 4):
+        texels[:, :, 3] = alpha[:, :, 0]
+    texels.flags.writeable = False
+    return texels
