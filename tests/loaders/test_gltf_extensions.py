@@ -36,7 +36,7 @@ def without_dracopy(monkeypatch):
     "extension, said",
     [
         ("EXT_meshopt_compression", "EXT_meshopt_compression (meshoptimizer-compressed buffers): no decoder here"),
-        ("KHR_texture_basisu", "KHR_texture_basisu (KTX2 textures): textures are not read yet"),
+        ("KHR_texture_basisu", "KHR_texture_basisu (KTX2 textures): not decoded here"),
         ("EXT_made_up", "EXT_made_up"),
     ],
 )

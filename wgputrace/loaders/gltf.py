@@ -11,18 +11,13 @@ primitives in mode TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN (points and lines a
 SceneLoadWarning), their POSITION (float VEC3), NORMAL (float VEC3: the corner normals of smooth
 shading; a primitive without them shades flat, as the glTF specification asks) and indices; the
 first perspective camera met in the tree (looking along its node's -z, +y up, vertical field of
-view `yfov`). Sparse accessors, textures, skins and morph targets are not read; closed shapes are
+view `yfov`). Sparse accessors, skins, morph targets and TEXCOORD_1 and above are not read; closed shapes are
 wound outwards (orientation.py).
 
-Materials (metallic-roughness; the first rule that applies):
-
-| glTF material                                                          | wgputrace material |
-|------------------------------------------------------------------------|--------------------|
-| `emissiveFactor` x `KHR_materials_emissive_strength.emissiveStrength` > 0 | Emitter: color = emissiveFactor, emittance = emissiveStrength (default 1) |
-| `KHR_materials_transmission.transmissionFactor` >= 0.5                 | Glass: color = baseColorFactor rgb, ior = `KHR_materials_ior.ior` (default 1.5) |
-| `pbrMetallicRoughness.metallicFactor` (default 1) >= 0.5               | Glossy: color = baseColorFactor rgb, roughness = roughnessFactor^2 (glTF's roughness is perceptual; GGX alpha is its square) |
-| anything else                                                          | Diffuse: color = baseColorFactor rgb |
-| a primitive without a material                                         | Diffuse: grey 0.8 (not glTF's default, which is a rough metal) |
+Materials: gltf_materials.py (pbrMetallicRoughness, its textures and extensions; the table of
+every field read and every one ignored). A primitive whose material has textures gets its
+TEXCOORD_0 (float, or normalized unsigned byte or short, VEC2) as the shape's corner uvs, and,
+under a normal map, its TANGENT (float VEC4: xyz and the bitangent's sign) as corner tangents.
 
 Lights (`KHR_lights_punctual`): each node naming a light by `extensions.KHR_lights_punctual.light`
 instances it at the node's world translation, shining along the node's world -z (as glTF's cameras
@@ -69,15 +64,9 @@ import numpy as np
 
 from ..scene import (
     Camera,
-    Diffuse,
     DirectionalLight,
-    Emitter,
-    Glass,
-    Glossy,
     Light,
     LightError,
-    Material,
-    MaterialError,
     PointLight,
     SceneError,
     Shape,
@@ -93,6 +82,8 @@ from .gltf_compression import (
     decode_draco,
     draco_available,
 )
+from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
+from .textures import NORMAL_MAP, material_textures
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -102,10 +93,12 @@ COMPONENT_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u
 INDEX_TYPES = (5121, 5123, 5125)
 ELEMENT_SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 MODE_TRIANGLES, MODE_STRIP, MODE_FAN = 4, 5, 6
-DEFAULT_DIFFUSE = 0.8
-DEFAULT_IOR = 1.5  # KHR_materials_ior's default
-# We have no blends of lobes: a factor from this value up picks the lobe.
-LOBE_THRESHOLD = 0.5
+# the per-vertex attributes read beside POSITION: their componentTypes and element type
+VERTEX_ATTRIBUTES = {
+    "NORMAL": ((5126,), "VEC3"),
+    "TEXCOORD_0": ((5126, 5121, 5123), "VEC2"),
+    "TANGENT": ((5126,), "VEC4"),
+}
 LIGHTS_EXTENSION = "KHR_lights_punctual"
 LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
 # KHR_lights_punctual's defaults and limit for a spot's cones (radians)
@@ -116,6 +109,7 @@ READ_EXTENSIONS = {
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    TRANSFORM_EXTENSION,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
 UNREAD_EXTENSIONS = {
@@ -124,7 +118,7 @@ UNREAD_EXTENSIONS = {
         "meshoptimizer-compressed buffers",
         "no decoder here: save the file without meshopt compression",
     ),
-    "KHR_texture_basisu": ("KTX2 textures", "textures are not read yet"),
+    "KHR_texture_basisu": ("KTX2 textures", "not decoded here: save the file with PNG or JPEG textures"),
 }
 
 
@@ -428,7 +422,7 @@ def read_gltf(path: Path) -> GltfContents:
         nodes = reader.get(document, "nodes", list, "glTF", [])
         children = {c for n in nodes if isinstance(n, dict) for c in n.get("children", []) if isinstance(c, int)}
         roots = [i for i in range(len(nodes)) if i not in children]
-    materials: dict[int | None, Material] = {}
+    materials = GltfMaterials(reader)
     shapes: list[Shape] = []
     lights: list[Light] = []
     camera = None
@@ -477,7 +471,7 @@ def _local_matrix(reader: _Reader, node: dict, where: str) -> np.ndarray:
     return matrix
 
 
-def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: dict, where: str) -> list[Shape]:
+def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: GltfMaterials, where: str) -> list[Shape]:
     mesh = reader.item("meshes", mesh_index, f"{where}.mesh")
     mesh_where = f"meshes[{mesh_index}]"
     name = mesh.get("name") if isinstance(mesh.get("name"), str) else f"mesh{mesh_index}"
@@ -516,27 +510,39 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: dict
         faces = _triangles(indices, mode)
         if faces.size == 0:
             continue
-        normals = None
-        if "NORMAL" in attributes:
-            normals = reader.accessor(
-                reader.get(attributes, "NORMAL", int, f"{primitive_where}.attributes"),
-                f"{primitive_where}.attributes.NORMAL",
-                (5126,),
-                ("VEC3",),
+        material = materials.material(primitive.get("material"), primitive_where)
+        textures = material_textures(material)
+        corner = {
+            key: _corner_attribute(reader, attributes, semantic, faces, len(positions), primitive_where)
+            for key, semantic, wanted in (
+                ("normals", "NORMAL", True),
+                ("uvs", "TEXCOORD_0", bool(textures)),
+                ("tangents", "TANGENT", NORMAL_MAP in textures),
             )
-            if len(normals) != len(positions):
-                raise reader.fail(
-                    f"{primitive_where}.attributes.NORMAL",
-                    f"has {len(normals)} normals for {len(positions)} positions",
-                )
-            normals = normals[faces]
-        material = _material(reader, primitive.get("material"), materials, primitive_where)
+            if wanted and semantic in attributes
+        }
         label = name if len(primitives) == 1 else f"{name}.{number}"
         try:
-            shapes.append(Shape(label, positions[faces], material, transform=world, normals=normals))
+            shapes.append(Shape(label, positions[faces], material, transform=world, **corner))
         except SceneError as error:
             raise reader.fail(f"{where} ({primitive_where})", str(error)) from None
     return shapes
+
+
+def _corner_attribute(
+    reader: _Reader, attributes: dict, semantic: str, faces: np.ndarray, vertex_count: int, where: str
+) -> np.ndarray:
+    """(n, 3, k) float values of per-vertex attribute `semantic` at the corners of `faces`;
+    normalized integers (which glTF allows for TEXCOORD_n) scaled to [0, 1]."""
+    types, shape = VERTEX_ATTRIBUTES[semantic]
+    index = reader.get(attributes, semantic, int, f"{where}.attributes")
+    where = f"{where}.attributes.{semantic}"
+    values = reader.accessor(index, where, types, (shape,))
+    if len(values) != vertex_count:
+        raise reader.fail(where, f"has {len(values)} values for {vertex_count} positions")
+    if values.dtype.kind == "u":
+        values = values / np.float32(np.iinfo(values.dtype).max)
+    return values[faces].astype(np.float32)
 
 
 def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
@@ -548,46 +554,6 @@ def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
         odd = k % 2
         return np.stack([indices[k], indices[k + 1 + odd], indices[k + 2 - odd]], axis=1)
     return np.stack([indices[k + 1], indices[k + 2], np.broadcast_to(indices[:1], k.shape)], axis=1)
-
-
-def _material(reader: _Reader, index, cache: dict, where: str) -> Material:
-    if index is not None and (not isinstance(index, int) or isinstance(index, bool)):
-        raise reader.fail(f"{where}.material", f"must be a material index, got {index!r:.40}")
-    if index not in cache:
-        cache[index] = _mapped_material(reader, index, where)
-    return cache[index]
-
-
-def _mapped_material(reader: _Reader, index, where: str) -> Material:
-    """The wgputrace material for glTF material `index`, by the table in this module's docstring."""
-    if index is None:
-        return Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
-    entry = reader.item("materials", index, f"{where}.material")
-    where = f"materials[{index}]"
-    name = entry.get("name") if isinstance(entry.get("name"), str) else f"material{index}"
-    pbr = reader.get(entry, "pbrMetallicRoughness", dict, where, {})
-    base = reader.numbers(pbr, "baseColorFactor", 4, f"{where}.pbrMetallicRoughness", [1.0, 1.0, 1.0, 1.0])[:3]
-    metallic = reader.get(pbr, "metallicFactor", float, f"{where}.pbrMetallicRoughness", 1.0)
-    roughness = reader.get(pbr, "roughnessFactor", float, f"{where}.pbrMetallicRoughness", 1.0)
-    emissive = reader.numbers(entry, "emissiveFactor", 3, where, [0.0, 0.0, 0.0])
-    extensions = reader.get(entry, "extensions", dict, where, {})
-
-    def extension(name: str, key: str, default: float) -> float:
-        block = reader.get(extensions, name, dict, f"{where}.extensions", {})
-        return reader.get(block, key, float, f"{where}.extensions.{name}", default)
-
-    strength = extension("KHR_materials_emissive_strength", "emissiveStrength", 1.0)
-    transmission = extension("KHR_materials_transmission", "transmissionFactor", 0.0)
-    try:
-        if emissive.max() * strength > 0:
-            return Emitter(name, color=emissive.tolist(), emittance=strength)
-        if transmission >= LOBE_THRESHOLD:
-            return Glass(name, color=base.tolist(), ior=extension("KHR_materials_ior", "ior", DEFAULT_IOR))
-        if metallic >= LOBE_THRESHOLD:
-            return Glossy(name, color=base.tolist(), roughness=roughness * roughness)
-        return Diffuse(name, color=base.tolist())
-    except MaterialError as error:
-        raise reader.fail(where, str(error)) from None
 
 
 def _camera(reader: _Reader, index, world: np.ndarray, where: str) -> Camera | None:

@@ -10,10 +10,28 @@ becomes a fan of triangles (right for convex polygons). `o`, `g` and `usemtl` ea
 shape, named after the latest `o` or `g` (the file's stem before any). `vn` normals referenced by
 faces (`i//n`, `i/t/n`) become the shape's corner normals (smooth shading); a shape none of whose
 faces names a normal shades flat, and a face without them in a shape with some takes its flat
-normal at its corners. Texture coordinates, smoothing groups, lines, points and free-form
-geometry are ignored. Closed shapes are wound outwards (orientation.py), which Glass needs.
+normal at its corners. `vt u v` texture coordinates referenced by faces (`i/t`, `i/t/n`) become
+the corner uvs of a shape whose material has a texture map, in glTF's convention (v = 1 - v_obj:
+OBJ's v runs up the image); a corner naming none reads (0, 0). Smoothing groups, lines, points
+and free-form geometry are ignored. Closed shapes are wound outwards (orientation.py), which Glass needs.
 
-Materials come from `mtllib` files beside the OBJ. The first rule that applies:
+Materials come from `mtllib` files beside the OBJ. A material with any of the maps below (files
+beside the .mtl; statement options: mtl_maps.py) becomes a Principled, unless it is transparent by
+`d` < 1 or `Tr` > 0 without a `map_d` (then Glass, as below):
+
+| MTL statement                          | Principled parameter                                           |
+|----------------------------------------|----------------------------------------------------------------|
+| `Kd` (default 0.8), `map_Kd` (sRGB)     | base_color = Kd, or 1 where map_Kd is given (exporters write their default Kd beside it); base_color_texture = map_Kd |
+| `Pm` (default 0), `map_Pm`              | metallic; the map's first channel as the metallic-roughness texture's B |
+| `Pr`, else from `Ns` (sqrt of Walter et al.'s alpha), else 0.5; `map_Pr` | roughness; the map's first channel as G |
+| `Ni` (default 1.5)                      | eta                                                            |
+| `Ke` (default 1 under map_Ke), `map_Ke` (sRGB) | emission, emission_texture                              |
+| `map_d`                                 | the base colour texture's alpha (its first channel), alpha_mode BLEND (dissolve is a blend) |
+| `bump`, `map_Bump`, `norm` (`-bm` scale) | normal_texture (read as a tangent-space normal map, as exporters of PBR materials write it; not a height map), normal_scale |
+
+`map_Ks` has no Principled counterpart (no specular tint) and is ignored with a SceneLoadWarning;
+`map_Ka`, `map_Ns`, `disp`, `decal` and `refl` are ignored. Any other material (the first rule
+that applies):
 
 | MTL statements                                           | wgputrace material                              |
 |----------------------------------------------------------|-------------------------------------------------|
@@ -22,7 +40,7 @@ Materials come from `mtllib` files beside the OBJ. The first rule that applies:
 | `Pm` >= 0.5, or no `Pm` and `Ks` > 0 with `Kd` = 0       | Glossy: color = `Ks` if > 0, else `Kd`; roughness = `Pr` as the GGX alpha, else sqrt(2 / (`Ns` + 2)) (Walter et al. 2007's Phong-to-microfacet rule), else 0.1 |
 | anything else                                            | Diffuse: color = `Kd` (default 0.8)             |
 
-`Ka`, texture maps and the other `illum` models have no counterpart and are ignored. A `usemtl`
+`Ka` and the other `illum` models have no counterpart and are ignored. A `usemtl`
 naming no material, or a missing `mtllib` file, is a SceneLoadWarning and a grey Diffuse. The
 materials check their values: a negative or NaN value, `Kd` above 1 or `Ni 0` is a SceneLoadError
 at the line that set it.
@@ -37,9 +55,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, SceneError, Shape
+from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Principled, SceneError, Shape
 from .errors import SceneLoadError, SceneLoadWarning
+from .mtl_maps import MAP_KEYS, PRINCIPLED_MAPS, MapImages, TextureMap, parse_map
 from .orientation import wind_outwards
+from .textures import material_textures, supported_parameters
 
 DEFAULT_DIFFUSE = 0.8
 DEFAULT_IOR = 1.5
@@ -47,7 +67,7 @@ DEFAULT_ROUGHNESS = 0.1
 # We have no blend of metal and dielectric: a shape is Glossy from this metallic factor up.
 METALLIC_THRESHOLD = 0.5
 TRANSPARENT_ILLUM_MODELS = (4, 6, 7, 9)
-NO_NORMAL = -1
+NO_REF = -1
 _COLOR_KEYS = ("kd", "ks", "ke", "tf")
 _NUMBER_KEYS = ("ns", "ni", "d", "tr", "pr", "pm", "illum")
 
@@ -57,6 +77,7 @@ class _MtlEntry:
     name: str
     line: int
     values: dict[str, tuple[tuple[float, ...], int]] = field(default_factory=dict)  # key -> (numbers, line)
+    maps: dict[str, TextureMap] = field(default_factory=dict)  # MAP_KEYS' names -> map
 
     def get(self, key: str) -> tuple[float, ...] | None:
         return self.values[key][0] if key in self.values else None
@@ -68,13 +89,15 @@ def read_obj(path: Path) -> list[Shape]:
     default = Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
     vertices: list[tuple[float, float, float]] = []
     normals: list[tuple[float, float, float]] = []
-    runs: list[tuple[str, Material, list[int], list[int]]] = []
-    # normal_refs: a normal index (0-based) per corner of `faces`, NO_NORMAL where the face names none
-    name, material, faces, normal_refs = path.stem, default, [], []
+    texcoords: list[tuple[float, float]] = []
+    runs: list[tuple[str, Material, list[int], list[int], list[int]]] = []
+    # normal_refs, uv_refs: a normal and a texture coordinate index (0-based) per corner of
+    # `faces`, NO_REF where the face names none
+    name, material, faces, normal_refs, uv_refs = path.stem, default, [], [], []
 
     def close_run() -> None:
         if faces:
-            runs.append((name, material, faces, normal_refs))
+            runs.append((name, material, faces, normal_refs, uv_refs))
 
     lines = _text_lines(path)
     for number, line in enumerate(lines, start=1):
@@ -95,22 +118,26 @@ def read_obj(path: Path) -> list[Shape]:
                 plain = False
             if plain:
                 faces.extend((a - 1, b - 1, c - 1))
-                normal_refs.extend((NO_NORMAL,) * 3)
+                normal_refs.extend((NO_REF,) * 3)
+                uv_refs.extend((NO_REF,) * 3)
             else:
-                fan, fan_normals = _face(path, number, tokens, count, len(normals))
+                fan, fan_normals, fan_uvs = _face(path, number, tokens, count, len(normals), len(texcoords))
                 faces.extend(fan)
                 normal_refs.extend(fan_normals)
+                uv_refs.extend(fan_uvs)
         elif key == "vn":
             normal = _vertex(path, number, tokens, "a normal")
             if normal == (0.0, 0.0, 0.0):
                 raise SceneLoadError(path, "a normal must have a direction, got vn 0 0 0", number)
             normals.append(normal)
+        elif key == "vt":
+            texcoords.append(_texcoord(path, number, tokens))
         elif key in ("o", "g"):
             close_run()
-            name, faces, normal_refs = " ".join(tokens[1:]) or path.stem, [], []
+            name, faces, normal_refs, uv_refs = " ".join(tokens[1:]) or path.stem, [], [], []
         elif key == "usemtl":
             close_run()
-            faces, normal_refs = [], []
+            faces, normal_refs, uv_refs = [], [], []
             wanted = " ".join(tokens[1:])
             material = library.get(wanted, default)
             if wanted not in library:
@@ -136,24 +163,31 @@ def read_obj(path: Path) -> list[Shape]:
             f"vertex {bad[0] + 1} {corners[bad[0]].tolist()} is beyond float32's range (3.4e38)",
             vertex_lines[bad[0]],
         )
-    return _shapes(path, corners, np.array(normals, dtype=np.float64).reshape(-1, 3), runs)
+    texcoord_table = np.array(texcoords, dtype=np.float32).reshape(-1, 2)
+    return _shapes(path, corners, np.array(normals, dtype=np.float64).reshape(-1, 3), texcoord_table, runs)
 
 
-def _shapes(path: Path, corners: np.ndarray, normals: np.ndarray, runs) -> list[Shape]:
+def _shapes(path: Path, corners: np.ndarray, normals: np.ndarray, texcoords: np.ndarray, runs) -> list[Shape]:
     shapes, seen = [], {}
-    for name, material, faces, normal_refs in runs:
+    for name, material, faces, normal_refs, uv_refs in runs:
         seen[name] = seen.get(name, 0) + 1
         triangles = corners[np.asarray(faces, np.int64).reshape(-1, 3)]
         refs = np.asarray(normal_refs, np.int64).reshape(-1, 3)
-        corner_normals = _corner_normals(triangles, normals, refs) if (refs != NO_NORMAL).any() else None
+        corner = {}
+        if (refs != NO_REF).any():
+            corner["normals"] = _corner_normals(triangles, normals, refs)
+        uv_ids = np.asarray(uv_refs, np.int64).reshape(-1, 3)
+        if material_textures(material) and (uv_ids != NO_REF).any():
+            # a corner naming no vt reads the texture at (0, 0)
+            corner["uvs"] = np.where((uv_ids != NO_REF)[..., None], texcoords[uv_ids], np.float32(0.0))
         before = triangles.copy()
         wind_outwards(triangles, path, f"shape {name!r}", stacklevel=4)
-        if corner_normals is not None:  # a turned triangle's corners 1 and 2 swapped: its normals follow
-            turned = (triangles != before).any(axis=(1, 2))
-            corner_normals[turned] = corner_normals[turned][:, [0, 2, 1]]
+        turned = (triangles != before).any(axis=(1, 2))
+        for values in corner.values():  # a turned triangle's corners 1 and 2 swapped: its attributes follow
+            values[turned] = values[turned][:, [0, 2, 1]]
         label = name if seen[name] == 1 else f"{name}#{seen[name]}"
         try:
-            shapes.append(Shape(label, triangles, material, normals=corner_normals))
+            shapes.append(Shape(label, triangles, material, **corner))
         except SceneError as error:
             raise SceneLoadError(path, str(error)) from None
     return shapes
@@ -166,7 +200,7 @@ def _corner_normals(triangles: np.ndarray, normals: np.ndarray, refs: np.ndarray
     length = np.linalg.norm(face, axis=1, keepdims=True)
     face = np.where(length > 0.0, face / np.where(length > 0.0, length, 1.0), [0.0, 0.0, 1.0])
     corner = np.repeat(face[:, None, :], 3, axis=1)
-    named = refs != NO_NORMAL
+    named = refs != NO_REF
     corner[named] = normals[refs[named]]
     return corner
 
@@ -190,6 +224,14 @@ def _numbers(path: Path, number: int, tokens: list[str], what: str) -> tuple[flo
     return values
 
 
+def _texcoord(path: Path, number: int, tokens: list[str]) -> tuple[float, float]:
+    """`vt u [v [w]]` in glTF's convention (v down from the image's top): (u, 1 - v)."""
+    if len(tokens) < 2:
+        raise SceneLoadError(path, "a texture coordinate needs u (and v), got 'vt'", number)
+    u, v = (_numbers(path, number, tokens[1:3], "texture coordinates") + (0.0,))[:2]
+    return u, 1.0 - v
+
+
 def _vertex(path: Path, number: int, tokens: list[str], what: str = "a vertex") -> tuple[float, float, float]:
     if len(tokens) < 4:
         raise SceneLoadError(path, f"{what} needs 3 coordinates, got {' '.join(tokens)!r}", number)
@@ -202,12 +244,14 @@ def _vertex(path: Path, number: int, tokens: list[str], what: str = "a vertex") 
     return x, y, z
 
 
-def _face(path: Path, number: int, tokens: list[str], vertex_count: int, normal_count: int) -> tuple[list, list]:
-    """Vertex indices and normal indices (NO_NORMAL where a reference has none), 0-based, of the
-    face's fan triangles, flattened."""
+def _face(
+    path: Path, number: int, tokens: list[str], vertex_count: int, normal_count: int, texcoord_count: int
+) -> tuple[list, list, list]:
+    """Vertex, normal and texture coordinate indices (NO_REF where a reference has none), 0-based,
+    of the face's fan triangles, flattened."""
     if len(tokens) < 4:
         raise SceneLoadError(path, f"a face needs at least 3 vertices, got {' '.join(tokens)!r}", number)
-    indices, normal_indices = [], []
+    indices, normal_indices, uv_indices = [], [], []
     for reference in tokens[1:]:
         parts = reference.split("/")
         try:
@@ -215,22 +259,31 @@ def _face(path: Path, number: int, tokens: list[str], vertex_count: int, normal_
         except ValueError:
             raise SceneLoadError(path, f"face vertex {reference!r} does not start with an index", number) from None
         indices.append(_resolved(path, number, index, vertex_count, "vertex", "vertices"))
-        normal_text = parts[2] if len(parts) > 2 else ""
-        if not normal_text:
-            normal_indices.append(NO_NORMAL)
-            continue
-        try:
-            normal = int(normal_text)
-        except ValueError:
-            raise SceneLoadError(
-                path, f"face vertex {reference!r} has a normal reference that is no index", number
-            ) from None
-        normal_indices.append(_resolved(path, number, normal, normal_count, "normal", "normals (vn)"))
-    fan, fan_normals = [], []
+        uv_indices.append(_reference(path, number, reference, parts, 1, texcoord_count, "texture coordinate", "vt"))
+        normal_indices.append(_reference(path, number, reference, parts, 2, normal_count, "normal", "vn"))
+    fan, fan_normals, fan_uvs = [], [], []
     for k in range(1, len(indices) - 1):
-        fan += (indices[0], indices[k], indices[k + 1])
-        fan_normals += (normal_indices[0], normal_indices[k], normal_indices[k + 1])
-    return fan, fan_normals
+        corners = (0, k, k + 1)
+        fan += [indices[c] for c in corners]
+        fan_normals += [normal_indices[c] for c in corners]
+        fan_uvs += [uv_indices[c] for c in corners]
+    return fan, fan_normals, fan_uvs
+
+
+def _reference(
+    path: Path, number: int, reference: str, parts: list[str], slot: int, count: int, what: str, key: str
+) -> int:
+    """The 0-based index in slot `slot` of a face vertex's `i/t/n` reference, or NO_REF if empty."""
+    text = parts[slot] if len(parts) > slot else ""
+    if not text:
+        return NO_REF
+    try:
+        index = int(text)
+    except ValueError:
+        raise SceneLoadError(
+            path, f"face vertex {reference!r} has a {what} reference that is no index", number
+        ) from None
+    return _resolved(path, number, index, count, what, f"{what}s ({key})")
 
 
 def _resolved(path: Path, number: int, index: int, count: int, what: str, plural: str) -> int:
@@ -262,6 +315,10 @@ def _read_mtl(obj_path: Path, obj_line: int, path: Path) -> dict[str, Material]:
         key = tokens[0].lower()
         if key == "newmtl":
             entries.append(_MtlEntry(" ".join(tokens[1:]), number))
+        elif key in MAP_KEYS:
+            if not entries:
+                raise SceneLoadError(path, f"{tokens[0]} before any newmtl", number)
+            entries[-1].maps[MAP_KEYS[key]] = parse_map(path, number, tokens)
         elif key in _COLOR_KEYS + _NUMBER_KEYS:
             if not entries:
                 raise SceneLoadError(path, f"{tokens[0]} before any newmtl", number)
@@ -272,18 +329,30 @@ def _read_mtl(obj_path: Path, obj_line: int, path: Path) -> dict[str, Material]:
                     path, f"{tokens[0]} takes {' or '.join(map(str, wanted))} numbers, got {len(values)}", number
                 )
             entries[-1].values[key] = (values * 3 if len(values) == 1 and key in _COLOR_KEYS else values, number)
-    return {entry.name: _material(path, entry) for entry in entries}
+    images = MapImages(path)
+    return {entry.name: _material(path, entry, images) for entry in entries}
 
 
-def _material(path: Path, entry: _MtlEntry) -> Material:
-    """The wgputrace material for one MTL entry, by the table in this module's docstring."""
+def _material(path: Path, entry: _MtlEntry, images: MapImages) -> Material:
+    """The wgputrace material for one MTL entry, by the tables in this module's docstring."""
     kind, parameters, sources = _mapping(path, entry)
+    if "map_ks" in entry.maps:
+        warnings.warn(
+            f"{path}:{entry.maps['map_ks'].line}: map_Ks of {entry.name!r} ignored (no specular tint here)",
+            SceneLoadWarning,
+            stacklevel=5,
+        )
     try:
+        if kind is Principled:
+            parameters |= images.principled_textures(entry.maps)
+            parameters = supported_parameters(Principled, parameters, f"{path}:{entry.line}", stacklevel=5)
         return kind(entry.name, **parameters)
     except MaterialError as error:
         source = sources.get(error.parameter, "newmtl")
         line = entry.values[source][1] if source in entry.values else entry.line
         raise SceneLoadError(path, f"{error} (from {source})", line) from None
+    except SceneError as error:
+        raise SceneLoadError(path, str(error), entry.line) from None
 
 
 def _mapping(path: Path, entry: _MtlEntry) -> tuple[type[Material], dict, dict[str, str]]:
@@ -292,6 +361,20 @@ def _mapping(path: Path, entry: _MtlEntry) -> tuple[type[Material], dict, dict[s
     ns, ni, dissolve, tr, pr, pm, illum = (
         None if entry.get(key) is None else entry.get(key)[0] for key in _NUMBER_KEYS
     )
+    transparent = (dissolve is not None and dissolve < 1) or (tr is not None and tr > 0)
+    if any(key in entry.maps for key in PRINCIPLED_MAPS) and not (transparent and "map_d" not in entry.maps):
+        parameters = {
+            "base_color": (1.0, 1.0, 1.0) if "map_kd" in entry.maps else kd or (DEFAULT_DIFFUSE,) * 3,
+            "metallic": pm or 0.0,
+            "roughness": pr if pr is not None else _phong_roughness(path, entry, ns) ** 0.5 if ns is not None else 0.5,
+            "eta": DEFAULT_IOR if ni is None else ni,
+        }
+        if "map_ke" in entry.maps or (ke is not None and max(ke) > 0):
+            parameters["emission"] = ke or (1.0, 1.0, 1.0)
+        if "map_d" in entry.maps:
+            parameters["alpha_mode"] = "BLEND"
+        sources = {"base_color": "kd", "metallic": "pm", "roughness": "pr" if pr is not None else "ns"}
+        return Principled, parameters, sources | {"eta": "ni", "emission": "ke"}
     if ke is not None and max(ke) > 0:
         brightest = max(ke)
         color = tuple(c / brightest for c in ke)
@@ -305,11 +388,16 @@ def _mapping(path: Path, entry: _MtlEntry) -> tuple[type[Material], dict, dict[s
         if pr is not None:
             roughness = pr
         elif ns is not None:
-            if ns < 0:
-                raise SceneLoadError(path, f"Ns (a specular exponent) must be >= 0, got {ns}", entry.values["ns"][1])
-            roughness = math.sqrt(2.0 / (ns + 2.0))
+            roughness = _phong_roughness(path, entry, ns)
         else:
             roughness = DEFAULT_ROUGHNESS
         color = ks if specular else (kd or (DEFAULT_DIFFUSE,) * 3)
         return Glossy, {"color": color, "roughness": roughness}, sources
     return Diffuse, {"color": kd or (DEFAULT_DIFFUSE,) * 3}, {"color": "kd"}
+
+
+def _phong_roughness(path: Path, entry: _MtlEntry, ns: float) -> float:
+    """The GGX alpha of Phong exponent `ns` (Walter et al. 2007: sqrt(2 / (Ns + 2)))."""
+    if ns < 0:
+        raise SceneLoadError(path, f"Ns (a specular exponent) must be >= 0, got {ns}", entry.values["ns"][1])
+    return math.sqrt(2.0 / (ns + 2.0))

@@ -1,19 +1,24 @@
 """Writing small glTF/GLB files for the loader tests: JSON and binary built from numpy arrays, so
 every material, node, camera and light field is under the test's control; a box, one material of
-each kind the loader maps and one KHR_lights_punctual light of each type to build them from."""
+each kind the loader maps and one KHR_lights_punctual light of each type to build them from; and
+textures: PNG images generated here, embedded in the binary buffer, as data URIs or as files."""
 
 from __future__ import annotations
 
 import base64
+import io
 import json
 import struct
+import zlib
 from pathlib import Path
 
 import numpy as np
+from PIL import Image
 
 from wgputrace import Diffuse, make_box
 
 FLOAT, UNSIGNED_INT = 5126, 5125
+ACCESSOR_TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}
 
 BOX = make_box((0, 0, 0), (0, 0, 0), (1, 1, 1), Diffuse("unused")).vertices.reshape(-1, 3)
 BOX_INDICES = np.arange(len(BOX)).reshape(-1, 3)
@@ -61,37 +66,90 @@ def with_lights(document: dict, lights: list[dict], nodes: list[dict]) -> dict:
 def gltf_document(meshes: list[tuple[np.ndarray, np.ndarray, int | None]], **extra) -> tuple[dict, bytes]:
     """A glTF document with one mesh (one primitive) per (positions (n, 3), indices (m, 3), material
     index) and one root node per mesh, its buffer as bytes; `extra` adds or replaces top-level keys."""
-    blob = b""
-    accessors, views, gltf_meshes = [], [], []
-    for positions, indices, material in meshes:
-        for array, kind, component in ((positions, "VEC3", FLOAT), (indices, "SCALAR", UNSIGNED_INT)):
-            data = np.ascontiguousarray(array, dtype="<f4" if component == FLOAT else "<u4").tobytes()
-            views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
-            accessors.append(
-                {
-                    "bufferView": len(views) - 1,
-                    "componentType": component,
-                    "count": array.size // (3 if kind == "VEC3" else 1),
-                    "type": kind,
-                }
-            )
-            blob += data
-        primitive = {"attributes": {"POSITION": len(accessors) - 2}, "indices": len(accessors) - 1}
-        if material is not None:
-            primitive["material"] = material
-        gltf_meshes.append({"name": f"mesh{len(gltf_meshes)}", "primitives": [primitive]})
     document = {
         "asset": {"version": "2.0"},
         "scene": 0,
         "scenes": [{"nodes": list(range(len(meshes)))}],
         "nodes": [{"mesh": i} for i in range(len(meshes))],
-        "meshes": gltf_meshes,
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [{"byteLength": len(blob)}],
+        "meshes": [],
+        "accessors": [],
+        "bufferViews": [],
+        "buffers": [{"byteLength": 0}],
     }
+    blob = b""
+    for positions, indices, material in meshes:
+        position, blob = add_accessor(document, blob, np.asarray(positions).reshape(-1, 3), FLOAT)
+        index, blob = add_accessor(document, blob, np.asarray(indices).reshape(-1, 1), UNSIGNED_INT)
+        primitive = {"attributes": {"POSITION": position}, "indices": index}
+        if material is not None:
+            primitive["material"] = material
+        document["meshes"].append({"name": f"mesh{len(document['meshes'])}", "primitives": [primitive]})
     document.update(extra)
     return document, blob
+
+
+def add_view(document: dict, blob: bytes, data: bytes) -> tuple[int, bytes]:
+    """`data` appended to the buffer (4-byte aligned) as a new bufferView: its index, the new buffer."""
+    blob += b"\0" * (-len(blob) % 4)
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
+    document["buffers"][0]["byteLength"] = len(blob) + len(data)
+    return len(document["bufferViews"]) - 1, blob + data
+
+
+def add_accessor(document: dict, blob: bytes, rows: np.ndarray, component: int) -> tuple[int, bytes]:
+    """(count, k) `rows` as a new accessor of `component` type: its index, the new buffer."""
+    view, blob = add_view(document, blob, np.ascontiguousarray(rows, "<f4" if component == FLOAT else "<u4").tobytes())
+    accessor = {
+        "bufferView": view,
+        "componentType": component,
+        "count": len(rows),
+        "type": ACCESSOR_TYPES[rows.shape[1]],
+    }
+    document["accessors"].append(accessor)
+    return len(document["accessors"]) - 1, blob
+
+
+def with_vertex_attribute(document: dict, blob: bytes, mesh: int, semantic: str, rows: np.ndarray) -> bytes:
+    """Mesh `mesh`'s primitive given per-vertex float `rows` as attribute `semantic`; the new buffer."""
+    index, blob = add_accessor(document, blob, np.asarray(rows, np.float32), FLOAT)
+    document["meshes"][mesh]["primitives"][0]["attributes"][semantic] = index
+    return blob
+
+
+def png_bytes(pixels: np.ndarray) -> bytes:
+    """uint8 (H, W, C) pixels encoded as a PNG file."""
+    stream = io.BytesIO()
+    Image.fromarray(np.asarray(pixels, np.uint8).squeeze()).save(stream, format="PNG")
+    return stream.getvalue()
+
+
+def marked_pixels(size: int = 4) -> np.ndarray:
+    """uint8 (size, size, 4) mid-grey RGBA with a red top-left texel and a transparent bottom-right
+    one, so that a flip or a swap of the axes shows."""
+    pixels = np.full((size, size, 4), 128, np.uint8)
+    pixels[..., 3] = 255
+    pixels[0, 0] = (255, 0, 0, 255)
+    pixels[-1, -1, 3] = 0
+    return pixels
+
+
+def with_images(document: dict, blob: bytes, images: list[bytes], how: str, directory: Path | None = None) -> bytes:
+    """`images` (encoded files) added as glTF images and one texture each (texture i uses image i),
+    stored `how`: "bufferView" (in the binary buffer), "data" (base64 data URIs) or "file" (files
+    image<i>.png in `directory`, referenced by relative URI); the new buffer."""
+    entries = []
+    for number, data in enumerate(images):
+        if how == "bufferView":
+            view, blob = add_view(document, blob, data)
+            entries.append({"bufferView": view, "mimeType": "image/png"})
+        elif how == "data":
+            entries.append({"uri": "data:image/png;base64," + base64.b64encode(data).decode()})
+        else:
+            (directory / f"image{number}.png").write_bytes(data)
+            entries.append({"uri": f"image{number}.png"})
+    document["images"] = entries
+    document["textures"] = [{"source": number} for number in range(len(images))]
+    return blob
 
 
 def write_glb(path: Path, document: dict, blob: bytes) -> Path:
@@ -109,3 +167,60 @@ def write_gltf(path: Path, document: dict, blob: bytes) -> Path:
     document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(blob).decode()
     path.write_text(json.dumps(document))
     return path
+
+
+SQUARE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], np.float32)
+SQUARE_INDICES = np.array([[0, 1, 2], [0, 2, 3]])
+# glTF's v runs down the image: the square's (0, 0) corner reads the image's bottom-left
+SQUARE_UVS = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], np.float32)
+SQUARE_TANGENTS = np.array([[1, 0, 0, 1]] * 4, np.float32)
+# A material using every texture slot (all the same image), a sampler, a transform and alpha.
+TEXTURED_MATERIAL = {
+    "name": "textured",
+    "pbrMetallicRoughness": {
+        "baseColorFactor": [1, 0.5, 0.5, 0.8],
+        "baseColorTexture": {"index": 0},
+        "metallicFactor": 0.25,
+        "roughnessFactor": 0.75,
+        "metallicRoughnessTexture": {
+            "index": 0,
+            "extensions": {"KHR_texture_transform": {"offset": [0.5, 0], "rotation": 0.5, "scale": [2, 3]}},
+        },
+    },
+    "normalTexture": {"index": 0, "scale": 0.5},
+    "occlusionTexture": {"index": 0},
+    "emissiveFactor": [1, 1, 1],
+    "emissiveTexture": {"index": 0},
+    "alphaMode": "MASK",
+    "alphaCutoff": 0.25,
+    "doubleSided": True,
+    "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}, "KHR_materials_ior": {"ior": 1.4}},
+}
+
+
+def textured_square(how: str = "bufferView", directory: Path | None = None, material: dict | None = None):
+    """A unit square with TEXCOORD_0 and TANGENT, TEXTURED_MATERIAL (or `material`) on it, its
+    image marked_pixels() stored `how` (see with_images), its texture sampled with clamp on s and
+    mirror on t: (document, buffer)."""
+    document, blob = gltf_document(
+        [(SQUARE, SQUARE_INDICES, 0)],
+        materials=[json.loads(json.dumps(material or TEXTURED_MATERIAL))],
+        extensionsUsed=["KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_ior"],
+    )
+    blob = with_vertex_attribute(document, blob, 0, "TEXCOORD_0", SQUARE_UVS)
+    blob = with_vertex_attribute(document, blob, 0, "TANGENT", SQUARE_TANGENTS)
+    blob = with_images(document, blob, [png_bytes(marked_pixels())], how, directory)
+    document["samplers"] = [{"wrapS": 33071, "wrapT": 33648, "magFilter": 9729}]
+    document["textures"][0]["sampler"] = 0
+    return document, blob
+
+
+def png_header(width: int, height: int) -> bytes:
+    """A PNG claiming `width` x `height` 8-bit RGB pixels whose data stream is empty: what a reader
+    sees before it decodes anything."""
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", b"") + chunk(b"IEND", b"")

@@ -1,0 +1,88 @@
+"""Textures for the scene loaders: image bytes (PNG, JPEG or anything else Pillow reads) decoded
+into the uint8 pixel arrays a Texture takes, with a one-line reason where they cannot be; and which
+of a material's parameters are textures (a shape then needs texture coordinates).
+
+The size is checked from the image's header, before any pixel is decoded, so a file claiming
+100,000 pixels a side costs nothing. Images larger than the GPU allows but within Texture's own
+limit load, and the renderer downscales them with a warning (render/limits.py).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import struct
+import warnings
+import zlib
+
+import numpy as np
+from PIL import Image, UnidentifiedImageError
+
+from ..scene import Material
+from ..scene.texture import MAX_TEXTURE_SIDE, Texture
+from .errors import SceneLoadWarning
+
+# Pillow modes kept as they are; any other is converted to RGBA (palettes, CMYK, 16-bit grey...)
+KEPT_MODES = ("L", "LA", "RGB", "RGBA")
+SIXTEEN_BIT_MODES = ("I;16", "I;16B", "I;16L", "I")
+SIXTEEN_BIT_MAX = 65535
+# Principled's texture parameters; a normal map also needs tangents
+TEXTURE_PARAMETERS = ("base_color_texture", "metallic_roughness_texture", "normal_texture", "emission_texture")
+NORMAL_MAP = "normal_texture"
+
+
+class ImageError(Exception):
+    """Bytes that are no usable texture image. The message says why; the caller names the file
+    and the field the bytes came from."""
+
+
+def decode_image(data: bytes) -> np.ndarray:
+    """uint8 (H, W, C) pixels, C in 1..4, of an encoded image, or ImageError."""
+    try:
+        with Image.open(io.BytesIO(data)) as image:
+            _check_size(*image.size)
+            image.load()
+            return _pixels(image)
+    except UnidentifiedImageError:
+        raise ImageError("not an image Pillow reads (PNG, JPEG, ...)") from None
+    except Image.DecompressionBombError as error:
+        raise ImageError(f"too many pixels to decode safely ({error})") from None
+    except (OSError, SyntaxError, ValueError, EOFError, struct.error, zlib.error) as error:
+        # Pillow reports corrupt and truncated files through all of these
+        raise ImageError(f"not a readable image: {error or type(error).__name__}") from None
+
+
+def _check_size(width: int, height: int) -> None:
+    if not (0 < width <= MAX_TEXTURE_SIDE and 0 < height <= MAX_TEXTURE_SIDE):
+        raise ImageError(f"{width} x {height} pixels: each side must be 1 to {MAX_TEXTURE_SIDE:,}")
+
+
+def _pixels(image: Image.Image) -> np.ndarray:
+    if image.mode in SIXTEEN_BIT_MODES:  # 16-bit grey PNG: scale, where a conversion would clip
+        values = np.asarray(image, np.float64) * (255.0 / SIXTEEN_BIT_MAX)
+        return np.clip(np.rint(values), 0, 255).astype(np.uint8)[:, :, None]
+    if image.mode not in KEPT_MODES:
+        image = image.convert("RGBA")
+    pixels = np.asarray(image, np.uint8)
+    return pixels[:, :, None] if pixels.ndim == 2 else pixels
+
+
+def material_textures(material: Material) -> dict[str, Texture]:
+    """The parameters of `material` that are textures, by name."""
+    found = {name: getattr(material, name, None) for name in TEXTURE_PARAMETERS}
+    return {name: texture for name, texture in found.items() if texture is not None}
+
+
+def supported_parameters(kind: type[Material], parameters: dict, origin: str, stacklevel: int) -> dict:
+    """`parameters` less those material `kind` does not take (Principled gains its texture, alpha
+    and emission parameters in parts: issue 14), the dropped ones named in a SceneLoadWarning, so
+    that a file still loads with what the renderer supports. Pass only values a file sets."""
+    accepted = {field.name for field in dataclasses.fields(kind)}
+    dropped = [name for name in parameters if name not in accepted]
+    if dropped:
+        warnings.warn(
+            f"{origin}: {', '.join(dropped)} not supported by {kind.__name__} yet: ignored",
+            SceneLoadWarning,
+            stacklevel=stacklevel + 1,
+        )
+    return {name: value for name, value in parameters.items() if name in accepted}
