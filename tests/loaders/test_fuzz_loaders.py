@@ -1,5 +1,6 @@
-"""Property-based fuzzing of the loaders: random and mutated OBJ/MTL text, truncated and garbled
-GLB, PLY and STL files, and glTF JSON (materials, nodes, KHR_lights_punctual lights and the
+"""Property-based fuzzing of the loaders: random and mutated OBJ/MTL text (texture maps and `vt`
+included), truncated and garbled GLB (an embedded PNG texture included), PLY and STL files, and
+glTF JSON (materials, textures, samplers, images, nodes, KHR_lights_punctual lights and the
 extension lists) with random values in random places. Every input must end in a Scene or a
 SceneLoadError, within a time limit: no other exception, no hang, no NaN or infinity in a shape or
 a light. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
@@ -25,6 +26,9 @@ from wgputrace.testing.gltf_files import (
     MATERIALS,
     gltf_document,
     light_node,
+    marked_pixels,
+    png_bytes,
+    textured_square,
     with_lights,
     write_glb,
 )
@@ -34,6 +38,7 @@ from wgputrace.testing.gltf_files import (
 TEXT_EXAMPLES = 200
 BINARY_EXAMPLES = 200
 JSON_EXAMPLES = 500
+TEXTURED_JSON_EXAMPLES = 200
 RENDER_SIZE = 4
 
 numbers = st.one_of(
@@ -51,6 +56,7 @@ obj_line = st.one_of(
     names.map(lambda n: f"o {n}"),
     names.map(lambda n: f"g {n}"),
     st.sampled_from(["usemtl a", "usemtl b", "usemtl", "mtllib m.mtl", "mtllib missing.mtl", "# c", "s 1", "vt 0 0"]),
+    st.lists(numbers, min_size=0, max_size=3).map(lambda n: " ".join(["vt", *n])),
     st.text(max_size=30),
 )
 mtl_line = st.one_of(
@@ -58,6 +64,11 @@ mtl_line = st.one_of(
         st.sampled_from(["Kd", "Ks", "Ke", "Tf", "Ns", "Ni", "d", "Tr", "Pr", "Pm", "illum", "Ka", "map_Kd"]),
         st.lists(numbers, min_size=0, max_size=4),
     ).map(lambda t: " ".join([t[0], *t[1]])),
+    st.tuples(
+        st.sampled_from(["map_Kd", "map_Ks", "map_Pr", "map_Pm", "map_Ke", "map_d", "bump", "map_Bump", "norm"]),
+        st.lists(st.sampled_from(["-clamp", "on", "-bm", "-s", "-o", "-imfchan", "r"]) | numbers, max_size=3),
+        st.sampled_from(["t.png", "grey.png", "garbled.png", "missing.png", ""]),
+    ).map(lambda t: " ".join([t[0], *t[1], t[2]])),
     st.sampled_from(["newmtl a", "newmtl b", "newmtl"]),
     st.text(max_size=20),
 )
@@ -75,6 +86,7 @@ def outcome(path) -> Scene | SceneLoadError:
     assert isinstance(scene, Scene) and scene.triangle_count > 0
     for shape in scene.shapes:
         assert np.all(np.isfinite(shape.world_vertices))
+        assert shape.uvs is None or np.all(np.isfinite(shape.uvs))
     for light in scene.lights:
         values = [getattr(light, name) for name in light.parameter_names()]
         assert all(np.all(np.isfinite(value)) for value in values if value is not None), light
@@ -96,9 +108,17 @@ def lit_boxes() -> tuple[dict, bytes]:
     return with_lights(json.loads(json.dumps(document)), json.loads(json.dumps(LIGHTS)), nodes), blob
 
 
+@pytest.fixture(scope="module")
+def map_images(workdir) -> None:
+    """The images the random MTL maps name: a colour one, a grey one and a garbled one."""
+    (workdir / "t.png").write_bytes(png_bytes(marked_pixels()))
+    (workdir / "grey.png").write_bytes(png_bytes(np.full((3, 5, 1), 90, np.uint8)))
+    (workdir / "garbled.png").write_bytes(png_bytes(marked_pixels(16))[:70])
+
+
 @fuzz_settings(TEXT_EXAMPLES)
 @given(obj=st.lists(obj_line, max_size=25), mtl=st.lists(mtl_line, max_size=15))
-def test_random_obj_and_mtl_text(workdir, obj, mtl):
+def test_random_obj_and_mtl_text(workdir, map_images, obj, mtl):
     (workdir / "m.mtl").write_text("\n".join(mtl))
     (workdir / "random.obj").write_text("\n".join(obj))
     outcome(workdir / "random.obj")
@@ -147,12 +167,13 @@ def originals(workdir) -> dict[str, bytes]:
         "box.ply": mesh.export(file_type="ply", encoding="binary"),
         "box.stl": mesh.export(file_type="stl"),
         "box.glb": write_glb(workdir / "original.glb", document, blob).read_bytes(),
+        "textured.glb": write_glb(workdir / "textured_original.glb", *textured_square()).read_bytes(),
     }
 
 
 @fuzz_settings(BINARY_EXAMPLES)
 @given(
-    name=st.sampled_from(["box.glb", "box.ply", "box.stl"]),
+    name=st.sampled_from(["box.glb", "textured.glb", "box.ply", "box.stl"]),
     cut=st.floats(0.0, 1.0),
     flips=st.lists(st.tuples(st.floats(0.0, 1.0, exclude_max=True), st.integers(0, 255)), max_size=6),
 )
@@ -175,6 +196,10 @@ json_values = st.recursive(
     lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=5), children, max_size=4),
     max_leaves=8,
 )
+
+
+# the parts of a textured document the textured fuzz test mutates (the rest: the test above)
+TEXTURED_KEYS = {"materials", "textures", "samplers", "images", "accessors", "meshes"}
 
 
 def json_paths(value, prefix=()):
@@ -210,3 +235,13 @@ def test_gltf_json_with_random_values_in_random_places(workdir, data):
     for _ in range(data.draw(st.integers(1, 3))):
         replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
     outcome(write_glb(workdir / "mutated.glb", document, blob))
+
+
+@fuzz_settings(TEXTURED_JSON_EXAMPLES)
+@given(data=st.data(), how=st.sampled_from(["bufferView", "data"]))
+def test_textured_gltf_json_with_random_values_in_random_places(workdir, data, how):
+    document, blob = textured_square(how)
+    paths = [path for path in list(json_paths(document))[1:] if path[0] in TEXTURED_KEYS]
+    for _ in range(data.draw(st.integers(1, 3))):
+        replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
+    outcome(write_glb(workdir / "mutated_textured.glb", document, blob))

@@ -16,8 +16,8 @@ wound outwards (orientation.py).
 
 Materials: gltf_materials.py (pbrMetallicRoughness, its textures and extensions; the table of
 every field read and every one ignored). A primitive whose material has textures gets its
-TEXCOORD_0 (float, or normalized unsigned byte or short, VEC2) as the shape's corner uvs, and,
-under a normal map, its TANGENT (float VEC4: xyz and the bitangent's sign) as corner tangents.
+TEXCOORD_0 (float, or normalized unsigned byte or short, VEC2) as the shape's corner uvs. TANGENT
+is not read yet (shapes take no tangents so far).
 
 Lights (`KHR_lights_punctual`): each node naming a light by `extensions.KHR_lights_punctual.light`
 instances it at the node's world translation, shining along the node's world -z (as glTF's cameras
@@ -83,7 +83,7 @@ from .gltf_compression import (
     draco_available,
 )
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
-from .textures import NORMAL_MAP, material_textures
+from .textures import material_textures
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -97,7 +97,6 @@ MODE_TRIANGLES, MODE_STRIP, MODE_FAN = 4, 5, 6
 VERTEX_ATTRIBUTES = {
     "NORMAL": ((5126,), "VEC3"),
     "TEXCOORD_0": ((5126, 5121, 5123), "VEC2"),
-    "TANGENT": ((5126,), "VEC4"),
 }
 LIGHTS_EXTENSION = "KHR_lights_punctual"
 LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
@@ -517,7 +516,6 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
             for key, semantic, wanted in (
                 ("normals", "NORMAL", True),
                 ("uvs", "TEXCOORD_0", bool(textures)),
-                ("tangents", "TANGENT", NORMAL_MAP in textures),
             )
             if wanted and semantic in attributes
         }

@@ -26,9 +26,8 @@ from .errors import SceneLoadWarning
 KEPT_MODES = ("L", "LA", "RGB", "RGBA")
 SIXTEEN_BIT_MODES = ("I;16", "I;16B", "I;16L", "I")
 SIXTEEN_BIT_MAX = 65535
-# Principled's texture parameters; a normal map also needs tangents
+# Principled's texture parameters
 TEXTURE_PARAMETERS = ("base_color_texture", "metallic_roughness_texture", "normal_texture", "emission_texture")
-NORMAL_MAP = "normal_texture"
 
 
 class ImageError(Exception):
