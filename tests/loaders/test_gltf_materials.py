@@ -13,13 +13,15 @@ import warnings
 import numpy as np
 import pytest
 
-from wgputrace import Emitter, Glass, Principled, SceneLoadError, SceneLoadWarning, load_scene
+from wgputrace import Emitter, Glass, Principled, SceneLoadError, SceneLoadWarning, load_scene, render
 from wgputrace.testing.gltf_files import (
     SQUARE_UVS,
     TEXTURED_MATERIAL,
+    light_node,
     png_bytes,
     png_header,
     textured_square,
+    with_lights,
     write_glb,
     write_gltf,
 )
@@ -51,6 +53,18 @@ def test_base_color_texture_from_every_storage_with_uvs(tmp_path, how):
     assert texels[-1, -1, 3] == 0.0  # alpha kept, linear
     assert (material.base_color_texture.wrap_s, material.base_color_texture.wrap_t) == ("clamp", "mirror")
     np.testing.assert_array_equal(shape.uvs, SQUARE_UVS[[[0, 1, 2], [0, 2, 3]]])
+
+
+@pytest.mark.gpu
+def test_the_marked_corner_renders_at_the_top_left(gpu_context, tmp_path):
+    """Seen from +z as glTF frames it, the square's top-left corner shows the texture's red texel."""
+    material = {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}
+    document, blob = textured_square(material=material)
+    document = with_lights(document, [{"type": "directional", "intensity": 3}], [light_node(0)])
+    image = render(load_quiet(write_glb(tmp_path / "lit.glb", document, blob)), 16, 16, 16, seed=3)
+    redness = image[..., 0] - image[..., 1]
+    top_left, bottom_right = redness[2:6, 2:6].mean(), redness[10:14, 10:14].mean()
+    assert top_left > 0.1 and abs(bottom_right) < 0.02, (top_left, bottom_right)
 
 
 def test_metallic_roughness_texture_is_linear_with_its_transform(tmp_path):
