@@ -8,7 +8,8 @@
 Used by scripts/make_references.py (the test references) and bench/versus_mitsuba.py. Each of
 our materials becomes one mesh, flat shaded (README: Conventions; tests/data/README.md) unless its
 shapes have per-vertex normals, which become Mitsuba's vertex normals (`face_normals` false; the
-triangles of shapes without them get their face normal at each corner, flat as ours);
+triangles of shapes without them get their face normal at each corner, flat as ours), and their
+texture coordinates its texcoords (glTF's convention is Mitsuba's); textures are `bitmap`s;
 the integrator is Mitsuba's `path` at our max depth, the pixel filter a box.
 
 Lights: each light's own `mitsuba_emitter()` (scene/lights/: `point`, `spot`, `directional`); the
@@ -34,7 +35,7 @@ import numpy as np
 from wgputrace.scene import Light, Material, Scene
 from wgputrace.scene.environment import Environment
 from wgputrace.scene.materials.material import mitsuba_rgb
-from wgputrace.scene.shapes import corner_normals
+from wgputrace.scene.shapes import corner_normals, corner_uvs
 
 DEBIAN_LIBLLVM = Path("/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
 LLVM_VARIANT = "llvm_ad_rgb"
@@ -152,6 +153,18 @@ def emitters(mi: ModuleType, scene: Scene, has_emitting_triangles: bool) -> tupl
     return found, not environment.visible
 
 
+def with_mitsuba_objects(mi: ModuleType, value):
+    """A plugin dict with the numpy arrays our materials give (Texture.mitsuba_bitmap) as the
+    objects Mitsuba's parser takes: a bitmap's `data` as a tensor, its `to_uv` as a transform."""
+    if not isinstance(value, dict):
+        return value
+    converted = {key: with_mitsuba_objects(mi, item) for key, item in value.items()}
+    if value.get("type") == "bitmap":
+        converted["data"] = mi.TensorXf(value["data"])
+        converted["to_uv"] = mi.ScalarTransform4f(value["to_uv"].tolist())
+    return converted
+
+
 def mitsuba_mesh(
     mi: ModuleType,
     name: str,
@@ -159,18 +172,20 @@ def mitsuba_mesh(
     bsdf: dict,
     emitter: dict | None,
     normals: np.ndarray | None = None,
+    uvs: np.ndarray | None = None,
 ):
     """A Mitsuba mesh of (n, 3, 3) float32 triangles, corners not shared: flat shaded, or smooth
-    with (n, 3, 3) corner `normals`."""
+    with (n, 3, 3) corner `normals`; (n, 3, 2) corner `uvs` become its texture coordinates."""
     props = mi.Properties()
-    props["bsdf"] = mi.load_dict(bsdf)
+    props["bsdf"] = mi.load_dict(with_mitsuba_objects(mi, bsdf))
     if emitter is not None:
         props["emitter"] = mi.load_dict(emitter)
     smooth = normals is not None
     if smooth:
         props["face_normals"] = False
     count = len(triangles)
-    mesh = mi.Mesh(name, 3 * count, count, props=props, has_vertex_normals=smooth, has_vertex_texcoords=False)
+    textured = uvs is not None
+    mesh = mi.Mesh(name, 3 * count, count, props=props, has_vertex_normals=smooth, has_vertex_texcoords=textured)
     params = mi.traverse(mesh)
     # the buffers' own types: dynamic arrays in scalar variants, JIT arrays in llvm ones
     positions, faces = type(params["vertex_positions"]), type(params["faces"])
@@ -178,6 +193,8 @@ def mitsuba_mesh(
     params["faces"] = faces(np.arange(3 * count, dtype=np.uint32))
     if smooth:
         params["vertex_normals"] = type(params["vertex_normals"])(np.ascontiguousarray(normals, np.float32).ravel())
+    if textured:
+        params["vertex_texcoords"] = type(params["vertex_texcoords"])(np.ascontiguousarray(uvs, np.float32).ravel())
     params.update()
     return mesh
 
@@ -208,6 +225,7 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
     extent = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
     magnitude = float(np.max(np.abs(corners)))
     all_normals = corner_normals(scene.shapes, arrays.shape_index, arrays.local_index)
+    all_uvs = corner_uvs(scene.shapes, arrays.shape_index, arrays.local_index)
     shapes = {}
     for index, material in enumerate(arrays.materials):
         triangles = arrays.vertices[arrays.material_index == index]
@@ -220,7 +238,8 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
             back = behind(triangles, EMITTER_BACK_OFFSET_RELATIVE * magnitude)
             shapes[f"{index}_back"] = mitsuba_mesh(mi, f"{material.name}_back", back, bsdf, emitter)
         else:
-            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals)
+            uvs = None if all_uvs is None else all_uvs[arrays.material_index == index]
+            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs)
     lights, hide_emitters = emitters(mi, scene, any(m.emission is not None for m in arrays.materials))
     camera = scene.camera
     position = np.asarray(camera.position)

@@ -90,6 +90,27 @@ class Texture:
         """(width, height) in texels."""
         return self.linear_texels.shape[1], self.linear_texels.shape[0]
 
+    def mitsuba_bitmap(self, texels: np.ndarray) -> dict:
+        """Mitsuba 3's `bitmap` of `texels` (this texture's linear_texels, with the channels a
+        material reads and its factors multiplied in) looked up as ours is: bilinear, this wrap mode,
+        this transform (Mitsuba maps (u, v, 0) through the 4x4 `to_uv`). Mitsuba's coordinates are
+        glTF's (row 0 at v = 0: checked on a marked texel); it has one wrap mode for both axes."""
+        if self.wrap_s != self.wrap_t:
+            raise ValueError(
+                f"texture {self.name!r}: Mitsuba's bitmap has one wrap mode, not {self.wrap_s}/{self.wrap_t}"
+            )
+        rows = self.transform.rows().astype(np.float64)
+        to_uv = np.eye(4)
+        to_uv[:2, :2], to_uv[:2, 3] = rows[:, :2], rows[:, 2]
+        return {
+            "type": "bitmap",
+            "data": np.ascontiguousarray(texels, np.float32),
+            "raw": True,
+            "filter_type": "bilinear",
+            "wrap_mode": self.wrap_s,
+            "to_uv": to_uv,
+        }
+
     def __repr__(self) -> str:
         return f"Texture({self.name!r}, {self.size[0]}x{self.size[1]}, srgb={self.srgb})"
 

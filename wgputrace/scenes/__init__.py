@@ -16,6 +16,7 @@ from .glossy import glossy_spheres
 from .principled import principled_spheres
 from .punctual import point_spot_directional
 from .slivers import slivers
+from .textured import textured_quads
 
 BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "cornell": cornell,
@@ -31,6 +32,7 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "constant_env": constant_env,
     "env_one_texel": env_one_texel,
     "point_spot_directional": point_spot_directional,
+    "textured_quads": textured_quads,
 }
 DEFAULT_SCENE = "cornell"
 

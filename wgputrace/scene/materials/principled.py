@@ -82,10 +82,20 @@ class Principled(Material):
         record["ior"], record["metallic"] = self.eta, self.metallic
 
     def mitsuba_bsdf(self) -> dict:
-        return {
+        """Textured parameters become `bitmap`s of the texels times their factor (the product the
+        GPU forms after filtering, which bilinear filtering leaves the same)."""
+        bsdf = {
             "type": "principled",
             "base_color": mitsuba_rgb(self.base_color),
             "metallic": self.metallic,
             "roughness": self.roughness,
             "eta": self.eta,
         }
+        base, metallic_roughness = self.base_color_texture, self.metallic_roughness_texture
+        if base is not None:
+            bsdf["base_color"] = base.mitsuba_bitmap(base.linear_texels[..., :3] * self.base_color)
+        if metallic_roughness is not None:
+            texels = metallic_roughness.linear_texels
+            bsdf["roughness"] = metallic_roughness.mitsuba_bitmap(texels[..., 1:2] * self.roughness)
+            bsdf["metallic"] = metallic_roughness.mitsuba_bitmap(texels[..., 2:3] * self.metallic)
+        return bsdf
