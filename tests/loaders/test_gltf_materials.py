@@ -7,11 +7,13 @@ the JSON path and the problem."""
 from __future__ import annotations
 
 import copy
+import io
 import math
 import warnings
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from wgputrace import Emitter, Glass, Principled, SceneLoadError, SceneLoadWarning, load_scene, render
 from wgputrace.testing.gltf_files import (
@@ -140,15 +142,26 @@ def image_entry(document: dict, blob: bytes, data: bytes) -> tuple[dict, bytes]:
     return document, blob
 
 
+def jpeg_with_height(height: int) -> bytes:
+    """A 5 x 3 JPEG whose frame header claims `height` rows."""
+    stream = io.BytesIO()
+    Image.fromarray(np.zeros((3, 5, 3), np.uint8)).save(stream, format="JPEG")
+    data = bytearray(stream.getvalue())
+    frame = data.find(b"\xff\xc0")
+    data[frame + 5 : frame + 7] = height.to_bytes(2, "big")
+    return bytes(data)
+
+
 BAD_IMAGES = {
     "corrupt PNG": (lambda png: png[: len(png) // 2], r"images\[0\].uri: not a readable image"),
     "not an image": (lambda png: b"hello, world", r"images\[0\].uri: not an image Pillow reads"),
-    "zero pixels": (lambda png: png_header(0, 4), r"images\[0\].uri: .*"),
+    "zero pixels": (lambda png: png_header(0, 4), r"images\[0\].uri: 0 x 4 pixels: each side must be 1 to 65,536"),
     "100,000 pixels": (
-        lambda png: png_header(100_000, 2),
-        r"images\[0\].uri: 100000 x 2 pixels: each side must be 1 to 65,536",
+        lambda png: png_header(100_000, 100_000),
+        r"images\[0\].uri: 100000 x 100000 pixels: each side must be 1 to 65,536",
     ),
-    "a giant": (lambda png: png_header(100_000, 100_000), r"images\[0\].uri: .*pixels"),
+    "a JPEG of 0 rows": (lambda png: jpeg_with_height(0), r"images\[0\].uri: 5 x 0 pixels"),
+    "corrupt JPEG": (lambda png: jpeg_with_height(3)[:-200], r"images\[0\].uri: not a readable image"),
 }
 
 

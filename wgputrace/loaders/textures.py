@@ -2,8 +2,8 @@
 into the uint8 pixel arrays a Texture takes, with a one-line reason where they cannot be; and which
 of a material's parameters are textures (a shape then needs texture coordinates).
 
-The size is checked from the image's header, before any pixel is decoded, so a file claiming
-100,000 pixels a side costs nothing. Images larger than the GPU allows but within Texture's own
+The size is checked from the image's header (read here for PNG and JPEG, else Pillow's), before
+any pixel is decoded, so a file claiming 100,000 pixels a side costs nothing. Images larger than the GPU allows but within Texture's own
 limit load, and the renderer downscales them with a warning (render/limits.py).
 """
 
@@ -26,6 +26,9 @@ from .errors import SceneLoadWarning
 KEPT_MODES = ("L", "LA", "RGB", "RGBA")
 SIXTEEN_BIT_MODES = ("I;16", "I;16B", "I;16L", "I")
 SIXTEEN_BIT_MAX = 65535
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+# JPEG's start-of-frame markers (SOF0..SOF15 less DHT, JPG and DAC, which share the range)
+JPEG_FRAME_MARKERS = set(range(0xC0, 0xD0)) - {0xC4, 0xC8, 0xCC}
 # Principled's texture parameters
 TEXTURE_PARAMETERS = ("base_color_texture", "metallic_roughness_texture", "normal_texture", "emission_texture")
 
@@ -37,6 +40,9 @@ class ImageError(Exception):
 
 def decode_image(data: bytes) -> np.ndarray:
     """uint8 (H, W, C) pixels, C in 1..4, of an encoded image, or ImageError."""
+    size = _png_size(data) or _jpeg_size(data)
+    if size:  # before Pillow, which calls a 0-pixel PNG unidentified and a huge one a bomb
+        _check_size(*size)
     try:
         with Image.open(io.BytesIO(data)) as image:
             _check_size(*image.size)
@@ -49,6 +55,28 @@ def decode_image(data: bytes) -> np.ndarray:
     except (OSError, SyntaxError, ValueError, EOFError, struct.error, zlib.error) as error:
         # Pillow reports corrupt and truncated files through all of these
         raise ImageError(f"not a readable image: {error or type(error).__name__}") from None
+
+
+def _png_size(data: bytes) -> tuple[int, int] | None:
+    """(width, height) from a PNG's IHDR chunk, or None if `data` is no PNG."""
+    if data[:8] != PNG_SIGNATURE or data[12:16] != b"IHDR" or len(data) < 24:
+        return None
+    return struct.unpack(">II", data[16:24])
+
+
+def _jpeg_size(data: bytes) -> tuple[int, int] | None:
+    """(width, height) from a JPEG's first start-of-frame segment, or None if none is found."""
+    if data[:2] != b"\xff\xd8":
+        return None
+    offset = 2
+    while offset + 9 <= len(data) and data[offset] == 0xFF:
+        marker = data[offset + 1]
+        (length,) = struct.unpack(">H", data[offset + 2 : offset + 4])
+        if marker in JPEG_FRAME_MARKERS:
+            height, width = struct.unpack(">HH", data[offset + 5 : offset + 9])
+            return width, height
+        offset += 2 + length
+    return None
 
 
 def _check_size(width: int, height: int) -> None:
