@@ -124,6 +124,18 @@ def test_random_obj_and_mtl_text(workdir, map_images, obj, mtl):
     outcome(workdir / "random.obj")
 
 
+TEXTURED_QUAD_OBJ = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 1\nusemtl a\nf 1/1 2/2 3/2 4/1\n"
+
+
+@fuzz_settings(TEXT_EXAMPLES)
+@given(mtl=st.lists(mtl_line, max_size=8))
+def test_random_mtl_of_a_textured_quad(workdir, map_images, mtl):
+    """A valid quad with texture coordinates, so that the random material statements are mapped."""
+    (workdir / "m.mtl").write_text("\n".join(["newmtl a", *mtl]))
+    (workdir / "quad.obj").write_text(TEXTURED_QUAD_OBJ)
+    outcome(workdir / "quad.obj")
+
+
 @pytest.fixture(scope="module")
 def cornell_text(data_dir) -> str:
     return (data_dir / "cornell_trac0r.obj").read_text()
