@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wgputrace import Diffuse, Principled, SceneLoadError, SceneLoadWarning, load_scene
+from wgputrace import Diffuse, Glass, Principled, SceneLoadError, SceneLoadWarning, load_scene
 from wgputrace.testing.gltf_files import marked_pixels, png_bytes
 
 QUAD = """mtllib maps.mtl
@@ -62,7 +62,8 @@ def test_roughness_and_metallic_maps_share_one_texture(tmp_path):
 
 
 def test_map_d_is_the_base_colour_alpha(tmp_path):
-    material = scene_with(tmp_path, "newmtl textured\nmap_Kd colour.png\nmap_d grey.png\n").shapes[0].material
+    material = scene_with(tmp_path, "newmtl textured\nd 0.5\nmap_Kd colour.png\nmap_d grey.png\n").shapes[0].material
+    assert material.alpha == 0.5
     texels = material.base_color_texture.linear_texels
     assert texels.shape == (4, 4, 4)
     np.testing.assert_allclose(texels[:, :, 3], 64 / 255)
@@ -78,6 +79,14 @@ def test_map_ks_alone_is_ignored_with_a_warning(tmp_path):
     (tmp_path / "quad.obj").write_text(QUAD.format(material="textured"))
     with pytest.warns(SceneLoadWarning, match=r"maps.mtl:2: map_Ks of 'textured' ignored"):
         assert isinstance(load_scene(tmp_path / "quad.obj").shapes[0].material, Diffuse)
+
+
+def test_a_transparent_material_is_glass_its_maps_ignored(tmp_path):
+    (tmp_path / "maps.mtl").write_text("newmtl textured\nd 0.5\nmap_Kd colour.png\n")
+    (tmp_path / "quad.obj").write_text(QUAD.format(material="textured"))
+    with pytest.warns(SceneLoadWarning, match=r"maps.mtl:1: 'textured' is transparent .* map_Kd ignored"):
+        (shape,) = load_scene(tmp_path / "quad.obj").shapes
+    assert isinstance(shape.material, Glass) and shape.uvs is None
 
 
 @pytest.mark.parametrize(

@@ -17,7 +17,8 @@ and free-form geometry are ignored. Closed shapes are wound outwards (orientatio
 
 Materials come from `mtllib` files beside the OBJ. A material with any of the maps below (files
 beside the .mtl; statement options: mtl_maps.py) becomes a Principled, unless it is transparent by
-`d` < 1 or `Tr` > 0 without a `map_d` (then Glass, as below):
+`d` < 1 or `Tr` > 0 without a `map_d` (then Glass, as below, its maps ignored with a
+SceneLoadWarning):
 
 | MTL statement                          | Principled parameter                                           |
 |----------------------------------------|----------------------------------------------------------------|
@@ -26,7 +27,7 @@ beside the .mtl; statement options: mtl_maps.py) becomes a Principled, unless it
 | `Pr`, else from `Ns` (sqrt of Walter et al.'s alpha), else 0.5; `map_Pr` | roughness; the map's first channel as G |
 | `Ni` (default 1.5)                      | eta                                                            |
 | `Ke` (default 1 under map_Ke), `map_Ke` (sRGB) | emission, emission_texture                              |
-| `map_d`                                 | the base colour texture's alpha (its first channel), alpha_mode BLEND (dissolve is a blend) |
+| `d` (default 1), `map_d`                | alpha = d; the map's first channel as the base colour texture's alpha, alpha_mode BLEND (dissolve is a blend) |
 | `bump`, `map_Bump`, `norm` (`-bm` scale) | normal_texture (read as a tangent-space normal map, as exporters of PBR materials write it; not a height map), normal_scale |
 
 `map_Ks` has no Principled counterpart (no specular tint) and is ignored with a SceneLoadWarning;
@@ -342,6 +343,14 @@ def _material(path: Path, entry: _MtlEntry, images: MapImages) -> Material:
             SceneLoadWarning,
             stacklevel=5,
         )
+    dropped = [entry.maps[key].statement for key in PRINCIPLED_MAPS if key in entry.maps]
+    if kind is not Principled and dropped:
+        warnings.warn(
+            f"{path}:{entry.line}: {entry.name!r} is transparent (d < 1 or Tr > 0 without map_d), so Glass, "
+            f"which takes no textures: {', '.join(dropped)} ignored",
+            SceneLoadWarning,
+            stacklevel=5,
+        )
     try:
         if kind is Principled:
             parameters |= images.principled_textures(entry.maps)
@@ -373,8 +382,10 @@ def _mapping(path: Path, entry: _MtlEntry) -> tuple[type[Material], dict, dict[s
             parameters["emission"] = ke or (1.0, 1.0, 1.0)
         if "map_d" in entry.maps:
             parameters["alpha_mode"] = "BLEND"
+            if dissolve is not None:
+                parameters["alpha"] = dissolve
         sources = {"base_color": "kd", "metallic": "pm", "roughness": "pr" if pr is not None else "ns"}
-        return Principled, parameters, sources | {"eta": "ni", "emission": "ke"}
+        return Principled, parameters, sources | {"eta": "ni", "emission": "ke", "alpha": "d"}
     if ke is not None and max(ke) > 0:
         brightest = max(ke)
         color = tuple(c / brightest for c in ke)
