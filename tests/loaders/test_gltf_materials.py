@@ -224,3 +224,12 @@ def test_texcoords_of_another_length_are_an_error(tmp_path):
     document["accessors"][accessor]["count"] = 3
     with pytest.raises(SceneLoadError, match=r"attributes.TEXCOORD_0: has 3 values for 4 positions"):
         load_quiet(write_glb(tmp_path / "short.glb", document, blob))
+
+
+def test_opaque_ignores_the_base_colour_alpha(tmp_path):
+    material = copy.deepcopy(TEXTURED_MATERIAL)
+    del material["alphaMode"]
+    assert (
+        load_quiet(write_glb(tmp_path / "opaque.glb", *textured_square(material=material))).shapes[0].material.alpha
+        == 1.0
+    )

@@ -7,7 +7,7 @@ A material with any texture, or with alphaMode MASK or BLEND, becomes a Principl
 
 | glTF field                                                   | Principled parameter |
 |--------------------------------------------------------------|----------------------|
-| `pbrMetallicRoughness.baseColorFactor` (default 1, 1, 1, 1)   | base_color = rgb, alpha = a |
+| `pbrMetallicRoughness.baseColorFactor` (default 1, 1, 1, 1)   | base_color = rgb, alpha = a (1 for alphaMode OPAQUE, which ignores alpha) |
 | `pbrMetallicRoughness.baseColorTexture` (sRGB)               | base_color_texture (RGB x base_color, A x alpha) |
 | `pbrMetallicRoughness.metallicFactor`, `roughnessFactor` (default 1) | metallic, roughness (perceptual, as Principled's) |
 | `pbrMetallicRoughness.metallicRoughnessTexture` (linear)     | metallic_roughness_texture (G x roughness, B x metallic) |
@@ -128,7 +128,7 @@ class GltfMaterials:
                 return Principled(
                     name,
                     base_color=tuple(base[:3]),
-                    alpha=float(base[3]),
+                    alpha=float(base[3]) if alpha_mode != "OPAQUE" else 1.0,  # OPAQUE ignores alpha
                     metallic=metallic,
                     roughness=roughness,
                     eta=ior,
