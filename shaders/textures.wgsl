@@ -1,6 +1,7 @@
-// Textures (scene/texture.py, render/texture_atlas.py): every texture is a rectangle of linear
-// float32 RGBA texels in one atlas, filtered by hand, bilinearly, since filtering float32 textures
-// is an optional WebGPU feature. Only mip level 0 exists: a path tracer averages many samples per
+// Textures (scene/texture.py, render/texture_atlas.py): every texture is a rectangle of texels in
+// one atlas (8-bit bytes, sRGB or linear, or linear float32), filtered by hand, bilinearly, after
+// decoding each texel: filtering float32 textures is an optional WebGPU feature, and the hardware
+// filters sRGB bytes only in a texture whose every texel is sRGB. Only mip level 0 exists: a path tracer averages many samples per
 // pixel over the pixel's footprint, which filters minified textures as supersampling does.
 //! include "constants.wgsl"
 //! include "barycentric.wgsl"
@@ -21,10 +22,20 @@ fn texture_wrap(i: i32, n: i32, mode: u32) -> i32 {
     return select(m, 2 * n - 1 - m, m >= n);
 }
 
+// The sRGB transfer function inverted (IEC 61966-2-1), as scene/texture.py srgb_to_linear.
+fn srgb_decode(encoded: vec3<f32>) -> vec3<f32> {
+    return select(pow((encoded + 0.055) / 1.055, vec3<f32>(2.4)), encoded / 12.92, encoded <= vec3<f32>(0.04045));
+}
+
+// A texel of texture `t`, its colour linear.
 fn texture_texel(t: Texture, column: i32, row: i32) -> vec4<f32> {
     let x = texture_wrap(column, i32(t.size.x), t.wrap_s);
     let y = texture_wrap(row, i32(t.size.y), t.wrap_t);
-    return textureLoad(texture_atlas, t.origin + vec2<u32>(u32(x), u32(y)), 0);
+    let texel = textureLoad(texture_atlas, t.origin + vec2<u32>(u32(x), u32(y)), 0);
+    if t.srgb == 0u {
+        return texel;
+    }
+    return vec4<f32>(srgb_decode(texel.rgb), texel.a);
 }
 
 // Texture `id` at texture coordinates `uv` (glTF's: (0, 0) the image's top-left corner, v down),

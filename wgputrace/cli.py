@@ -202,9 +202,10 @@ def _render(args: argparse.Namespace) -> int:
         f"scene            {args.scene}: {renderer.triangle_count:,} triangles, {len(renderer.records.materials)} materials, "
         f"loaded in {load_seconds:.2f} s"
     )
+    textures = f", textures {renderer.gpu_texture_bytes:,} B" if renderer.gpu_texture_bytes else ""
     print(
         f"gpu memory       {renderer.gpu_bytes_per_triangle:.1f} B per triangle (triangles, BVH nodes, materials, "
-        f"lights; as allocated, spare capacity included)"
+        f"lights; as allocated, spare capacity included){textures}"
     )
     print(
         f"acceleration     {args.accel}: {acceleration.node_count:,} nodes, depth {acceleration.depth}, "

@@ -119,6 +119,25 @@ def test_texture_sample_matches_gltf_lookup_for_every_wrap_mode_and_transform(gp
     np.testing.assert_allclose(result, expected, atol=2e-5)
 
 
+def test_8_bit_textures_stay_bytes_and_decode_texel_by_texel(gpu_context):
+    rng = np.random.default_rng(SEED + 1)
+    pixels = rng.integers(0, 256, (6, 5, 4), dtype=np.uint8)
+    textures = [Texture(pixels, srgb=True, name="srgb"), Texture(pixels, srgb=False, name="linear")]
+    atlas = pack_atlas(textures, 8192)
+    assert atlas.texels.dtype == np.uint8 and atlas.records["srgb"].tolist() == [1, 0]
+    # one float texture makes the atlas float, linear for all
+    mixed = pack_atlas([*textures, Texture(np.ones((1, 1, 3), np.float32))], 8192)
+    assert mixed.texels.dtype == np.float32 and not mixed.records["srgb"].any()
+    count = 512
+    queries = np.zeros((2 * count, 4))
+    queries[:, :2] = rng.uniform(-1.5, 1.5, (len(queries), 2))
+    queries[:, 2] = np.repeat([0, 1], count)
+    result = sample_on_gpu(gpu_context, textures, queries)
+    expected = np.concatenate([oracle(t, queries[k * count : (k + 1) * count, :2]) for k, t in enumerate(textures)])
+    # the GPU's unorm-to-float and pow against float64
+    np.testing.assert_allclose(result, expected, atol=1e-5)
+
+
 def test_texel_centres_give_the_texel_and_midpoints_the_mean(gpu_context):
     texture = Texture(
         np.array([[[0.0], [1.0]], [[0.25], [0.5]]], np.float32), srgb=False, wrap_s="clamp", wrap_t="clamp"
@@ -212,6 +231,7 @@ def test_scenes_without_textures_bind_compile_and_allocate_none():
         renderer = Renderer(scene, 16, 16)
         assert "shading" not in renderer.bind_groups and "shading" not in renderer.kernel.groups
         assert set(renderer.gpu_scene_bytes) == {"triangles", "bvh nodes", "materials", "lights"}
+        assert renderer.gpu_texture_bytes == 0
 
 
 def test_edits_upload_only_what_changed():
@@ -219,13 +239,14 @@ def test_edits_upload_only_what_changed():
     material = Principled("t", base_color_texture=texture)
     scene = Scene([Shape("quad", QUAD, material, uvs=QUAD_UVS)], CAMERA)
     renderer = Renderer(scene, 16, 16)
-    assert renderer.gpu_scene_bytes["texture atlas"] == 4 * 4 * 16
+    assert renderer.gpu_scene_bytes["texture atlas"] == renderer.gpu_texture_bytes == 4 * 4 * 4  # 8-bit: bytes
+    assert renderer.gpu_bytes_per_triangle == (sum(renderer.gpu_scene_bytes.values()) - 64) / 2
     material.base_color = (0.25, 0.5, 0.75)
     assert set(renderer.update()) == {"materials"}
     material.base_color_texture = Texture(np.full((8, 2, 3), 7, np.uint8))
     uploads = renderer.update()
     assert set(uploads) == {"texture atlas", "textures"}
-    assert uploads["texture atlas"].bytes == 8 * 2 * 16 and uploads["textures"].calls == 1
+    assert uploads["texture atlas"].bytes == 8 * 2 * 4 and uploads["textures"].calls == 1
     material.alpha = 0.5
     assert set(renderer.update()) == {"material textures"}
     material.base_color_texture = None
@@ -243,6 +264,12 @@ def test_a_texture_over_the_device_side_is_downscaled_with_a_warning():
     assert atlas.records["size"][0].tolist() == [7, 4]
     # box filtering keeps the mean where the factor divides the side (rows: 12 = 3 x 4)
     assert atlas.texels[:4, :7, 0].mean(axis=0)[:3].tolist() == [1.0, 1.0, 1.0]
+    # 8-bit sRGB texels average as linear light and stay bytes: black and white make 188, not 128
+    stripes = np.zeros((2, 16, 3), np.uint8)
+    stripes[:, 1::2] = 255
+    with pytest.warns(TextureWarning):
+        atlas = pack_atlas([Texture(stripes)], side=8)
+    assert atlas.texels.dtype == np.uint8 and (atlas.texels[..., :3] == 188).all()
     mirror_scene = Scene([Shape("quad", QUAD, Principled("t", base_color_texture=big), uvs=QUAD_UVS)], CAMERA)
     with pytest.warns(TextureWarning):
         mirror = SceneMirror(mirror_scene, "bvh", texture_side=8)

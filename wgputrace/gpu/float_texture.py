@@ -1,9 +1,11 @@
-"""An rgba32float texture following a float32 (H, W, 4) array, with the interface of TrackedBuffer
-(`upload`, `generation`, `uploads`, `capacity_bytes`, `resource`): the environment map.
+"""An rgba32float texture following a float32 (H, W, 4) array, or an rgba8unorm one following a
+uint8 array (shaders read its texels as floats in [0, 1]), with the interface of TrackedBuffer
+(`upload`, `generation`, `uploads`, `capacity_bytes`, `resource`): the environment map, the
+texture atlas (render/texture_atlas.py).
 
 Shaders read it with textureLoad and filter by hand (shaders/lights/environment_map.wgsl): filtering
 float32 textures is an optional WebGPU feature. An upload writes the whole texture; one of another
-size reallocates it and bumps `generation`, so the owner rebinds. wgpu's errors come out as
+size or texel type reallocates it and bumps `generation`, so the owner rebinds. wgpu's errors come out as
 GpuFailure naming the texture.
 """
 
@@ -16,6 +18,8 @@ from .device import GpuContext, reporting
 from .tracked_buffer import UploadCount
 
 TEXEL_CHANNELS = 4
+# the texture format holding each texel type
+FORMATS = {np.dtype(np.float32): wgpu.TextureFormat.rgba32float, np.dtype(np.uint8): wgpu.TextureFormat.rgba8unorm}
 
 
 def require_float_texture(context: GpuContext, label: str, width: int, height: int) -> None:
@@ -35,40 +39,47 @@ class FloatTexture:
     @property
     def capacity_bytes(self) -> int:
         width, height = self.texture.size[0], self.texture.size[1]
-        return width * height * TEXEL_CHANNELS * 4
+        return width * height * TEXEL_CHANNELS * self.dtype.itemsize
 
     @property
     def resource(self) -> wgpu.GPUTextureView:
         return self._view
 
     def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
-        """Make the texture equal `data` (float32 (H, W, 4)); the whole texture is written (`rows`,
-        given by callers of the TrackedBuffer interface, changes nothing)."""
-        data = np.ascontiguousarray(data, dtype=np.float32)
-        if data.ndim != 3 or data.shape[2] != TEXEL_CHANNELS:
-            raise ValueError(f"texture {self.label!r} holds (H, W, {TEXEL_CHANNELS}) float32 texels, got {data.shape}")
+        """Make the texture equal `data` (float32 or uint8 (H, W, 4)); the whole texture is written
+        (`rows`, given by callers of the TrackedBuffer interface, changes nothing)."""
+        data = np.ascontiguousarray(data)
+        if data.ndim != 3 or data.shape[2] != TEXEL_CHANNELS or data.dtype not in FORMATS:
+            raise ValueError(
+                f"texture {self.label!r} holds (H, W, {TEXEL_CHANNELS}) float32 or uint8 texels, got {data.shape} {data.dtype}"
+            )
         height, width = data.shape[:2]
-        if self.texture is None or (self.texture.size[0], self.texture.size[1]) != (width, height):
-            self._allocate(width, height)
+        if self.texture is None or (self.texture.size[0], self.texture.size[1], self.dtype) != (
+            width,
+            height,
+            data.dtype,
+        ):
+            self._allocate(width, height, data.dtype)
         with reporting(f"writing {data.nbytes:,} B to texture {self.label!r}"):
             self.context.device.queue.write_texture(
                 {"texture": self.texture, "origin": (0, 0, 0)},
                 data,
-                {"offset": 0, "bytes_per_row": width * TEXEL_CHANNELS * 4, "rows_per_image": height},
+                {"offset": 0, "bytes_per_row": width * TEXEL_CHANNELS * data.dtype.itemsize, "rows_per_image": height},
                 (width, height, 1),
             )
         self.uploads.bytes += data.nbytes
         self.uploads.calls += 1
 
-    def _allocate(self, width: int, height: int) -> None:
+    def _allocate(self, width: int, height: int, dtype: np.dtype) -> None:
         require_float_texture(self.context, self.label, width, height)
         if self.texture is not None:
             self.texture.destroy()
-        with reporting(f"creating texture {self.label!r} of {width}x{height} rgba32float texels"):
+        self.dtype = dtype
+        with reporting(f"creating texture {self.label!r} of {width}x{height} {FORMATS[dtype]} texels"):
             self.texture = self.context.device.create_texture(
                 label=self.label,
                 size=(width, height, 1),
-                format=wgpu.TextureFormat.rgba32float,
+                format=FORMATS[dtype],
                 usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
             )
         self._view = self.texture.create_view()

@@ -194,9 +194,11 @@ TEXTURE = GpuStruct(
         ("wrap_t", "u32"),
         ("origin", "vec2<u32>"),
         ("size", "vec2<u32>"),
+        ("srgb", "u32"),
     ),
     "u' = dot(transform_u, (u, v, 1)), v' likewise (KHR_texture_transform); wrap modes as "
-    "scene/texture.py WRAP_MODES indexes them; the texels at origin, size in the atlas.",
+    "scene/texture.py WRAP_MODES indexes them; the texels at origin, size in the atlas; srgb: 1 "
+    "where its colour channels are sRGB bytes to decode.",
 )
 # Which textures a material reads (an index into the TEXTURE records, NO_TEXTURE for none), one
 # record per material, and the parameters that only textured scenes need.

@@ -52,7 +52,7 @@ from .lights import LightTable
 from .limits import atlas_side, check_image_size, check_scene_size, fit_environment
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
-from .scene_sync import CORNER_ATTRIBUTES, LIGHTS, MATERIALS, NODES, TRIANGLES, SceneMirror
+from .scene_sync import CORNER_ATTRIBUTES, LIGHTS, MATERIALS, NODES, TEXTURE_ATLAS, TRIANGLES, SceneMirror
 from .texture_buffers import TextureBuffers
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
@@ -319,9 +319,17 @@ class Renderer:
         return {buffer.label: buffer.size for buffer in buffers if buffer is not None}
 
     @property
+    def gpu_texture_bytes(self) -> int:
+        """Bytes of the texture atlas on the GPU (0 without textures): texture memory, which grows
+        with the images rather than the triangles, so it is reported beside the bytes per triangle."""
+        atlas = self._textures.buffers.get(TEXTURE_ATLAS)
+        return 0 if atlas is None else atlas.capacity_bytes
+
+    @property
     def gpu_bytes_per_triangle(self) -> float:
-        """Scene bytes on the GPU (triangles, BVH nodes, materials, lights) per triangle."""
-        return sum(self.gpu_scene_bytes.values()) / self.triangle_count
+        """Scene bytes on the GPU (triangles, BVH nodes, materials, lights, per-corner attributes;
+        not the texture atlas: gpu_texture_bytes) per triangle."""
+        return (sum(self.gpu_scene_bytes.values()) - self.gpu_texture_bytes) / self.triangle_count
 
     def update(self) -> dict[str, UploadCount]:
         """Bring the GPU up to date with the scene: upload only the records that changed, refit or

@@ -1,6 +1,11 @@
-"""The scene's textures as the GPU holds them: one atlas of linear float32 RGBA texels with every
-texture a rectangle in it, a TEXTURE record per texture (its rectangle, wrap modes and transform)
-and a MATERIAL_TEXTURES record per material (which textures it reads).
+"""The scene's textures as the GPU holds them: one atlas with every texture a rectangle in it, a
+TEXTURE record per texture (its rectangle, wrap modes, transform, whether to decode sRGB) and a
+MATERIAL_TEXTURES record per material (which textures it reads).
+
+The atlas holds 8-bit textures as their bytes (rgba8unorm, 4 bytes a texel; sRGB ones decoded by
+the lookup, texel by texel) while every texture is 8-bit, as image files are; one float texture
+(HDR emission, say) makes it linear rgba32float (16 bytes a texel) for all of them, since one
+texture has one format. A 2048 x 2048 base colour map takes 16 MiB rather than 64.
 
 An atlas rather than array layers: layers share one size, so a scene's mixed sizes (a 2048 base
 colour beside a 256 mask) would pad every layer to the largest, and the layer count is a limit of
@@ -25,7 +30,7 @@ import numpy as np
 from ..gpu.layout import MATERIAL_TEXTURES, TEXTURE
 from ..gpu.textures import NO_TEXTURE
 from ..scene import Material, SceneError
-from ..scene.texture import WRAP_MODES, Texture
+from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb
 
 # the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
 TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name != "alpha")
@@ -37,7 +42,7 @@ class TextureWarning(UserWarning):
 
 @dataclass
 class Atlas:
-    texels: np.ndarray  # float32 (H, W, 4), linear RGBA
+    texels: np.ndarray  # (H, W, 4): uint8 bytes as the textures hold them, or float32 linear RGBA
     records: np.ndarray  # TEXTURE.dtype, one per texture in `used_textures` order
 
 
@@ -68,14 +73,15 @@ def material_texture_records(materials: list[Material], textures: list[Texture])
     return records
 
 
-def fitted_texels(texture: Texture, side: int) -> np.ndarray:
-    """The texture's texels, box-filtered by the smallest whole factor that fits `side` (with a
+def fitted_texels(texture: Texture, side: int, eight_bit: bool) -> np.ndarray:
+    """The texture's texels as the atlas holds them (its bytes where `eight_bit`, else linear
+    float32), box-filtered in linear values by the smallest whole factor that fits `side` (with a
     TextureWarning), or as they are where they fit."""
-    texels = texture.linear_texels
-    height, width = texels.shape[:2]
+    width, height = texture.size
     factor = math.ceil(max(width, height) / side)
     if factor == 1:
-        return texels
+        return texture.encoded_texels if eight_bit else texture.linear_texels
+    texels = texture.linear_texels
     fitted_height, fitted_width = math.ceil(height / factor), math.ceil(width / factor)
     # the last block of a side that the factor does not divide repeats its edge texels
     padded = np.pad(texels, ((0, fitted_height * factor - height), (0, fitted_width * factor - width), (0, 0)), "edge")
@@ -86,13 +92,18 @@ def fitted_texels(texture: Texture, side: int) -> np.ndarray:
         TextureWarning,
         stacklevel=2,
     )
-    return fitted.astype(np.float32)
+    if not eight_bit:
+        return fitted.astype(np.float32)
+    if texture.srgb:
+        fitted[..., :3] = linear_to_srgb(fitted[..., :3])
+    return np.round(fitted * 255.0).astype(np.uint8)
 
 
 def pack_atlas(textures: list[Texture], side: int) -> Atlas:
     """The atlas of `textures` (each fitted to `side`), or SceneError naming the limit where their
     rectangles cannot share one texture of that side."""
-    images = [fitted_texels(texture, side) for texture in textures]
+    eight_bit = all(texture.encoded_texels is not None for texture in textures)
+    images = [fitted_texels(texture, side, eight_bit) for texture in textures]
     area = sum(image.shape[0] * image.shape[1] for image in images)
     widest = max(image.shape[1] for image in images)
     width = min(side, max(widest, 2 ** math.ceil(math.log2(math.sqrt(area)))))
@@ -111,7 +122,7 @@ def pack_atlas(textures: list[Texture], side: int) -> Atlas:
             f"the scene's {len(textures)} textures ({area:,} texels) need an atlas {width}x{height}, "
             f"over the device's {side} texels per side"
         )
-    texels = np.zeros((height, width, 4), np.float32)
+    texels = np.zeros((height, width, 4), images[0].dtype)
     records = TEXTURE.zeros(len(textures))
     for record, texture, image, (ox, oy) in zip(records, textures, images, origins, strict=True):
         texels[oy : oy + image.shape[0], ox : ox + image.shape[1]] = image
@@ -119,4 +130,5 @@ def pack_atlas(textures: list[Texture], side: int) -> Atlas:
         record["transform_u"], record["transform_v"] = rows[0], rows[1]
         record["wrap_s"], record["wrap_t"] = WRAP_MODES.index(texture.wrap_s), WRAP_MODES.index(texture.wrap_t)
         record["origin"], record["size"] = (ox, oy), (image.shape[1], image.shape[0])
+        record["srgb"] = eight_bit and texture.srgb
     return Atlas(texels, records)

@@ -6,15 +6,18 @@ flips it. Outside [0, 1] each axis wraps by its mode: "repeat", "clamp" (to the 
 "mirror" (glTF's 10497, 33071, 33648). A TextureTransform (KHR_texture_transform) maps a shape's
 coordinates before the lookup: uv' = offset + R(rotation) S(scale) uv, in glTF's convention.
 
-Texels are kept as linear float32 RGBA (`linear_texels`): 8-bit sRGB images are decoded here, once,
-so the GPU interpolates linear values (decoding after interpolating would darken edges). Fewer than
-four channels fill out as glTF reads them: grey -> RGB, grey+alpha, RGB with alpha 1.
+An 8-bit image is kept as its bytes (`encoded_texels`, RGBA uint8), which the GPU holds as they
+are (4 bytes a texel) and decodes texel by texel before interpolating (decoding after interpolating
+would darken edges); float pixels are kept as given. `linear_texels` (float32 RGBA, sRGB decoded)
+is what both mean, for the host. Fewer than four channels fill out as glTF reads them: grey -> RGB,
+grey+alpha, RGB with alpha 1. A Texture is not edited in place: assign a new one.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -48,10 +51,16 @@ def srgb_to_linear(values: np.ndarray) -> np.ndarray:
     return np.where(values <= 0.04045, values / 12.92, ((values + 0.055) / 1.055) ** 2.4)
 
 
+def linear_to_srgb(values: np.ndarray) -> np.ndarray:
+    """The sRGB transfer function (IEC 61966-2-1), values in [0, 1]."""
+    return np.where(values <= 0.0031308, values * 12.92, 1.055 * np.maximum(values, 0.0031308) ** (1 / 2.4) - 0.055)
+
+
 class Texture:
     """`pixels`: uint8 (H, W, C) or float (H, W, C), C in 1..4 (a (H, W) array is one channel).
     `srgb`: the colour channels are sRGB-encoded (base colour, emission), else linear data
-    (metallic-roughness, normals); alpha is always linear. Float pixels are taken as they are."""
+    (metallic-roughness, normals) and for float pixels, which are taken as they are; alpha is
+    always linear."""
 
     def __init__(
         self,
@@ -68,7 +77,22 @@ class Texture:
             if mode not in WRAP_MODES:
                 raise SceneError(f"texture {name!r}: {axis} must be one of {WRAP_MODES}, got {mode!r}")
         self.wrap_s, self.wrap_t = wrap_s, wrap_t
-        self.linear_texels = _linear_texels(name, pixels, self.srgb)
+        texels = _rgba(name, pixels)
+        # the 8-bit bytes, or None where the pixels are floats (`float_texels`)
+        self.encoded_texels = texels if texels.dtype == np.uint8 else None
+        self._float_texels = None if texels.dtype == np.uint8 else texels
+
+    @cached_property
+    def linear_texels(self) -> np.ndarray:
+        """Read-only float32 (H, W, 4) linear RGBA: the float pixels, or the bytes / 255 with the
+        colour channels sRGB-decoded where `srgb`."""
+        if self._float_texels is not None:
+            return self._float_texels
+        texels = self.encoded_texels.astype(np.float32) / 255.0
+        if self.srgb:
+            texels[..., :3] = srgb_to_linear(texels[..., :3])
+        texels.flags.writeable = False
+        return texels
 
     @classmethod
     def from_file(cls, path, *, srgb: bool = True, **options) -> Texture:
@@ -88,7 +112,8 @@ class Texture:
     @property
     def size(self) -> tuple[int, int]:
         """(width, height) in texels."""
-        return self.linear_texels.shape[1], self.linear_texels.shape[0]
+        texels = self._float_texels if self.encoded_texels is None else self.encoded_texels
+        return texels.shape[1], texels.shape[0]
 
     def mitsuba_bitmap(self, texels: np.ndarray) -> dict:
         """Mitsuba 3's `bitmap` of `texels` (this texture's linear_texels, with the channels a
@@ -115,8 +140,8 @@ class Texture:
         return f"Texture({self.name!r}, {self.size[0]}x{self.size[1]}, srgb={self.srgb})"
 
 
-def _linear_texels(name: str, pixels, srgb: bool) -> np.ndarray:
-    """Read-only float32 (H, W, 4) linear RGBA of `pixels`, or SceneError naming what is wrong."""
+def _rgba(name: str, pixels) -> np.ndarray:
+    """Read-only (H, W, 4) RGBA of `pixels`, uint8 or float32 as given, or SceneError naming what is wrong."""
     array = np.asarray(pixels)
     if array.ndim == 2:
         array = array[:, :, None]
@@ -126,20 +151,16 @@ def _linear_texels(name: str, pixels, srgb: bool) -> np.ndarray:
     if not (0 < height <= MAX_TEXTURE_SIDE and 0 < width <= MAX_TEXTURE_SIDE):
         raise SceneError(f"texture {name!r}: {width}x{height} texels, each side must be 1 to {MAX_TEXTURE_SIDE:,}")
     if array.dtype == np.uint8:
-        values = array.astype(np.float32) / 255.0
+        opaque = 255
     elif np.issubdtype(array.dtype, np.floating):
-        values = array.astype(np.float32)
-        if not np.isfinite(values).all():
+        array, opaque = array.astype(np.float32), 1.0
+        if not np.isfinite(array).all():
             raise SceneError(f"texture {name!r}: pixels must be finite")
     else:
         raise SceneError(f"texture {name!r}: pixels must be uint8 or float, got {array.dtype}")
-    colour = values[:, :, : 3 if channels >= 3 else 1]
-    alpha = values[:, :, 3 if channels == 4 else 1 : 4 if channels == 4 else 2]
-    if array.dtype == np.uint8 and srgb:
-        colour = srgb_to_linear(colour).astype(np.float32)
-    texels = np.ones((height, width, 4), np.float32)
-    texels[:, :, :3] = colour
+    texels = np.full((height, width, 4), opaque, array.dtype)
+    texels[:, :, :3] = array[:, :, : 3 if channels >= 3 else 1]
     if channels in (2, 4):
-        texels[:, :, 3] = alpha[:, :, 0]
+        texels[:, :, 3] = array[:, :, channels - 1]
     texels.flags.writeable = False
     return texels
