@@ -249,6 +249,13 @@ def test_edits_upload_only_what_changed():
     assert uploads["texture atlas"].bytes == 8 * 2 * 4 and uploads["textures"].calls == 1
     material.alpha = 0.5
     assert set(renderer.update()) == {"material textures"}
+    # a move keeps the corners' coordinates: triangles and nodes only
+    scene.shapes[0].transform = (
+        np.diag([1.0, 1.0, 1.0, 1.0])
+        + np.eye(4, k=3) * 0.0
+        + np.array([[0, 0, 0, 0.1], [0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]])
+    )
+    assert set(renderer.update()) == {"triangles", "bvh nodes"}
     material.base_color_texture = None
     renderer.update()
     assert "shading" not in renderer.bind_groups and "texture atlas" not in renderer.gpu_scene_bytes
@@ -296,3 +303,17 @@ def test_a_mirroring_transform_swaps_uvs_with_the_corners():
             local = corner * (-1, 1, 1)
             matches = np.all(np.isclose(QUAD, local), axis=2)
             assert (QUAD_UVS[matches] == uv).all()
+
+
+def test_texture_from_file_reads_png_and_names_a_bad_file(tmp_path):
+    from PIL import Image
+
+    pixels = np.zeros((3, 5, 3), np.uint8)
+    pixels[0, 0] = (255, 0, 0)
+    Image.fromarray(pixels).save(tmp_path / "marked.png")
+    texture = Texture.from_file(tmp_path / "marked.png", wrap_s="clamp")
+    assert texture.size == (5, 3) and texture.name == "marked.png" and texture.wrap_s == "clamp"
+    assert texture.encoded_texels[0, 0].tolist() == [255, 0, 0, 255]
+    (tmp_path / "corrupt.png").write_bytes(b"\x89PNG\r\n\x1a\n not really")
+    with pytest.raises(SceneError, match=r"texture file '.*corrupt.png': cannot read it as an image"):
+        Texture.from_file(tmp_path / "corrupt.png")
