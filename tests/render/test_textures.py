@@ -250,11 +250,9 @@ def test_edits_upload_only_what_changed():
     material.alpha = 0.5
     assert set(renderer.update()) == {"material textures"}
     # a move keeps the corners' coordinates: triangles and nodes only
-    scene.shapes[0].transform = (
-        np.diag([1.0, 1.0, 1.0, 1.0])
-        + np.eye(4, k=3) * 0.0
-        + np.array([[0, 0, 0, 0.1], [0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]])
-    )
+    moved = np.eye(4)
+    moved[0, 3] = 0.1
+    scene.shapes[0].transform = moved
     assert set(renderer.update()) == {"triangles", "bvh nodes"}
     material.base_color_texture = None
     renderer.update()
