@@ -247,6 +247,12 @@ def test_edits_upload_only_what_changed():
     uploads = renderer.update()
     assert set(uploads) == {"texture atlas", "textures"}
     assert uploads["texture atlas"].bytes == 8 * 2 * 4 and uploads["textures"].calls == 1
+    # one of the same size and kind: the same rectangle, only its changed row of texels
+    pixels = np.full((8, 2, 3), 7, np.uint8)
+    pixels[5, 1] = 99
+    material.base_color_texture = Texture(pixels)
+    uploads = renderer.update()
+    assert set(uploads) == {"texture atlas"} and uploads["texture atlas"].bytes == 2 * 4
     material.alpha = 0.5
     assert set(renderer.update()) == {"material textures"}
     # a move keeps the corners' coordinates: triangles and nodes only

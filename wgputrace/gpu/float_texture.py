@@ -4,8 +4,9 @@ uint8 array (shaders read its texels as floats in [0, 1]), with the interface of
 texture atlas (render/texture_atlas.py).
 
 Shaders read it with textureLoad and filter by hand (shaders/lights/environment_map.wgsl): filtering
-float32 textures is an optional WebGPU feature. An upload writes the whole texture; one of another
-size or texel type reallocates it and bumps `generation`, so the owner rebinds. wgpu's errors come out as
+float32 textures is an optional WebGPU feature. An upload writes the texel rows it is given as changed
+(runs of consecutive rows, one write each), or the whole texture; one of another size or texel
+type reallocates it, writes it whole and bumps `generation`, so the owner rebinds. wgpu's errors come out as
 GpuFailure naming the texture.
 """
 
@@ -15,7 +16,7 @@ import numpy as np
 import wgpu
 
 from .device import GpuContext, reporting
-from .tracked_buffer import UploadCount
+from .tracked_buffer import UploadCount, merged_runs
 
 TEXEL_CHANNELS = 4
 # the texture format holding each texel type
@@ -46,8 +47,8 @@ class FloatTexture:
         return self._view
 
     def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
-        """Make the texture equal `data` (float32 or uint8 (H, W, 4)); the whole texture is written
-        (`rows`, given by callers of the TrackedBuffer interface, changes nothing)."""
+        """Make the texture equal `data` (float32 or uint8 (H, W, 4)), given that only texel `rows`
+        (sorted, unique) differ from the last upload; None, or a new size or type, writes every row."""
         data = np.ascontiguousarray(data)
         if data.ndim != 3 or data.shape[2] != TEXEL_CHANNELS or data.dtype not in FORMATS:
             raise ValueError(
@@ -60,14 +61,25 @@ class FloatTexture:
             data.dtype,
         ):
             self._allocate(width, height, data.dtype)
-        with reporting(f"writing {data.nbytes:,} B to texture {self.label!r}"):
+            rows = None
+        for start, stop in [(0, height)] if rows is None else merged_runs(rows):
+            self._write_rows(data, start, stop)
+
+    def _write_rows(self, data: np.ndarray, start: int, stop: int) -> None:
+        band = np.ascontiguousarray(data[start:stop])
+        width = data.shape[1]
+        with reporting(f"writing {band.nbytes:,} B to texture {self.label!r}"):
             self.context.device.queue.write_texture(
-                {"texture": self.texture, "origin": (0, 0, 0)},
-                data,
-                {"offset": 0, "bytes_per_row": width * TEXEL_CHANNELS * data.dtype.itemsize, "rows_per_image": height},
-                (width, height, 1),
+                {"texture": self.texture, "origin": (0, start, 0)},
+                band,
+                {
+                    "offset": 0,
+                    "bytes_per_row": width * TEXEL_CHANNELS * data.dtype.itemsize,
+                    "rows_per_image": stop - start,
+                },
+                (width, stop - start, 1),
             )
-        self.uploads.bytes += data.nbytes
+        self.uploads.bytes += band.nbytes
         self.uploads.calls += 1
 
     def _allocate(self, width: int, height: int, dtype: np.dtype) -> None:

@@ -14,8 +14,8 @@ flat shape's triangles); a transform moves its shape's rows of them with its tri
 Scenes whose materials read textures keep the atlas, its TEXTURE records, a MATERIAL_TEXTURES record
 per material and each triangle's corner texture coordinates in BVH order (render/texture_atlas.py);
 scenes without textures keep none of them, whatever UVs their shapes have. A material's factor is
-its material record; a texture swapped in or out repacks the atlas (uploaded whole) and its
-records; a moved shape's coordinates change only where a mirror swapped its corners.
+its material record; a texture swapped in or out repacks the atlas and its records, and uploads
+the texel rows that changed (only the swapped texture's where it keeps the size and kind); a moved shape's coordinates change only where a mirror swapped its corners.
 
 The light table (next-event estimation) is rebuilt when an emitter's triangles or record change,
 when a light is added, removed or edited, when the environment or its parameters change, and, with
@@ -223,8 +223,8 @@ class SceneMirror:
             changes[CORNER_UVS] = self._update_corner_uvs()
         if [id(t) for t in textures] != [id(t) for t in self._textures]:
             atlas = pack_atlas(textures, self.texture_side)
+            changes[TEXTURE_ATLAS] = _changed_texel_rows(self.atlas_texels, atlas.texels)
             self.atlas_texels = atlas.texels
-            changes[TEXTURE_ATLAS] = np.arange(len(atlas.texels))
             old = self.texture_records
             changes[TEXTURES] = np.arange(len(textures)) if old is None else changed_rows(old, atlas.records)
             self.texture_records, self._textures = atlas.records, textures
@@ -447,6 +447,14 @@ class SceneMirror:
         self._environment = environment
         self._environment_state = environment_state(environment)
         return changes
+
+
+def _changed_texel_rows(old: np.ndarray | None, new: np.ndarray) -> np.ndarray:
+    """The rows of texels that differ, all of them where the atlas was packed another size or type
+    (a texture swapped for one of its size and kind repacks to the same rectangles)."""
+    if old is None or old.shape != new.shape or old.dtype != new.dtype:
+        return np.arange(len(new))
+    return np.flatnonzero((old != new).reshape(len(new), -1).any(axis=1))
 
 
 def _union(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -1,7 +1,7 @@
 """The texture bindings of the shading group (gpu/bindings.py shading_group) as GPU resources,
 following a SceneMirror's texture records: the corner texture coordinates, the atlas, the textures'
 records and the materials' texture slots, allocated only while a material reads a texture and
-uploaded only where an edit changed them (counted like the scene's buffers; the atlas whole)."""
+uploaded only where an edit changed them (counted like the scene's buffers; the atlas by rows of texels)."""
 
 from __future__ import annotations
 
