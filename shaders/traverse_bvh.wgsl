@@ -51,7 +51,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
         if (node & WIDE_LEAF) != 0u {
             let first = (node & ~WIDE_LEAF) >> WIDE_COUNT_BITS;
             let count = (node & WIDE_COUNT_MASK) + 1u;
-            if intersect_leaf(sheared, BvhNode(vec3<f32>(0.0), first, vec3<f32>(0.0), count), skip_triangle, any_hit, &hit) {
+            if intersect_leaf(ray, sheared, BvhNode(vec3<f32>(0.0), first, vec3<f32>(0.0), count), skip_triangle, any_hit, &hit) {
                 break;
             }
         } else {

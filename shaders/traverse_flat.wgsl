@@ -16,7 +16,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
         if intersect_box(ray.origin, inverse_direction, node.bounds_min, node.bounds_max, hit.t) == FLOAT_MAX {
             continue;
         }
-        if intersect_leaf(sheared, node, skip_triangle, any_hit, &hit) {
+        if intersect_leaf(ray, sheared, node, skip_triangle, any_hit, &hit) {
             break;
         }
     }

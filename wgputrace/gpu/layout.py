@@ -204,8 +204,17 @@ TEXTURE = GpuStruct(
 # record per material, and the parameters that only textured scenes need.
 MATERIAL_TEXTURES = GpuStruct(
     "MaterialTextures",
-    (("base_color", "u32"), ("metallic_roughness", "u32"), ("alpha", "f32")),
-    "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's).",
+    (
+        ("base_color", "u32"),
+        ("metallic_roughness", "u32"),
+        ("alpha", "f32"),
+        ("alpha_mode", "u32"),
+        ("alpha_cutoff", "f32"),
+        ("double_sided", "u32"),
+    ),
+    "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's); "
+    "alpha_mode as scene/materials/principled.py ALPHA_MODES numbers them, its cutoff, and 0 for a "
+    "single-sided surface (shaders/alpha.wgsl).",
 )
 
 ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

@@ -18,6 +18,7 @@ import numpy as np
 import wgpu
 
 from ..denoise import denoise
+from ..gpu.alpha import GENERATED_ALPHA, alpha_hook
 from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, lights_group, pixels_group, scene_group, shading_group
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
@@ -158,6 +159,7 @@ def path_tracer_kernel(
                 GENERATED_ESCAPED_LIGHT: escaped_light_hook(lights),
                 GENERATED_SHADING_NORMALS: shading_normals_hook(smooth),
                 GENERATED_TEXTURES: textures_hook(textured),
+                GENERATED_ALPHA: alpha_hook(textured),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"

@@ -30,10 +30,13 @@ import numpy as np
 from ..gpu.layout import MATERIAL_TEXTURES, TEXTURE
 from ..gpu.textures import NO_TEXTURE
 from ..scene import Material, SceneError
+from ..scene.materials.principled import ALPHA_MODES
 from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb
 
+# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl reads them)
+_ALPHA_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided")
 # the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
-TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name != "alpha")
+TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name not in _ALPHA_FIELDS)
 
 
 class TextureWarning(UserWarning):
@@ -70,6 +73,9 @@ def material_texture_records(materials: list[Material], textures: list[Texture])
         for slot in TEXTURE_SLOTS:
             record[slot] = index[id(slots[slot])] if slot in slots else NO_TEXTURE
         record["alpha"] = getattr(material, "alpha", 1.0)
+        record["alpha_mode"] = ALPHA_MODES.index(getattr(material, "alpha_mode", "OPAQUE"))
+        record["alpha_cutoff"] = getattr(material, "alpha_cutoff", 0.5)
+        record["double_sided"] = getattr(material, "double_sided", True)
     return records
 
 

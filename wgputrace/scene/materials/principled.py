@@ -11,6 +11,9 @@ need, the same on both sides.
 | base_color_texture | Texture (sRGB) or None | None | RGB x base_color (glTF baseColorTexture); its alpha x alpha |
 | metallic_roughness_texture | Texture (linear) or None | None | G x roughness, B x metallic (glTF metallicRoughnessTexture) |
 | alpha      | float [0, 1]  | 1       | coverage x the base colour texture's alpha (alpha_mode: cut-outs, blending) |
+| alpha_mode | "OPAQUE", "MASK", "BLEND" | "OPAQUE" | glTF's: alpha ignored; texels of alpha < alpha_cutoff cut out; stochastic transparency |
+| alpha_cutoff | float [0, 1] | 0.5    | MASK's threshold                                                  |
+| double_sided | bool       | True    | False: the surface is invisible from behind (its back face culled, as glTF viewers do) |
 
 A Disney diffuse lobe with retro-reflection, weighted by 1 - metallic, plus GGX reflection whose
 Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic Schlick(base_color). Sampling
@@ -18,6 +21,8 @@ picks the diffuse lobe with probability (1 - metallic) / (2 - metallic), else a 
 GPU record: color = base_color, alpha = roughness, ior = eta, metallic. Textures and alpha are in
 the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
 reads these fields (shaders/textures.wgsl resolve_material), so the BSDF code sees constants.
+Alpha modes and sidedness act in the traversal's triangle test (shaders/alpha.wgsl), for every ray,
+and only in scenes whose materials read a texture (gpu/alpha.py).
 WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `twosided` `principled` with the same values.
 """
 
@@ -29,6 +34,9 @@ from dataclasses import dataclass
 from ..texture import Texture
 from .glass import IOR_MAX
 from .material import Material, MaterialError, MaterialShader, check_color, check_number, mitsuba_rgb
+
+# glTF's alphaMode values, numbered for the GPU in this order (gpu/alpha.py)
+ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 
 
 def eta_from_specular(specular: float) -> float:
@@ -47,6 +55,9 @@ class Principled(Material):
     base_color_texture: Texture | None = None
     metallic_roughness_texture: Texture | None = None
     alpha: float = 1.0
+    alpha_mode: str = "OPAQUE"
+    alpha_cutoff: float = 0.5
+    double_sided: bool = True
 
     kind = 5
     shader = MaterialShader(
@@ -69,8 +80,20 @@ class Principled(Material):
                     f"material {self.name!r}: {parameter} must be a Texture or None, got {type(value).__name__}",
                     parameter,
                 )
+        if self.alpha_mode not in ALPHA_MODES:
+            raise MaterialError(
+                f"material {self.name!r}: alpha_mode must be one of {', '.join(ALPHA_MODES)}, got {self.alpha_mode!r}",
+                "alpha_mode",
+            )
+        if not isinstance(self.double_sided, bool):
+            raise MaterialError(
+                f"material {self.name!r}: double_sided must be True or False, got {self.double_sided!r}", "double_sided"
+            )
         return {
             "alpha": check_number(self.name, "alpha", self.alpha, low=0.0, high=1.0),
+            "alpha_mode": self.alpha_mode,
+            "alpha_cutoff": check_number(self.name, "alpha_cutoff", self.alpha_cutoff, low=0.0, high=1.0),
+            "double_sided": self.double_sided,
             "base_color": check_color(self.name, "base_color", self.base_color, upper=1.0),
             "metallic": check_number(self.name, "metallic", self.metallic, low=0.0, high=1.0),
             "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),

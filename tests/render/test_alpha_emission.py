@@ -1,0 +1,124 @@
+"""Alpha and sidedness (shaders/alpha.wgsl): cut-out texels (MASK) let every ray through, the
+camera's and the shadow rays', in the fraction the texture cuts; BLEND passes 1 - alpha of the
+rays; OPAQUE ignores alpha; a single-sided surface is invisible from behind."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wgputrace import DirectionalLight, Environment
+from wgputrace.render.renderer import Renderer
+from wgputrace.scene import Camera, Diffuse, Principled, Scene, Shape, Texture
+
+pytestmark = pytest.mark.gpu
+
+SIZE = 24
+# The camera at z = -3 looks at a white wall in z = 0 (seen across |x|, |y| < 1.24).
+CAMERA = Camera.looking_at((0, 0, -3), (0, 0, 0), vfov_degrees=45.0)
+# Stripes: one texel column in four cut out (alpha 0), so MASK cuts a quarter of the surface (the
+# bilinear alpha crosses the cutoff 0.5 exactly at the texel boundaries).
+STRIPES = Texture(np.array([[[0, 0, 0, 0], [0, 0, 0, 255], [0, 0, 0, 255], [0, 0, 0, 255]]], np.uint8))
+CUT_FRACTION = 0.25
+# fully covered, for BLEND with a constant alpha (alpha modes act in textured scenes)
+COVERED = Texture(np.zeros((1, 1, 4), np.uint8) + np.uint8(255))
+# light travels along +z and 3 units in -x a unit of z: the occluder one unit before the wall at
+# x in [1.5, 4.5] shadows the wall the camera sees, out of the camera's view (|x| < 0.83 at z = -1)
+LIGHT = DirectionalLight((-3.0, 0.0, 1.0), 3.0)
+
+
+def quad(x0: float, x1: float, y0: float, y1: float, z: float, facing_camera: bool = True) -> np.ndarray:
+    a, b, c, d = (x0, y1, z), (x1, y1, z), (x1, y0, z), (x0, y0, z)
+    # glTF's front face: counter-clockwise seen from the front
+    triangles = [[a, b, c], [a, c, d]] if facing_camera else [[a, c, b], [a, d, c]]
+    return np.array(triangles, np.float32)
+
+
+def quad_uvs(repeats: float, facing_camera: bool = True) -> np.ndarray:
+    r = repeats
+    uvs = (
+        [[(0, 0), (r, 0), (r, r)], [(0, 0), (r, r), (0, r)]]
+        if facing_camera
+        else [
+            [(0, 0), (r, r), (r, 0)],
+            [(0, 0), (0, r), (r, r)],
+        ]
+    )
+    return np.array(uvs, np.float32)
+
+
+def render(shapes: list[Shape], *, light: bool, spp: int = 32) -> np.ndarray:
+    scene = Scene(shapes, CAMERA)
+    if light:
+        scene.add_light(LIGHT)
+    else:
+        scene.environment = Environment(1.0)
+    renderer = Renderer(scene, SIZE, SIZE, seed=5, max_depth=2)
+    renderer.render(spp)
+    image = renderer.image()
+    assert np.isfinite(image).all()
+    return image.mean(axis=2)
+
+
+def wall() -> Shape:
+    return Shape("wall", quad(-3, 3, -3, 3, 0.0), Diffuse("white", (0.8, 0.8, 0.8)))
+
+
+def occluder(material: Principled) -> Shape:
+    # 12 stripe periods across 3 units: about 10 in the shadow the camera sees
+    return Shape("occluder", quad(1.5, 4.5, -1.5, 1.5, -1.0), material, uvs=quad_uvs(12.0))
+
+
+def shadowed_fraction(material: Principled) -> float:
+    lit = render([wall()], light=True)
+    shadowed = render([wall(), occluder(material)], light=True)
+    return 1.0 - shadowed.mean() / lit.mean()
+
+
+def test_mask_cut_outs_cast_a_shadow_of_the_cut_fraction():
+    cut = Principled("leaf", base_color_texture=STRIPES, alpha_mode="MASK")
+    assert shadowed_fraction(cut) == pytest.approx(1.0 - CUT_FRACTION, abs=0.04)
+    # the same texture OPAQUE ignores its alpha: a full shadow
+    assert shadowed_fraction(Principled("leaf", base_color_texture=STRIPES)) > 0.97
+
+
+def seen_through_fraction(material: Principled, repeats: float, spp: int = 32) -> float:
+    """The fraction of the bright environment a screen covering the view lets the camera see, the
+    screen's own reflection (the same material OPAQUE) taken out."""
+    screen = Shape("screen", quad(-2, 2, -2, 2, -1.0), material, uvs=quad_uvs(repeats))
+    seen = render([screen], light=False, spp=spp).mean()
+    mode, material.alpha_mode = material.alpha_mode, "OPAQUE"
+    opaque = render([screen], light=False, spp=spp).mean()
+    material.alpha_mode = mode
+    return (seen - opaque) / (1.0 - opaque)
+
+
+def black(name: str, **parameters) -> Principled:
+    """A material reflecting next to nothing (a conductor of reflectance 0 at normal incidence)."""
+    return Principled(name, base_color=(0, 0, 0), metallic=1.0, **parameters)
+
+
+def test_camera_rays_see_through_cut_texels():
+    screen = black("screen", base_color_texture=STRIPES, alpha_mode="MASK")
+    # 16 stripe periods across 4 units: about 7 in view
+    assert seen_through_fraction(screen, 16.0) == pytest.approx(CUT_FRACTION, abs=0.04)
+    # a cutoff at or under every alpha cuts nothing
+    screen.alpha_cutoff = 0.0
+    assert seen_through_fraction(screen, 16.0) == pytest.approx(0.0, abs=0.01)
+
+
+def test_blend_at_half_alpha_transmits_half():
+    veil = black("veil", base_color_texture=COVERED, alpha=0.5, alpha_mode="BLEND")
+    assert shadowed_fraction(veil) == pytest.approx(0.5, abs=0.04)
+    assert seen_through_fraction(veil, 1.0, spp=64) == pytest.approx(0.5, abs=0.04)
+
+
+@pytest.mark.parametrize("double_sided", [True, False])
+def test_a_single_sided_surface_is_invisible_from_behind(double_sided):
+    card = black("card", base_color_texture=COVERED, double_sided=double_sided)
+    away = Shape("card", quad(-2, 2, -2, 2, -1.0, facing_camera=False), card, uvs=quad_uvs(1.0, False))
+    towards = Shape("card", quad(-2, 2, -2, 2, -1.0), card, uvs=quad_uvs(1.0))
+    # from the front either is dark; from behind the single-sided one shows the environment
+    assert render([towards], light=False, spp=4).max() < 0.05
+    behind = render([away], light=False, spp=4)
+    assert (behind.min() > 0.99) if not double_sided else (behind.max() < 0.05)
