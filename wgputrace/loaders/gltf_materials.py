@@ -47,15 +47,11 @@ import base64
 import binascii
 import urllib.parse
 import warnings
-from typing import TYPE_CHECKING
 
 from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Principled, SceneError
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
 from .textures import ImageError, decode_image, supported_parameters
-
-if TYPE_CHECKING:
-    from .gltf import _Reader
 
 DEFAULT_DIFFUSE = 0.8
 DEFAULT_IOR = 1.5  # KHR_materials_ior's default
@@ -79,7 +75,8 @@ TEXTURE_SLOTS = (
 class GltfMaterials:
     """The materials of one glTF file, each mapped once, and the textures they share."""
 
-    def __init__(self, reader: _Reader) -> None:
+    def __init__(self, reader) -> None:
+        # gltf.py's _Reader of the file (not imported: gltf.py imports this module)
         self.reader = reader
         self._materials: dict[int | None, Material] = {}
         self._textures: dict[tuple, Texture] = {}
