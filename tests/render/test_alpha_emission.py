@@ -20,8 +20,6 @@ CAMERA = Camera.looking_at((0, 0, -3), (0, 0, 0), vfov_degrees=45.0)
 # bilinear alpha crosses the cutoff 0.5 exactly at the texel boundaries).
 STRIPES = Texture(np.array([[[0, 0, 0, 0], [0, 0, 0, 255], [0, 0, 0, 255], [0, 0, 0, 255]]], np.uint8))
 CUT_FRACTION = 0.25
-# fully covered, for BLEND with a constant alpha (alpha modes act in textured scenes)
-COVERED = Texture(np.zeros((1, 1, 4), np.uint8) + np.uint8(255))
 # light travels along +z and 3 units in -x a unit of z: the occluder one unit before the wall at
 # x in [1.5, 4.5] shadows the wall the camera sees, out of the camera's view (|x| < 0.83 at z = -1)
 LIGHT = DirectionalLight((-3.0, 0.0, 1.0), 3.0)
@@ -108,17 +106,60 @@ def test_camera_rays_see_through_cut_texels():
 
 
 def test_blend_at_half_alpha_transmits_half():
-    veil = black("veil", base_color_texture=COVERED, alpha=0.5, alpha_mode="BLEND")
+    veil = black("veil", alpha=0.5, alpha_mode="BLEND")
     assert shadowed_fraction(veil) == pytest.approx(0.5, abs=0.04)
     assert seen_through_fraction(veil, 1.0, spp=64) == pytest.approx(0.5, abs=0.04)
 
 
+def cube(half: float) -> np.ndarray:
+    """A closed cube about the origin, its front faces outwards (glTF's counter-clockwise)."""
+    corners = np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
+    faces = [(0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)]
+    triangles = np.array([corners[[a, b, c]] for a, b, c, d in faces] + [corners[[a, c, d]] for a, b, c, d in faces])
+    outwards = np.einsum(
+        "ij,ij->i",
+        np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]),
+        triangles.mean(axis=1),
+    )
+    triangles[outwards < 0] = triangles[outwards < 0][:, ::-1]
+    return triangles.astype(np.float32)
+
+
+def test_a_closed_single_sided_mesh_is_solid_outside_and_open_inside():
+    # glTF's doubleSided defaults to false: a closed mesh must still occlude, and rays from inside
+    # must not find its faces black
+    box = Shape("box", cube(0.5), black("box", double_sided=False))
+    assert render([box], light=False, spp=4)[SIZE // 2 - 2 : SIZE // 2 + 2, SIZE // 2 - 2 : SIZE // 2 + 2].max() < 0.05
+    scene = Scene([Shape("room", cube(5.0), black("room", double_sided=False))], CAMERA)
+    scene.environment = Environment(1.0)
+    renderer = Renderer(scene, SIZE, SIZE, seed=5, max_depth=2)
+    renderer.render(4)
+    assert renderer.image().min() > 0.99
+
+
 @pytest.mark.parametrize("double_sided", [True, False])
 def test_a_single_sided_surface_is_invisible_from_behind(double_sided):
-    card = black("card", base_color_texture=COVERED, double_sided=double_sided)
+    card = black("card", double_sided=double_sided)
     away = Shape("card", quad(-2, 2, -2, 2, -1.0, facing_camera=False), card, uvs=quad_uvs(1.0, False))
     towards = Shape("card", quad(-2, 2, -2, 2, -1.0), card, uvs=quad_uvs(1.0))
     # from the front either is dark; from behind the single-sided one shows the environment
     assert render([towards], light=False, spp=4).max() < 0.05
     behind = render([away], light=False, spp=4)
     assert (behind.min() > 0.99) if not double_sided else (behind.max() < 0.05)
+
+
+def test_editing_sidedness_and_alpha_mode_takes_effect_in_the_next_render():
+    card = black("card", double_sided=False)
+    scene = Scene(
+        [Shape("card", quad(-2, 2, -2, 2, -1.0, facing_camera=False), card, uvs=quad_uvs(1.0, False))], CAMERA
+    )
+    scene.environment = Environment(1.0)
+    renderer = Renderer(scene, SIZE, SIZE, seed=5, max_depth=2)
+    renderer.render(4)
+    assert renderer.image().min() > 0.99
+    card.double_sided = True  # the scene no longer needs the surface test: the plain kernel again
+    renderer.render(4)
+    assert renderer.image().max() < 0.05
+    card.alpha, card.alpha_mode = 0.0, "MASK"
+    renderer.render(4)
+    assert renderer.image().min() > 0.99

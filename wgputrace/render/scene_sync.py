@@ -70,7 +70,7 @@ from .scene_buffers import (
     set_wide_bounds,
     triangle_records,
 )
-from .texture_atlas import material_texture_records, pack_atlas, used_textures
+from .texture_atlas import material_texture_records, needs_surface_record, pack_atlas, used_textures
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
 # Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
@@ -138,7 +138,8 @@ class SceneMirror:
 
     @property
     def textured(self) -> bool:
-        """Whether a material reads a texture (and the texture records exist)."""
+        """Whether a material reads a texture or lets rays through some of its surface (and the
+        texture records exist)."""
         return self.texture_records is not None
 
     @property
@@ -214,14 +215,14 @@ class SceneMirror:
         textures changed and the corner coordinates where geometry moved; their changed rows."""
         materials = self.scene.materials
         textures = used_textures(materials)
-        if not textures:
+        if not textures and not any(needs_surface_record(material) for material in materials):
             self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
             self._textures = []
             return {}
         changes = {}
         if geometry_moved or self.corner_uvs is None:
             changes[CORNER_UVS] = self._update_corner_uvs()
-        if [id(t) for t in textures] != [id(t) for t in self._textures]:
+        if [id(t) for t in textures] != [id(t) for t in self._textures] or self.atlas_texels is None:
             atlas = pack_atlas(textures, self.texture_side)
             changes[TEXTURE_ATLAS] = _changed_texel_rows(self.atlas_texels, atlas.texels)
             self.atlas_texels = atlas.texels

@@ -55,6 +55,12 @@ def material_textures(material: Material) -> dict[str, Texture]:
     return {slot: texture for slot, texture in slots.items() if texture is not None}
 
 
+def needs_surface_record(material: Material) -> bool:
+    """Whether `material` lets rays through some of its surface (shaders/alpha.wgsl), which its
+    MATERIAL_TEXTURES record says, texture or not."""
+    return getattr(material, "alpha_mode", "OPAQUE") != "OPAQUE" or not getattr(material, "double_sided", True)
+
+
 def used_textures(materials: list[Material]) -> list[Texture]:
     """Every texture the materials read, each once, in first-use order."""
     seen: dict[int, Texture] = {}
@@ -107,7 +113,13 @@ def fitted_texels(texture: Texture, side: int, eight_bit: bool) -> np.ndarray:
 
 def pack_atlas(textures: list[Texture], side: int) -> Atlas:
     """The atlas of `textures` (each fitted to `side`), or SceneError naming the limit where their
-    rectangles cannot share one texture of that side."""
+    rectangles cannot share one texture of that side. Without textures (materials that need only
+    their MATERIAL_TEXTURES record: alpha modes, sidedness) one unused texel and its record, as the
+    bindings need at least one of each."""
+    if not textures:
+        records = TEXTURE.zeros(1)
+        records["size"] = (1, 1)
+        return Atlas(np.zeros((1, 1, 4), np.uint8), records)
     eight_bit = all(texture.encoded_texels is not None for texture in textures)
     images = [fitted_texels(texture, side, eight_bit) for texture in textures]
     area = sum(image.shape[0] * image.shape[1] for image in images)
