@@ -45,13 +45,13 @@ def quad_uvs(repeats: float, facing_camera: bool = True) -> np.ndarray:
     return np.array(uvs, np.float32)
 
 
-def render(shapes: list[Shape], *, light: bool, spp: int = 32) -> np.ndarray:
+def render(shapes: list[Shape], *, light: bool, spp: int = 32, acceleration: str = "bvh") -> np.ndarray:
     scene = Scene(shapes, CAMERA)
     if light:
         scene.add_light(LIGHT)
     else:
         scene.environment = Environment(1.0)
-    renderer = Renderer(scene, SIZE, SIZE, seed=5, max_depth=2)
+    renderer = Renderer(scene, SIZE, SIZE, seed=5, max_depth=2, accel=acceleration)
     renderer.render(spp)
     image = renderer.image()
     assert np.isfinite(image).all()
@@ -67,15 +67,16 @@ def occluder(material: Principled) -> Shape:
     return Shape("occluder", quad(1.5, 4.5, -1.5, 1.5, -1.0), material, uvs=quad_uvs(12.0))
 
 
-def shadowed_fraction(material: Principled) -> float:
+def shadowed_fraction(material: Principled, acceleration: str = "bvh") -> float:
     lit = render([wall()], light=True)
-    shadowed = render([wall(), occluder(material)], light=True)
+    shadowed = render([wall(), occluder(material)], light=True, acceleration=acceleration)
     return 1.0 - shadowed.mean() / lit.mean()
 
 
-def test_mask_cut_outs_cast_a_shadow_of_the_cut_fraction():
+@pytest.mark.parametrize("acceleration", ["bvh", "flat"])
+def test_mask_cut_outs_cast_a_shadow_of_the_cut_fraction(acceleration):
     cut = Principled("leaf", base_color_texture=STRIPES, alpha_mode="MASK")
-    assert shadowed_fraction(cut) == pytest.approx(1.0 - CUT_FRACTION, abs=0.04)
+    assert shadowed_fraction(cut, acceleration) == pytest.approx(1.0 - CUT_FRACTION, abs=0.04)
     # the same texture OPAQUE ignores its alpha: a full shadow
     assert shadowed_fraction(Principled("leaf", base_color_texture=STRIPES)) > 0.97
 
