@@ -14,7 +14,8 @@
 // shading_normal and shading_weight: the geometric normal and 1 unless the scene has per-vertex
 // normals (gpu/shading_normals.py)
 //! include "generated/shading_normals.wgsl"
-// resolve_material: the material as stored unless the scene has textures (gpu/textures.py)
+// resolve_material and mapped_normal: the material and the shading normal as they are unless the
+// scene has textures (gpu/textures.py)
 //! include "generated/textures.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
@@ -161,7 +162,8 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         let p = ray.origin + hit.t * ray.direction;
         let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
         let towards_viewer = -ray.direction;
-        let shading = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
+        let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
+        let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
         guide_vertex(material, shading, ray.direction);
         if material_emits(material) {
             // emission shines from both sides

@@ -18,6 +18,7 @@
 //   through nearby geometry; its cost is a slight darkening near the terminator.
 
 //! include "barycentric.wgsl"
+//! include "shading_weight.wgsl"
 
 // The corner normals interpolated at `p` (barycentric), turned to the geometric side, unit length;
 // the geometric normal for flat triangles (zero corner normals), degenerate interpolations (opposite
@@ -41,18 +42,4 @@ fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometr
         return geometric;
     }
     return n;
-}
-
-// What a direction `direction` leaving the vertex seen from `towards_viewer` keeps of the BSDF
-// evaluated in the frame of `shading`: 0 where the geometric normal disagrees on reflection against
-// transmission, else Chiang et al.'s shadowing term (1 where shading and geometric normals agree).
-fn shading_weight(shading: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>, direction: vec3<f32>) -> f32 {
-    let geometric_reflects = dot(geometric, towards_viewer) * dot(geometric, direction) > 0.0;
-    let shading_reflects = dot(shading, towards_viewer) * dot(shading, direction) > 0.0;
-    if geometric_reflects != shading_reflects {
-        return 0.0;
-    }
-    let cos_shading = abs(dot(shading, direction)) * dot(shading, geometric);
-    let g = min(1.0, abs(dot(geometric, direction)) / max(cos_shading, SHADING_NORMAL_MIN_LENGTH));
-    return g * (1.0 + g - g * g);
 }

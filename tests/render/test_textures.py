@@ -15,7 +15,7 @@ from wgputrace import Environment
 from wgputrace.gpu.bindings import shading_group
 from wgputrace.gpu.buffers import storage_buffer
 from wgputrace.gpu.float_texture import FloatTexture
-from wgputrace.gpu.layout import CORNER_UVS, MATERIAL_TEXTURES
+from wgputrace.gpu.layout import CORNER_TANGENTS, CORNER_UVS, MATERIAL_TEXTURES
 from wgputrace.gpu.textures import GENERATED_TEXTURES, textures_hook
 from wgputrace.render.renderer import Renderer
 from wgputrace.render.scene_sync import SceneMirror
@@ -84,6 +84,7 @@ def sample_on_gpu(gpu_context, textures: list[Texture], queries: np.ndarray) -> 
     atlas = pack_atlas(textures, 8192)
     resources = {
         "corner_uvs": storage_buffer(gpu_context, "corner uvs", CORNER_UVS.zeros(1)),
+        "corner_tangents": storage_buffer(gpu_context, "corner tangents", CORNER_TANGENTS.zeros(1)),
         "texture_atlas": FloatTexture(gpu_context, "atlas", atlas.texels).resource,
         "textures": storage_buffer(gpu_context, "textures", atlas.records),
         "material_textures": storage_buffer(gpu_context, "material textures", MATERIAL_TEXTURES.zeros(1)),

@@ -19,6 +19,7 @@ from .layout import (
     ACCUMULATED_PIXEL,
     BVH_NODE,
     CORNER_ATTRIBUTES,
+    CORNER_TANGENTS,
     CORNER_UVS,
     FRAME,
     LIGHT,
@@ -274,9 +275,10 @@ SHADING_GROUP = BindGroup(
 )
 # What textured scenes add to it (gpu/textures.py): the corner texture coordinates, the atlas
 # (linear rgba32float texels read with textureLoad and filtered by hand, as the environment map),
-# the textures' rectangles in it, and each material's textures.
+# the textures' rectangles in it, each material's textures, and the corner tangents of normal maps.
 _TEXTURE_BINDINGS = (
     Binding("corner_uvs", STORAGE_READ, CORNER_UVS),
+    Binding("corner_tangents", STORAGE_READ, CORNER_TANGENTS),
     Binding("texture_atlas", TEXTURE_F32),
     Binding("textures", STORAGE_READ, TEXTURE),
     Binding("material_textures", STORAGE_READ, MATERIAL_TEXTURES),

@@ -102,8 +102,16 @@ WIDE_BVH_NODE = GpuStruct(
 )
 MATERIAL = GpuStruct(
     "Material",
-    (("color", "vec3<f32>"), ("kind", "u32"), ("alpha", "f32"), ("ior", "f32"), ("metallic", "f32")),
-    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind.",
+    (
+        ("color", "vec3<f32>"),
+        ("kind", "u32"),
+        ("alpha", "f32"),
+        ("ior", "f32"),
+        ("metallic", "f32"),
+        ("normal_scale", "f32"),
+    ),
+    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; normal_scale: "
+    "Principled's normal map strength (read only where it has one).",
 )
 FRAME = GpuStruct(
     "Frame",
@@ -184,6 +192,13 @@ CORNER_UVS = GpuStruct(
     (("uv0", "vec2<f32>"), ("uv1", "vec2<f32>"), ("uv2", "vec2<f32>")),
     "A triangle's texture coordinates (glTF's: v down), zero where its shape has none.",
 )
+# A triangle's tangents at its corners for normal maps (scene/tangents.py), in BVH order like
+# CORNER_UVS; bound in textured scenes, one zero record unless a material reads a normal map.
+CORNER_TANGENTS = GpuStruct(
+    "CornerTangents",
+    (("tangent0", "vec4<f32>"), ("tangent1", "vec4<f32>"), ("tangent2", "vec4<f32>")),
+    "A triangle's corner tangents: xyz along dP/du, w the bitangent's sign (glTF's TANGENT).",
+)
 # One texture's rectangle in the texture atlas (render/texture_atlas.py) and how it is looked up.
 TEXTURE = GpuStruct(
     "Texture",
@@ -207,6 +222,7 @@ MATERIAL_TEXTURES = GpuStruct(
     (
         ("base_color", "u32"),
         ("metallic_roughness", "u32"),
+        ("normal", "u32"),
         ("alpha", "f32"),
         ("alpha_mode", "u32"),
         ("alpha_cutoff", "f32"),

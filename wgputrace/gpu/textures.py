@@ -1,18 +1,20 @@
 """The texture hook of path_tracer.wgsl: `resolve_material`, the material at a hit with its textures
-applied, so that BSDF code reads constants whether a parameter is textured or not.
+applied, so that BSDF code reads constants whether a parameter is textured or not, and
+`mapped_normal`, the shading normal bent by the material's normal map (shaders/normal_map.wgsl).
 
 Every pipeline gets the generated file `generated/textures.wgsl`. For a scene without textures it
-returns the material as it is, which the compiler inlines away, and declares no binding, so such
-scenes run the kernel they ran before, bit for bit. The textured variant (`textures_hook(True)`,
-compiled by `path_tracer_kernel(..., textured=True)`) declares the texture bindings of the shading
-group (gpu/bindings.py shading_group) and brings in shaders/textures.wgsl.
+returns the material and the shading normal as they are, which the compiler inlines away, and
+declares no binding, so such scenes run the kernel they ran before, bit for bit. The textured
+variant (`textures_hook(True)`, compiled by `path_tracer_kernel(..., textured=True)`) declares the
+texture bindings of the shading group (gpu/bindings.py shading_group) and brings in
+shaders/textures.wgsl and shaders/normal_texture.wgsl.
 """
 
 from __future__ import annotations
 
 from ..scene.texture import WRAP_MODES
 from .bindings import SHADING_GROUP
-from .layout import CORNER_UVS, MATERIAL_TEXTURES, TEXTURE
+from .layout import CORNER_TANGENTS, CORNER_UVS, MATERIAL_TEXTURES, TEXTURE
 
 GENERATED_TEXTURES = "generated/textures.wgsl"
 # a material's texture slot that names no texture
@@ -20,6 +22,10 @@ NO_TEXTURE = 0xFFFFFFFF
 _SIGNATURE = (
     "fn resolve_material(material: Material, material_index: u32, triangle_index: u32, triangle: Triangle, "
     "p: vec3<f32>) -> Material"
+)
+_NORMAL_SIGNATURE = (
+    "fn mapped_normal(shading: vec3<f32>, material: Material, material_index: u32, triangle_index: u32, "
+    "triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32>"
 )
 
 
@@ -30,12 +36,14 @@ def textures_hook(textured: bool) -> str:
         lines += [f"const WRAP_{mode.upper()}: u32 = {index}u;" for index, mode in enumerate(WRAP_MODES)]
         lines += [
             CORNER_UVS.wgsl(),
+            CORNER_TANGENTS.wgsl(),
             TEXTURE.wgsl(),
             MATERIAL_TEXTURES.wgsl(),
             f"const NO_TEXTURE: u32 = {NO_TEXTURE}u;",
             f'//! include "{SHADING_GROUP.file}"',
             '//! include "textures.wgsl"',
+            '//! include "normal_texture.wgsl"',
         ]
     else:
-        lines.append(f"{_SIGNATURE} {{ return material; }}")
+        lines += [f"{_SIGNATURE} {{ return material; }}", f"{_NORMAL_SIGNATURE} {{ return shading; }}"]
     return "\n".join(lines) + "\n"

@@ -157,7 +157,7 @@ def path_tracer_kernel(
                 GENERATED_TRAVERSAL_STACK: traversal_stack(stack_size),
                 GENERATED_LIGHTS: light_dispatch(lights),
                 GENERATED_ESCAPED_LIGHT: escaped_light_hook(lights),
-                GENERATED_SHADING_NORMALS: shading_normals_hook(smooth),
+                GENERATED_SHADING_NORMALS: shading_normals_hook(smooth, textured),
                 GENERATED_TEXTURES: textures_hook(textured),
                 GENERATED_ALPHA: alpha_hook(textured),
             },

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..bvh import BVH, build_bvh, build_flat
 from ..bvh.wide import BUILD_MAX_DEPTH, WideBVH, collapse
-from ..gpu.layout import BVH_NODE, CORNER_ATTRIBUTES, CORNER_UVS, MATERIAL, TRIANGLE, WIDE_BVH_NODE
+from ..gpu.layout import BVH_NODE, CORNER_ATTRIBUTES, CORNER_TANGENTS, CORNER_UVS, MATERIAL, TRIANGLE, WIDE_BVH_NODE
 from ..scene import Material, TriangleArrays
 
 ACCELERATIONS = ("bvh", "flat")
@@ -98,4 +98,11 @@ def corner_uv_records(uvs: np.ndarray) -> np.ndarray:
     """CORNER_UVS records of (n, 3, 2) corner texture coordinates, in the given order."""
     records = CORNER_UVS.zeros(len(uvs))
     records["uv0"], records["uv1"], records["uv2"] = uvs[:, 0], uvs[:, 1], uvs[:, 2]
+    return records
+
+
+def corner_tangent_records(tangents: np.ndarray) -> np.ndarray:
+    """CORNER_TANGENTS records of (n, 3, 4) corner tangents, in the given order."""
+    records = CORNER_TANGENTS.zeros(len(tangents))
+    records["tangent0"], records["tangent1"], records["tangent2"] = tangents[:, 0], tangents[:, 1], tangents[:, 2]
     return records

@@ -52,6 +52,7 @@ from ..gpu.light_dispatch import CONSTANT_ENVIRONMENT, ENVIRONMENT_MAP, LightFea
 from ..scene import Scene, Shape
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_normals, corner_uvs
+from ..scene.tangents import corner_tangents
 from .environment_records import (
     environment_power,
     environment_state,
@@ -64,6 +65,7 @@ from .scene_buffers import (
     SceneRecords,
     build_acceleration,
     corner_attribute_records,
+    corner_tangent_records,
     corner_uv_records,
     gpu_node_records,
     material_records,
@@ -85,6 +87,7 @@ REBUILD_DEGRADATION = 1.2
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights"
 CORNER_ATTRIBUTES = "corner attributes"
 CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
+CORNER_TANGENTS = "corner tangents"
 # WebGPU's default max-texture-dimension-2d: the atlas side where no device says otherwise
 DEFAULT_TEXTURE_SIDE = 8192
 LIGHT_SOURCES, LIGHTING_PARAMETERS = "light sources", "lighting"
@@ -116,6 +119,10 @@ class SceneMirror:
         # (float32 (H, W, 4), at most texture_side per side), TEXTURE and MATERIAL_TEXTURES records
         self.texture_side = texture_side
         self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
+        # CORNER_TANGENTS records in BVH order while a material reads a normal map, else one zero
+        # record (the binding exists in every textured scene)
+        self.corner_tangents: np.ndarray | None = None
+        self._normal_mapped = False
         self._textures: list = []
         self.lights: LightTable | None = None
         # the light sources' records (LIGHT_SOURCE), the lighting parameters (one LIGHTING record),
@@ -217,11 +224,15 @@ class SceneMirror:
         textures = used_textures(materials)
         if not textures and not any(needs_surface_record(material) for material in materials):
             self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
+            self.corner_tangents = None
             self._textures = []
             return {}
         changes = {}
         if geometry_moved or self.corner_uvs is None:
             changes[CORNER_UVS] = self._update_corner_uvs()
+        normal_mapped = any(getattr(material, "normal_texture", None) is not None for material in materials)
+        if geometry_moved or self.corner_tangents is None or normal_mapped != self._normal_mapped:
+            changes[CORNER_TANGENTS] = self._update_corner_tangents(normal_mapped)
         if [id(t) for t in textures] != [id(t) for t in self._textures] or self.atlas_texels is None:
             atlas = pack_atlas(textures, self.texture_side)
             changes[TEXTURE_ATLAS] = _changed_texel_rows(self.atlas_texels, atlas.texels)
@@ -246,6 +257,19 @@ class SceneMirror:
         old = self.corner_uvs
         self.corner_uvs = records
         return np.arange(len(records)) if old is None else changed_rows(old, records)
+
+    def _update_corner_tangents(self, normal_mapped: bool) -> np.ndarray:
+        """The corner tangents in BVH order from the shapes as they are (one zero record where no
+        material reads a normal map); the changed rows."""
+        tangents = np.zeros((len(self._position) if normal_mapped else 1, 3, 4), np.float32)
+        if normal_mapped:
+            shapes = self.scene.shapes
+            shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
+            tangents[self._position] = corner_tangents(shapes, shape_index, self._local_index)
+        records = corner_tangent_records(tangents)
+        old = self.corner_tangents
+        self.corner_tangents, self._normal_mapped = records, normal_mapped
+        return np.arange(len(records)) if old is None or len(old) != len(records) else changed_rows(old, records)
 
     def _update_environment_map(self) -> dict[str, np.ndarray]:
         """A new environment or new texels: the map's texels and sampling tables as the GPU holds
@@ -319,7 +343,7 @@ class SceneMirror:
         self._position = np.empty(len(order), np.int64)
         self._position[order] = np.arange(len(order))
         changes.update(self._update_lights())
-        self.corner_uvs = None  # new triangles: every row is new
+        self.corner_uvs = self.corner_tangents = None  # new triangles: every row is new
         changes.update(self._update_textures(geometry_moved=True))
         self.rebuilds += 1
         self._needs_rebuild = False

@@ -11,11 +11,12 @@ import wgpu
 from ..gpu.device import GpuContext
 from ..gpu.float_texture import FloatTexture
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
-from .scene_sync import CORNER_UVS, MATERIAL_TEXTURES, TEXTURE_ATLAS, TEXTURES, SceneMirror
+from .scene_sync import CORNER_TANGENTS, CORNER_UVS, MATERIAL_TEXTURES, TEXTURE_ATLAS, TEXTURES, SceneMirror
 
 # the mirror's arrays (their labels) by the shading group's binding names
 BINDINGS = {
     CORNER_UVS: "corner_uvs",
+    CORNER_TANGENTS: "corner_tangents",
     TEXTURE_ATLAS: "texture_atlas",
     TEXTURES: "textures",
     MATERIAL_TEXTURES: "material_textures",
@@ -26,6 +27,7 @@ _STORAGE = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST | wgpu.BufferUsa
 def _arrays(mirror: SceneMirror) -> dict[str, np.ndarray]:
     return {
         CORNER_UVS: mirror.corner_uvs,
+        CORNER_TANGENTS: mirror.corner_tangents,
         TEXTURE_ATLAS: mirror.atlas_texels,
         TEXTURES: mirror.texture_records,
         MATERIAL_TEXTURES: mirror.material_textures,

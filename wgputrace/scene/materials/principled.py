@@ -10,6 +10,8 @@ need, the same on both sides.
 | spec_trans | 0             | 0       | transmission: not supported yet, any other value is refused      |
 | base_color_texture | Texture (sRGB) or None | None | RGB x base_color (glTF baseColorTexture); its alpha x alpha |
 | metallic_roughness_texture | Texture (linear) or None | None | G x roughness, B x metallic (glTF metallicRoughnessTexture) |
+| normal_texture | Texture (linear) or None | None | tangent-space normal map (glTF normalTexture; shaders/normal_map.wgsl) |
+| normal_scale | float [-100, 100] | 1 | x and y of the normal map's vectors x this (glTF normalTexture.scale) |
 | alpha      | float [0, 1]  | 1       | coverage x the base colour texture's alpha (alpha_mode: cut-outs, blending) |
 | alpha_mode | "OPAQUE", "MASK", "BLEND" | "OPAQUE" | glTF's: alpha ignored; texels of alpha < alpha_cutoff cut out; stochastic transparency |
 | alpha_cutoff | float [0, 1] | 0.5    | MASK's threshold                                                  |
@@ -18,7 +20,7 @@ need, the same on both sides.
 A Disney diffuse lobe with retro-reflection, weighted by 1 - metallic, plus GGX reflection whose
 Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic Schlick(base_color). Sampling
 picks the diffuse lobe with probability (1 - metallic) / (2 - metallic), else a visible GGX normal.
-GPU record: color = base_color, alpha = roughness, ior = eta, metallic. Textures and alpha are in
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic, normal_scale. Textures and alpha are in
 the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
 reads these fields (shaders/textures.wgsl resolve_material), so the BSDF code sees constants.
 Alpha modes and sidedness act in the traversal's triangle test (shaders/alpha.wgsl), for every ray,
@@ -37,6 +39,8 @@ from .material import Material, MaterialError, MaterialShader, check_color, chec
 
 # glTF's alphaMode values, numbered for the GPU in this order (gpu/alpha.py)
 ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
+# glTF sets no bound on a normal map's scale; beyond this its bumps are all slope (a typo, surely)
+NORMAL_SCALE_MAX = 100.0
 
 
 def eta_from_specular(specular: float) -> float:
@@ -54,6 +58,8 @@ class Principled(Material):
     spec_trans: float = 0.0
     base_color_texture: Texture | None = None
     metallic_roughness_texture: Texture | None = None
+    normal_texture: Texture | None = None
+    normal_scale: float = 1.0
     alpha: float = 1.0
     alpha_mode: str = "OPAQUE"
     alpha_cutoff: float = 0.5
@@ -73,7 +79,7 @@ class Principled(Material):
                 f"material {self.name!r}: spec_trans must be 0 (transmission is not supported yet), got {self.spec_trans!r}",
                 "spec_trans",
             )
-        for parameter in ("base_color_texture", "metallic_roughness_texture"):
+        for parameter in ("base_color_texture", "metallic_roughness_texture", "normal_texture"):
             value = getattr(self, parameter)
             if value is not None and not isinstance(value, Texture):
                 raise MaterialError(
@@ -98,11 +104,15 @@ class Principled(Material):
             "metallic": check_number(self.name, "metallic", self.metallic, low=0.0, high=1.0),
             "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
             "eta": check_number(self.name, "eta", self.eta, low=0.0, high=IOR_MAX, low_inclusive=False),
+            "normal_scale": check_number(
+                self.name, "normal_scale", self.normal_scale, low=-NORMAL_SCALE_MAX, high=NORMAL_SCALE_MAX
+            ),
         }
 
     def fill_record(self, record) -> None:
         record["color"], record["alpha"] = self.base_color, self.roughness
         record["ior"], record["metallic"] = self.eta, self.metallic
+        record["normal_scale"] = self.normal_scale
 
     def mitsuba_bsdf(self) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
