@@ -164,3 +164,13 @@ def test_editing_sidedness_and_alpha_mode_takes_effect_in_the_next_render():
     card.alpha, card.alpha_mode = 0.0, "MASK"
     renderer.render(4)
     assert renderer.image().min() > 0.99
+
+
+def test_only_scenes_with_a_see_through_material_compile_the_surface_test():
+    leaf = Principled("leaf", base_color_texture=STRIPES)
+    scene = Scene([Shape("leaf", quad(-2, 2, -2, 2, -1.0), leaf, uvs=quad_uvs(1.0))], CAMERA)
+    renderer = Renderer(scene, 8, 8)
+    assert "textured" in renderer.kernel.label and "see-through" not in renderer.kernel.label
+    leaf.alpha_mode = "MASK"
+    renderer.render(1)
+    assert "see-through" in renderer.kernel.label

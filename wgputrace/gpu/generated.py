@@ -80,7 +80,7 @@ def standard_files() -> dict[str, str]:
         GENERATED_PATH_GUIDES: path_guides_hook(guides=False),
         GENERATED_SHADING_NORMALS: shading_normals_hook(smooth=False),
         GENERATED_TEXTURES: textures_hook(textured=False),
-        GENERATED_ALPHA: alpha_hook(textured=False),
+        GENERATED_ALPHA: alpha_hook(see_through=False),
         GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),
         GENERATED_TRAVERSAL_STACK: traversal_stack(),
     }

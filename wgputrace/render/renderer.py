@@ -109,6 +109,7 @@ def path_tracer_kernel(
     lights: LightFeatures = NO_LIGHTS,
     smooth: bool = False,
     textured: bool = False,
+    see_through: bool = False,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
@@ -121,7 +122,9 @@ def path_tracer_kernel(
     `lights` compiles in the code of the lights besides emissive triangles (gpu/light_dispatch.py)
     and declares the lights group they are bound in; none by default. `smooth` compiles in shading
     with per-vertex normals (gpu/shading_normals.py) and declares the shading group; `textured`
-    compiles in the materials' textures (gpu/textures.py) and declares their bindings in that group."""
+    compiles in the materials' textures (gpu/textures.py) and declares their bindings in that group;
+    `see_through` (textured scenes only) compiles into every ray's triangle test the alpha modes and
+    single-sided surfaces (gpu/alpha.py), which slow that test."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
@@ -139,6 +142,7 @@ def path_tracer_kernel(
         lights,
         smooth,
         textured,
+        see_through,
     )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
@@ -159,12 +163,12 @@ def path_tracer_kernel(
                 GENERATED_ESCAPED_LIGHT: escaped_light_hook(lights),
                 GENERATED_SHADING_NORMALS: shading_normals_hook(smooth, textured),
                 GENERATED_TEXTURES: textures_hook(textured),
-                GENERATED_ALPHA: alpha_hook(textured),
+                GENERATED_ALPHA: alpha_hook(see_through),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
             f"{', counting rays' if count_rays else ''}{', guides' if guides else ''}"
-            f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''}{', textured' if textured else ''})",
+            f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''}{', textured' if textured else ''}{', see-through' if see_through else ''})",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -239,6 +243,7 @@ class Renderer:
         # the textures' bindings, only for a scene whose materials read textures
         self._textures = TextureBuffers(self.context, self._mirror)
         self._textured = self._mirror.textured
+        self._see_through = self._mirror.see_through
         self.kernel = self.kernel_variant()
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
@@ -367,9 +372,12 @@ class Renderer:
         smoothness_changed = (shading_before is not None) != self.smooth_shading
         texturing_changed = self._textured != self._mirror.textured
         self._textured = self._mirror.textured
+        see_through_changed = self._see_through != self._mirror.see_through
+        self._see_through = self._mirror.see_through
         new_pipeline = (
             smoothness_changed
             or texturing_changed
+            or see_through_changed
             or (kinds, stack_size, features)
             != (
                 self._kinds,
@@ -492,6 +500,7 @@ class Renderer:
             lights=self._light_features,
             smooth=self.smooth_shading,
             textured=self._textured,
+            see_through=self._see_through,
             **{"guides": self._guides, **options},
         )
 

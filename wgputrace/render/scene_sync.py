@@ -72,7 +72,7 @@ from .scene_buffers import (
     set_wide_bounds,
     triangle_records,
 )
-from .texture_atlas import material_texture_records, needs_surface_record, pack_atlas, used_textures
+from .texture_atlas import lets_rays_through, material_texture_records, pack_atlas, used_textures
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
 # Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
@@ -150,6 +150,12 @@ class SceneMirror:
         return self.texture_records is not None
 
     @property
+    def see_through(self) -> bool:
+        """Whether a material lets rays through some of its surface (alpha modes, single-sided), so
+        that every ray's triangle test must ask its material (gpu/alpha.py)."""
+        return any(lets_rays_through(material) for material in self.scene.materials)
+
+    @property
     def material_kinds(self) -> frozenset:
         return frozenset(material.kind for material in self._materials)
 
@@ -222,7 +228,7 @@ class SceneMirror:
         textures changed and the corner coordinates where geometry moved; their changed rows."""
         materials = self.scene.materials
         textures = used_textures(materials)
-        if not textures and not any(needs_surface_record(material) for material in materials):
+        if not textures and not any(lets_rays_through(material) for material in materials):
             self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
             self.corner_tangents = None
             self._textures = []

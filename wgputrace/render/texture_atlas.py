@@ -55,7 +55,7 @@ def material_textures(material: Material) -> dict[str, Texture]:
     return {slot: texture for slot, texture in slots.items() if texture is not None}
 
 
-def needs_surface_record(material: Material) -> bool:
+def lets_rays_through(material: Material) -> bool:
     """Whether `material` lets rays through some of its surface (shaders/alpha.wgsl), which its
     MATERIAL_TEXTURES record says, texture or not."""
     return getattr(material, "alpha_mode", "OPAQUE") != "OPAQUE" or not getattr(material, "double_sided", True)

@@ -23,8 +23,8 @@ picks the diffuse lobe with probability (1 - metallic) / (2 - metallic), else a 
 GPU record: color = base_color, alpha = roughness, ior = eta, metallic, normal_scale. Textures and alpha are in
 the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
 reads these fields (shaders/textures.wgsl resolve_material), so the BSDF code sees constants.
-Alpha modes and sidedness act in the traversal's triangle test (shaders/alpha.wgsl), for every ray,
-and only in scenes whose materials read a texture (gpu/alpha.py).
+Alpha modes and sidedness act in the traversal's triangle test (shaders/alpha.wgsl), for every ray;
+only scenes with such a material compile that test (gpu/alpha.py).
 WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `twosided` `principled` with the same values.
 """
 
