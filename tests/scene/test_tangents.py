@@ -1,14 +1,20 @@
 """scene/tangents.py against hand-computed tangents: dP/du of a plain, a stretched, a sheared and a
 mirrored UV map (w the bitangent's sign, up the image as glTF's normal maps mean it), the angle
 weighting where triangles share a vertex, and a valid tangent, never NaN, where texture coordinates
-or normals are degenerate."""
+or normals are degenerate. Shape(tangents=): checked, mirrored with the shape, preferred over
+MikkTSpace's; glTF's TANGENT is read and agrees with what MikkTSpace computes for the same square."""
 
 from __future__ import annotations
+
+import warnings
 
 import numpy as np
 import pytest
 
-from wgputrace.scene.tangents import mikktspace_tangents
+from wgputrace import load_scene
+from wgputrace.scene import Principled, SceneError, Shape
+from wgputrace.scene.tangents import corner_tangents, mikktspace_tangents
+from wgputrace.testing.gltf_files import SQUARE_INDICES, SQUARE_TANGENTS, textured_square, write_glb
 
 # one triangle in the xy plane facing +z; the image's top (v = 0) at y = 1
 TRIANGLE = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
@@ -91,3 +97,45 @@ def test_degenerate_input_gives_a_valid_tangent_never_nan(vertices, uvs, normals
     assert set(np.unique(tangents[..., 3])) <= {-1.0, 1.0}
     if normals is not None and np.any(normals):
         np.testing.assert_allclose(np.einsum("nkd,nkd->nk", tangents[..., :3], normals), 0.0, atol=1e-6)
+
+
+def test_shape_tangents_are_checked_and_w_kept_as_its_sign():
+    shape = Shape("t", TRIANGLE, Principled("p"), tangents=[[[1.0, 0.0, 0.0, 0.5]] * 3])
+    np.testing.assert_array_equal(shape.tangents[..., 3], 1.0)
+    with pytest.raises(SceneError, match=r"shape 't': tangents must have shape \(1, 3, 4\)"):
+        Shape("t", TRIANGLE, Principled("p"), tangents=np.zeros((1, 3, 3)))
+    with pytest.raises(SceneError, match=r"shape 't': tangents of triangle 0 are not finite"):
+        Shape("t", TRIANGLE, Principled("p"), tangents=[[[np.nan, 0.0, 0.0, 1.0]] * 3])
+
+
+def test_a_mirror_turns_the_tangents_and_their_handedness_with_the_corners():
+    """Mirrored in x, corners 1 and 2 swap (transform_points keeps the winding) and the image's
+    mirror makes the bitangent's handedness flip: what MikkTSpace computes on the mirrored shape."""
+    tangents = np.array([[[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, -1.0]]])
+    shape = Shape("t", TRIANGLE, Principled("p"), uvs=UP, tangents=tangents)
+    shape.transform = np.diag([-2.0, 1.0, 1.0, 1.0])
+    expected = [[[-1.0, 0.0, 0.0, -1.0], [0.0, 0.0, 1.0, 1.0], [0.0, 1.0, 0.0, -1.0]]]
+    np.testing.assert_allclose(shape.world_tangents, expected, atol=1e-6)
+    np.testing.assert_allclose(shape.transformed(np.eye(4)).tangents, expected, atol=1e-6)
+    mikk = mikktspace_tangents(shape.world_vertices, shape.world_uvs)
+    np.testing.assert_allclose(mikk, [[[-1.0, 0.0, 0.0, -1.0]] * 3], atol=1e-6)
+
+
+def test_scene_tangents_prefer_the_shape_s_own():
+    given = np.array([[[0.0, 1.0, 0.0, -1.0]] * 3])
+    own = Shape("own", TRIANGLE, Principled("p"), uvs=UP, tangents=given)
+    computed = Shape("computed", TRIANGLE, Principled("p"), uvs=UP)
+    bare = Shape("bare", TRIANGLE, Principled("p"))
+    tangents = corner_tangents([own, computed, bare], np.array([0, 1, 2]), np.array([0, 0, 0]))
+    np.testing.assert_array_equal(tangents[0], given[0])
+    np.testing.assert_allclose(tangents[1], [[1.0, 0.0, 0.0, 1.0]] * 3, atol=1e-6)
+    np.testing.assert_array_equal(tangents[2], 0.0)
+
+
+def test_gltf_tangent_is_read_and_agrees_with_mikktspace(tmp_path):
+    document, blob = textured_square()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the material's parameters Principled lacks so far
+        (shape,) = load_scene(write_glb(tmp_path / "square.glb", document, blob)).shapes
+    np.testing.assert_array_equal(shape.tangents, SQUARE_TANGENTS[SQUARE_INDICES])
+    np.testing.assert_allclose(mikktspace_tangents(shape.vertices, shape.uvs, shape.normals), shape.tangents, atol=1e-6)

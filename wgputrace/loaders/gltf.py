@@ -16,8 +16,8 @@ wound outwards (orientation.py).
 
 Materials: gltf_materials.py (pbrMetallicRoughness, its textures and extensions; the table of
 every field read and every one ignored). A primitive whose material has textures gets its
-TEXCOORD_0 (float, or normalized unsigned byte or short, VEC2) as the shape's corner uvs. TANGENT
-is not read yet (shapes take no tangents so far).
+TEXCOORD_0 (float, or normalized unsigned byte or short, VEC2) as the shape's corner uvs; one with a
+normal texture its TANGENT (float VEC4) as corner tangents, else MikkTSpace's apply (scene/tangents.py).
 
 Lights (`KHR_lights_punctual`): each node naming a light by `extensions.KHR_lights_punctual.light`
 instances it at the node's world translation, shining along the node's world -z (as glTF's cameras
@@ -97,6 +97,7 @@ MODE_TRIANGLES, MODE_STRIP, MODE_FAN = 4, 5, 6
 VERTEX_ATTRIBUTES = {
     "NORMAL": ((5126,), "VEC3"),
     "TEXCOORD_0": ((5126, 5121, 5123), "VEC2"),
+    "TANGENT": ((5126,), "VEC4"),
 }
 LIGHTS_EXTENSION = "KHR_lights_punctual"
 LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
@@ -516,6 +517,7 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
             for key, semantic, wanted in (
                 ("normals", "NORMAL", True),
                 ("uvs", "TEXCOORD_0", bool(textures)),
+                ("tangents", "TANGENT", "normal_texture" in textures),
             )
             if wanted and semantic in attributes
         }

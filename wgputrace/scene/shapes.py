@@ -1,8 +1,8 @@
 """Shape generators with trac0r's parameters: planes, boxes and icospheres made of flat triangles.
 
 A shape may carry per-corner attributes beside its corners, each an array (n, 3, k) in the
-triangles' order: `normals` (k = 3) for smooth shading, `uvs` (k = 2) texture coordinates; tangents
-join as one more such array.
+triangles' order: `normals` (k = 3) for smooth shading, `uvs` (k = 2) texture coordinates,
+`tangents` (k = 4) for normal maps.
 
 Every generator places a unit shape with model = translate(position) . rotate(orientation) .
 scale(size). `orientation` holds Euler angles in radians, applied about x, then y, then z
@@ -107,6 +107,11 @@ class Shape:
     scene/texture.py), finite; `world_uvs` swap corners where a mirroring transform swaps them.
     Assigning `uvs` bumps `geometry_version` too.
 
+    `tangents`, optional (n, 3, 4), are a file's tangents at the corners for normal maps (glTF's
+    TANGENT: xyz along dP/du, w = +1 or -1 the bitangent's sign), finite, w stored as its sign;
+    without them normal maps use MikkTSpace's (scene/tangents.py). `world_tangents` take xyz
+    through the transform's linear part and flip w where it mirrors. Assigning bumps `geometry_version`.
+
     `vertices` (n, 3, 3) float32 are local coordinates (triangle, corner, xyz); the world sees
     `world_vertices`, the transform applied in float64 (a mirroring transform swaps two corners so
     normals keep their side). Assigning `vertices`, `transform` or `material` checks the value
@@ -125,6 +130,7 @@ class Shape:
         transform=None,
         normals=None,
         uvs=None,
+        tangents=None,
     ) -> None:
         self.name = name
         self.tags = dict(tags or {})
@@ -132,6 +138,7 @@ class Shape:
         checked = _checked_vertices(name, vertices)
         self._normals = None if normals is None else _checked_normals(name, normals, len(checked))
         self._uvs = None if uvs is None else _checked_uvs(name, uvs, len(checked))
+        self._tangents = None if tangents is None else _checked_tangents(name, tangents, len(checked))
         self._place(checked, _IDENTITY if transform is None else checked_transform(name, transform))
         self.material = material
 
@@ -145,7 +152,7 @@ class Shape:
     @vertices.setter
     def vertices(self, value) -> None:
         vertices = _checked_vertices(self.name, value)
-        for attribute, values in (("normals", self._normals), ("uvs", self._uvs)):
+        for attribute, values in (("normals", self._normals), ("uvs", self._uvs), ("tangents", self._tangents)):
             if values is not None and len(vertices) != len(values):
                 raise SceneError(
                     f"shape {self.name!r}: {len(vertices)} triangles of vertices but {len(values)} of {attribute} "
@@ -182,6 +189,23 @@ class Shape:
         if self._uvs is None or np.linalg.det(self._transform[:3, :3]) >= 0:
             return self._uvs
         return self._uvs[:, [0, 2, 1], :]
+
+    @property
+    def tangents(self) -> np.ndarray | None:
+        """A file's tangents at the corners, (n, 3, 4) float32 local, or None (MikkTSpace's apply)."""
+        return self._tangents
+
+    @tangents.setter
+    def tangents(self, value) -> None:
+        self._tangents = None if value is None else _checked_tangents(self.name, value, len(self._vertices))
+        self.geometry_version += 1
+
+    @property
+    def world_tangents(self) -> np.ndarray | None:
+        """The tangents at the corners of `world_vertices`, or None."""
+        if self._tangents is None or np.array_equal(self._transform, _IDENTITY):
+            return self._tangents
+        return transform_tangents(self._tangents, self._transform)
 
     @property
     def transform(self) -> np.ndarray:
@@ -225,8 +249,10 @@ class Shape:
         uvs = self.world_uvs
         if uvs is not None and np.linalg.det(np.asarray(matrix, np.float64)[:3, :3]) < 0:
             uvs = uvs[:, [0, 2, 1], :]
+        tangents = self.world_tangents
+        tangents = None if tangents is None else transform_tangents(tangents, matrix)
         world = transform_points(self._world, matrix)
-        return Shape(self.name, world, self.material, dict(self.tags), normals=normals, uvs=uvs)
+        return Shape(self.name, world, self.material, dict(self.tags), normals=normals, uvs=uvs, tangents=tangents)
 
     def _place(self, vertices: np.ndarray, transform: np.ndarray) -> None:
         # an identity stays exact: float64 arithmetic would turn -0.0 into 0.0
@@ -391,6 +417,22 @@ def transform_normals(normals: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     return moved.astype(np.float32)
 
 
+def transform_tangents(tangents: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """(n, 3, 4) corner tangents under a 4x4 affine (or 3x3 linear) matrix: xyz through its linear
+    part (a direction along the surface), renormalised (zero stays zero), w negated by a mirror,
+    whose image turns the bitangent's handedness; corners swapped as transform_points swaps them."""
+    matrix = np.asarray(matrix, dtype=np.float64)
+    linear = matrix[:3, :3] if matrix.shape == (4, 4) else matrix
+    xyz = tangents[..., :3].astype(np.float64) @ linear.T
+    length = np.linalg.norm(xyz, axis=-1, keepdims=True)
+    xyz = np.divide(xyz, length, out=np.zeros_like(xyz), where=length > 0)
+    mirror = np.linalg.det(linear) < 0
+    moved = np.concatenate([xyz, tangents[..., 3:] * (-1.0 if mirror else 1.0)], axis=-1)
+    if mirror:
+        moved = moved[:, [0, 2, 1], :]
+    return moved.astype(np.float32)
+
+
 def corner_normals(shapes: list[Shape], shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray | None:
     """The world corner normals (n, 3, 3) float32 of the triangles that `shape_index` and
     `local_index` pick (Scene.arrays' order: each shape's triangles together, in shape order), zero
@@ -404,6 +446,28 @@ def corner_normals(shapes: list[Shape], shape_index: np.ndarray, local_index: np
             rows = slice(starts[index], starts[index + 1])
             normals[rows] = shape.world_normals[local_index[rows]]
     return normals
+
+
+def _checked_tangents(name: str, value, triangle_count: int) -> np.ndarray:
+    """A read-only (n, 3, 4) float32 copy with finite values and w its sign, or SceneError naming
+    the triangle."""
+    try:
+        tangents = np.array(value, dtype=np.float32)
+    except (TypeError, ValueError) as error:
+        raise SceneError(f"shape {name!r}: tangents must be numbers, got {error}") from None
+    if tangents.shape != (triangle_count, 3, 4):
+        raise SceneError(
+            f"shape {name!r}: tangents must have shape ({triangle_count}, 3, 4) like the vertices, got {tangents.shape}"
+        )
+    bad = np.flatnonzero(~np.isfinite(tangents).all(axis=(1, 2)))
+    if bad.size:
+        raise SceneError(
+            f"shape {name!r}: tangents of triangle {int(bad[0])} are not finite: "
+            f"{tangents[bad[0]].tolist()} ({bad.size} triangle(s) affected)"
+        )
+    tangents[..., 3] = np.where(tangents[..., 3] < 0, -1.0, 1.0)
+    tangents.flags.writeable = False
+    return tangents
 
 
 def corner_uvs(shapes: list[Shape], shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray | None:

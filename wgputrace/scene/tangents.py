@@ -52,15 +52,18 @@ def mikktspace_tangents(vertices, uvs, normals=None) -> np.ndarray:
 
 def corner_tangents(shapes: list, shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray:
     """The world corner tangents (n, 3, 4) float32 of the triangles that `shape_index` and
-    `local_index` pick (scene/shapes.py corner_uvs's order), computed in world space (MikkTSpace
-    commutes with rotation and scale; a mirror's swapped corners keep the bitangent up the image),
-    zero for shapes without texture coordinates."""
+    `local_index` pick (scene/shapes.py corner_uvs's order): a shape's own (a file's TANGENT), else
+    MikkTSpace's computed in world space (it commutes with rotation and scale; a mirror's swapped
+    corners keep the bitangent up the image); zero for shapes with neither tangents nor texture
+    coordinates."""
     tangents = np.zeros((len(shape_index), 3, 4), np.float32)
     starts = np.searchsorted(shape_index, np.arange(len(shapes) + 1))
     for index, shape in enumerate(shapes):
-        if shape.uvs is not None:
-            rows = slice(starts[index], starts[index + 1])
+        world = shape.world_tangents
+        if world is None and shape.uvs is not None:
             world = mikktspace_tangents(shape.world_vertices, shape.world_uvs, shape.world_normals)
+        if world is not None:
+            rows = slice(starts[index], starts[index + 1])
             tangents[rows] = world[local_index[rows]]
     return tangents
 
