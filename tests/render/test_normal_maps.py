@@ -3,7 +3,8 @@ camera under a grazing directional light. A flat map (and scale 0) renders like 
 tilted towards the light brightens the quad, tilted away darkens it, and a tilted map renders as the
 same tilt given as corner normals (the same shading normal and shading_weight); the scene's
 MikkTSpace tangents are the hand-computed ones; grazing views, noisy maps and degenerate texture
-coordinates give no NaN; scenes without normal maps upload one tangent record."""
+coordinates give no NaN; scenes without normal maps upload one tangent record; the Mitsuba export
+refuses a normal map rather than drop it."""
 
 from __future__ import annotations
 
@@ -100,3 +101,8 @@ def test_grazing_views_noisy_maps_and_degenerate_uvs_give_no_nan():
         for eye in ((0.0, 0.0, -3.0), (3.0, 0.0, -0.02), (0.0, 3.0, 0.01)):
             scene.camera = Camera.looking_at(eye, (0, 0, 0), vfov_degrees=60.0)
             assert np.isfinite(render(scene, spp=2)).all()
+
+
+def test_a_normal_map_is_not_exported_to_mitsuba_without_its_bumps():
+    with pytest.raises(ValueError, match=r"material 'bumpy': normal_texture has no Mitsuba export yet"):
+        material(normal_texture=normal_texture((0.0, 0.0, 1.0))).mitsuba_bsdf()

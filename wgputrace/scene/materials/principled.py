@@ -116,7 +116,10 @@ class Principled(Material):
 
     def mitsuba_bsdf(self) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
-        GPU forms after filtering, which bilinear filtering leaves the same)."""
+        GPU forms after filtering, which bilinear filtering leaves the same). A normal map is refused
+        (ValueError): not exported yet, a reference would render the surface without its bumps."""
+        if self.normal_texture is not None:
+            raise ValueError(f"material {self.name!r}: normal_texture has no Mitsuba export yet")
         bsdf = {
             "type": "principled",
             "base_color": mitsuba_rgb(self.base_color),
