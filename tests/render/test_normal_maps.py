@@ -106,3 +106,24 @@ def test_grazing_views_noisy_maps_and_degenerate_uvs_give_no_nan():
 def test_a_normal_map_is_not_exported_to_mitsuba_without_its_bumps():
     with pytest.raises(ValueError, match=r"material 'bumpy': normal_texture has no Mitsuba export yet"):
         material(normal_texture=normal_texture((0.0, 0.0, 1.0))).mitsuba_bsdf()
+
+
+def test_a_normal_map_added_to_and_removed_from_a_live_renderer():
+    """Adding the map uploads one corner tangent record per triangle where there was one (and the
+    map's texture), removing it shrinks them back; each picture is what a new Renderer draws (this
+    scene's light is direct and smooth: means agree well within the noise allowance)."""
+    bumpy = material()
+    renderer = Renderer(scene_of(bumpy), SIZE, SIZE, seed=5, max_depth=2)
+    renderer.render(SPP)
+    bumpy.normal_texture = normal_texture(TILTED)
+    uploads = renderer.update()
+    assert {"corner tangents", "material textures"} <= set(uploads)
+    assert renderer._mirror.corner_tangents.shape == (2,)
+    renderer.render(SPP)
+    fresh = render(scene_of(material(normal_texture=normal_texture(TILTED))))
+    assert renderer.image().mean() == pytest.approx(fresh.mean(), rel=0.02)
+    bumpy.normal_texture = None
+    renderer.update()
+    assert renderer._mirror.corner_tangents.shape == (1,)
+    renderer.render(SPP)
+    assert renderer.image().mean() == pytest.approx(render(scene_of(material())).mean(), rel=0.02)
