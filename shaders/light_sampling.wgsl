@@ -9,6 +9,9 @@
 //! include "spherical_triangle.wgsl"
 // material_emitted: a light triangle's radiance, as its material kind defines it
 //! include "generated/materials.wgsl"
+// surface_emission and surface_light_density: light emitted through a material's texture record
+// (Principled's emission: gpu/emission.py)
+//! include "generated/emission.wgsl"
 // is_light_source and sample_light_source: the scene's other lights (gpu/light_dispatch.py)
 //! include "generated/lights.wgsl"
 
@@ -36,13 +39,19 @@ fn samples_solid_angle(solid_angle: f32) -> bool {
     return solid_angle >= SPHERICAL_SAMPLING_MIN_SOLID_ANGLE && solid_angle <= SPHERICAL_SAMPLING_MAX_SOLID_ANGLE;
 }
 
+// The light table's weight per unit area of a light triangle of material `material_index`
+// (render/lights.py): the luminance of its kind's radiance, or of what its texture record emits.
+fn light_density(material_index: u32) -> f32 {
+    return luminance(material_emitted(materials[material_index])) + surface_light_density(material_index);
+}
+
 // Density per steradian, seen from `p`, with which sample_light picks the point of light triangle
-// `triangle` (radiance `radiance`) at squared distance `distance_squared` and cosine `cos_light`.
-// Triangles are chosen with probability area x luminance / total (the total over every light, each
-// weighed in the same units); within the triangle the point is uniform in solid angle
-// (1 / solid angle) or in area (1 / area, converted to solid angle).
-fn pdf_light(p: vec3<f32>, triangle: Triangle, radiance: vec3<f32>, distance_squared: f32, cos_light: f32) -> f32 {
-    let per_area = luminance(radiance) / frame.light_weight_total;
+// `triangle` at squared distance `distance_squared` and cosine `cos_light`. Triangles are chosen
+// with probability area x light_density / total (the total over every light, each weighed in the
+// same units); within the triangle the point is uniform in solid angle (1 / solid angle) or in
+// area (1 / area, converted to solid angle).
+fn pdf_light(p: vec3<f32>, triangle: Triangle, distance_squared: f32, cos_light: f32) -> f32 {
+    let per_area = light_density(triangle.material) / frame.light_weight_total;
     let solid_angle = light_triangle_solid_angle(p, triangle);
     if samples_solid_angle(solid_angle) {
         return per_area * (0.5 * length(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0))) / solid_angle;
@@ -59,7 +68,6 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
     }
     let triangle = scene_triangle(index);
     let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
-    let radiance = material_emitted(materials[triangle.material]);
     let a = normalize(triangle.v0 - p);
     let b = normalize(triangle.v1 - p);
     let c = normalize(triangle.v2 - p);
@@ -77,6 +85,7 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
     let to_light = position - p;
     let distance_squared = dot(to_light, to_light);
     let cos_light = abs(dot(normal, to_light)) / sqrt(distance_squared);
-    let pdf = pdf_light(p, triangle, radiance, distance_squared, cos_light);
+    let radiance = material_emitted(materials[triangle.material]) + surface_emission(triangle.material, index, triangle, position, to_light);
+    let pdf = pdf_light(p, triangle, distance_squared, cos_light);
     return LightSample(position, normal, radiance, index, pdf, vec3<f32>(0.0), false, false);
 }

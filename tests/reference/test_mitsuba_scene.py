@@ -40,7 +40,7 @@ def test_same_triangles_and_emitters(mi, name):
     emitter_triangles = sum(
         int(np.count_nonzero(arrays.material_index == index))
         for index, material in enumerate(arrays.materials)
-        if material.emission is not None
+        if material.emission_wgsl is not None
     )
     shapes = theirs.shapes()
     # every emitter triangle twice: Mitsuba's area lights shine from the front only, ours both ways

@@ -1,6 +1,8 @@
 """Alpha and sidedness (shaders/alpha.wgsl): cut-out texels (MASK) let every ray through, the
 camera's and the shadow rays', in the fraction the texture cuts; BLEND passes 1 - alpha of the
-rays; OPAQUE ignores alpha; a single-sided surface is invisible from behind."""
+rays; OPAQUE ignores alpha; a single-sided surface is invisible from behind. Emission
+(shaders/emission.wgsl): a panel with an emissive texture lights a room as a uniform emitter of the
+texture's mean radiance does, and weighs in the light table by that mean."""
 
 from __future__ import annotations
 
@@ -9,7 +11,8 @@ import pytest
 
 from wgputrace import DirectionalLight, Environment
 from wgputrace.render.renderer import Renderer
-from wgputrace.scene import Camera, Diffuse, Principled, Scene, Shape, Texture
+from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.scene import Camera, Diffuse, Emitter, Principled, Scene, Shape, Texture
 
 pytestmark = pytest.mark.gpu
 
@@ -174,3 +177,40 @@ def test_only_scenes_with_a_see_through_material_compile_the_surface_test():
     leaf.alpha_mode = "MASK"
     renderer.render(1)
     assert "see-through" in renderer.kernel.label
+
+
+# a panel in the ceiling of a closed white room, its emission texture a checkerboard of black and
+# sRGB 255 (linear 1): mean radiance 0.5 x emission x strength
+CHECKER = Texture(np.kron([[0, 255], [255, 0]], np.ones((4, 4)))[..., None].repeat(3, axis=2).astype(np.uint8))
+ROOM_CAMERA = Camera.looking_at((0, 0, -0.9), (0, 0, 0), vfov_degrees=80.0)
+
+
+def lit_room(panel_material, spp: int = 64) -> tuple[np.ndarray, SceneMirror]:
+    panel = Shape(
+        "panel",
+        quad(-0.5, 0.5, -0.5, 0.5, 0.0)[:, :, [0, 2, 1]] + np.float32([0, 0.99, 0]),
+        panel_material,
+        uvs=quad_uvs(2.0),
+    )
+    scene = Scene([Shape("room", cube(1.0), Diffuse("white", (0.7, 0.7, 0.7))), panel], ROOM_CAMERA)
+    renderer = Renderer(scene, SIZE, SIZE, seed=7, max_depth=3)
+    renderer.render(spp)
+    image = renderer.image()
+    assert np.isfinite(image).all()
+    return image, SceneMirror(scene, "bvh")
+
+
+def test_an_emissive_texture_lights_a_room_as_its_mean_radiance():
+    textured = black("panel", emission=(2.0, 2.0, 2.0), emission_texture=CHECKER, emission_strength=1.5)
+    image, mirror = lit_room(textured)
+    uniform, uniform_mirror = lit_room(Emitter("panel", color=(1.5, 1.5, 1.5)))
+    assert image.mean() == pytest.approx(uniform.mean(), rel=0.05)
+    # the light table weighs the panel by its mean radiance (area 1 x luminance 1.5), as the emitter
+    assert mirror.lights.total_weight == pytest.approx(uniform_mirror.lights.total_weight, rel=1e-6)
+    assert mirror.lights.total_weight == pytest.approx(1.5, rel=1e-6)
+
+
+def test_a_black_emission_texture_is_no_light():
+    dark = black("panel", emission=(1.0, 1.0, 1.0), emission_texture=Texture(np.zeros((2, 2, 3), np.uint8)))
+    image, mirror = lit_room(dark, spp=4)
+    assert mirror.lights.count == 0 and image.max() == 0.0

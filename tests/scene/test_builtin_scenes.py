@@ -32,7 +32,7 @@ def test_every_scene_builds_without_degenerate_triangles(name):
         scene = scene_by_name(name)
         arrays = scene.arrays()
     assert np.isfinite(arrays.vertices).all() and len(arrays.vertices) > 0
-    emits = any(m.emission is not None for m in arrays.materials)
+    emits = any(m.emission_wgsl is not None for m in arrays.materials)
     assert emits or scene.environment is not None or scene.lights, f"{name} has no light"
 
 

@@ -77,7 +77,7 @@ def test_a_kind_outside_u32_ids_is_refused(kind):
 
 def test_an_emission_needs_the_hosts_reading_of_it():
     with pytest.raises(TypeError, match="declares an emission but no record_radiance"):
-        type("Glow", (Material,), {"kind": FREE_KIND, "emission": "material.color"})
+        type("Glow", (Material,), {"kind": FREE_KIND, "emission_wgsl": "material.color"})
 
 
 def test_variants_of_a_kind_share_its_code():

@@ -5,6 +5,7 @@ from __future__ import annotations
 from ..bvh.wide import STACK_SIZE as WIDE_STACK_SIZE
 from ..bvh.wide import WIDE_COUNT_BITS, WIDE_EMPTY, WIDE_LEAF, WIDE_LEAF_MAX
 from .alpha import GENERATED_ALPHA, alpha_hook
+from .emission import GENERATED_EMISSION, emission_hook
 from .layout import ALL_STRUCTS
 from .light_dispatch import (
     GENERATED_ESCAPED_LIGHT,
@@ -70,7 +71,7 @@ def generated_structs() -> str:
 def standard_files() -> dict[str, str]:
     """The generated files every kernel gets unless it replaces them: structs and ids, the material
     dispatch for every kind, no lights besides emissive triangles, no ray counting, no denoiser
-    guides, flat shading, no textures, every surface opaque, the texel loaders and the largest traversal stack."""
+    guides, flat shading, no textures, every surface opaque and emitting by its kind alone, the texel loaders and the largest traversal stack."""
     return {
         GENERATED_STRUCTS: generated_structs(),
         GENERATED_MATERIALS: material_dispatch(),
@@ -81,6 +82,7 @@ def standard_files() -> dict[str, str]:
         GENERATED_SHADING_NORMALS: shading_normals_hook(smooth=False),
         GENERATED_TEXTURES: textures_hook(textured=False),
         GENERATED_ALPHA: alpha_hook(see_through=False),
+        GENERATED_EMISSION: emission_hook(emissive=False),
         GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),
         GENERATED_TRAVERSAL_STACK: traversal_stack(),
     }

@@ -9,7 +9,7 @@ uses and including only their files, so a scene without glass compiles no dielec
 | material_is_two_sided         | mirror wi below the surface to +z first?          | `two_sided`             |
 | material_samples_lights       | can a light sample land in the lobe?              | `light_sampling()`      |
 | material_reflects             | does a path go on from here?                      | `shader` is set         |
-| material_emits / _emitted     | does it emit, and what radiance                   | `emission`              |
+| material_emits / _emitted     | does it emit, and what radiance                   | `emission_wgsl`         |
 
 A kind the function does not concern (an emitter's BSDF) takes the default case.
 """
@@ -92,12 +92,12 @@ def material_dispatch(kinds: Iterable[int] = ALL_KINDS) -> str:
         *_function("material_reflects(material: Material) -> bool", {cls: "true" for cls in shaded}, "false"),
         *_function(
             "material_emits(material: Material) -> bool",
-            {cls: "true" for cls in classes if cls.emission is not None},
+            {cls: "true" for cls in classes if cls.emission_wgsl is not None},
             "false",
         ),
         *_function(
             "material_emitted(material: Material) -> vec3<f32>",
-            {cls: cls.emission for cls in classes if cls.emission is not None},
+            {cls: cls.emission_wgsl for cls in classes if cls.emission_wgsl is not None},
             "vec3<f32>(0.0)",
         ),
     ]

@@ -99,7 +99,7 @@ def bsdf_dict(material: Material) -> dict:
 
 def emitter_dict(material: Material) -> dict | None:
     """Our material's emission as a Mitsuba emitter (of one side), None where it emits nothing."""
-    if material.emission is None:
+    if material.emission_wgsl is None:
         return None
     emitter = material.mitsuba_emitter()
     if emitter is None:
@@ -240,7 +240,7 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
         else:
             uvs = None if all_uvs is None else all_uvs[arrays.material_index == index]
             shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs)
-    lights, hide_emitters = emitters(mi, scene, any(m.emission is not None for m in arrays.materials))
+    lights, hide_emitters = emitters(mi, scene, any(m.emission_wgsl is not None for m in arrays.materials))
     camera = scene.camera
     position = np.asarray(camera.position)
     sensor = {

@@ -48,7 +48,7 @@ class LightTable:
 
 def emitting_kinds() -> tuple[int, ...]:
     """The material kinds that emit light."""
-    return tuple(cls.kind for cls in material_classes() if cls.emission is not None)
+    return tuple(cls.kind for cls in material_classes() if cls.emission_wgsl is not None)
 
 
 def emitting(materials: np.ndarray) -> np.ndarray:
@@ -61,7 +61,7 @@ def emitted_radiance(materials: np.ndarray) -> np.ndarray:
     record (its class's `emission`); zero where it emits nothing."""
     radiance = np.zeros((len(materials), 3))
     for cls in material_classes():
-        if cls.emission is not None:
+        if cls.emission_wgsl is not None:
             rows = materials["kind"] == cls.kind
             radiance[rows] = cls.record_radiance(materials[rows])
     return radiance
@@ -72,20 +72,24 @@ def light_table(
     materials: np.ndarray,
     source_weights: np.ndarray | None = None,
     environment_weight: float = 0.0,
+    surface_densities: np.ndarray | None = None,
 ) -> LightTable:
     """The light table of the emissive triangles of GPU `triangles` records (TRIANGLE.dtype), in the
     triangles' GPU order, with the materials' GPU records (MATERIAL.dtype); of the light sources
     weighing `source_weights` (each light's `weight`, in the scene's order); and of an environment
-    weighing `environment_weight`."""
-    index = np.flatnonzero(emitting(materials)[triangles["material"]])
-    radiance = emitted_radiance(materials)[triangles["material"][index]]
+    weighing `environment_weight`. `surface_densities` (one per material) adds the weight per unit
+    area of light emitted through the materials' texture records (render/texture_atlas.py
+    light_density), which the shaders read back (light_sampling.wgsl light_density)."""
+    densities = np.zeros(len(materials)) if surface_densities is None else surface_densities
+    density = emitted_radiance(materials) @ LUMINANCE_WEIGHTS + densities
+    index = np.flatnonzero((emitting(materials) | (densities > 0))[triangles["material"]])
     v0, v1, v2 = (triangles[corner][index].astype(np.float64) for corner in ("v0", "v1", "v2"))
     area = 0.5 * np.linalg.norm(np.cross(v1 - v0, v2 - v0), axis=1)
     source_weights = np.zeros(0) if source_weights is None else np.asarray(source_weights, np.float64)
     words = np.concatenate([index, LIGHT_SOURCE_FLAG | np.arange(len(source_weights)), [ENVIRONMENT_LIGHT]]).astype(
         np.uint32
     )
-    weight = np.concatenate([area * (radiance @ LUMINANCE_WEIGHTS), source_weights, [environment_weight]])
+    weight = np.concatenate([area * density[triangles["material"][index]], source_weights, [environment_weight]])
     keep = weight > 0
     entries = LIGHT.zeros(int(np.count_nonzero(keep)))
     if len(entries) == 0:

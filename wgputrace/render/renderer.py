@@ -22,6 +22,7 @@ from ..gpu.alpha import GENERATED_ALPHA, alpha_hook
 from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, lights_group, pixels_group, scene_group, shading_group
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
+from ..gpu.emission import GENERATED_EMISSION, emission_hook
 from ..gpu.generated import (
     BVH_STACK_SIZE,
     GENERATED_TRAVERSAL_STACK,
@@ -110,6 +111,7 @@ def path_tracer_kernel(
     smooth: bool = False,
     textured: bool = False,
     see_through: bool = False,
+    emissive_surfaces: bool = False,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
@@ -124,7 +126,8 @@ def path_tracer_kernel(
     with per-vertex normals (gpu/shading_normals.py) and declares the shading group; `textured`
     compiles in the materials' textures (gpu/textures.py) and declares their bindings in that group;
     `see_through` (textured scenes only) compiles into every ray's triangle test the alpha modes and
-    single-sided surfaces (gpu/alpha.py), which slow that test."""
+    single-sided surfaces (gpu/alpha.py), which slow that test; `emissive_surfaces` (textured scenes
+    only) the light that materials emit through their texture records (gpu/emission.py)."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
     overrides = overrides or {}
@@ -143,6 +146,7 @@ def path_tracer_kernel(
         smooth,
         textured,
         see_through,
+        emissive_surfaces,
     )
     if key not in _kernels:
         traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
@@ -164,11 +168,13 @@ def path_tracer_kernel(
                 GENERATED_SHADING_NORMALS: shading_normals_hook(smooth, textured),
                 GENERATED_TEXTURES: textures_hook(textured),
                 GENERATED_ALPHA: alpha_hook(see_through),
+                GENERATED_EMISSION: emission_hook(emissive_surfaces),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
             f"{', counting rays' if count_rays else ''}{', guides' if guides else ''}"
-            f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''}{', textured' if textured else ''}{', see-through' if see_through else ''})",
+            f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''}{', textured' if textured else ''}{', see-through' if see_through else ''}"
+            f"{', emissive surfaces' if emissive_surfaces else ''})",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -244,6 +250,7 @@ class Renderer:
         self._textures = TextureBuffers(self.context, self._mirror)
         self._textured = self._mirror.textured
         self._see_through = self._mirror.see_through
+        self._emissive_surfaces = self._mirror.emissive_surfaces
         self.kernel = self.kernel_variant()
         frame = self._frame_record()
         self._frame_bytes = frame.tobytes()
@@ -374,10 +381,13 @@ class Renderer:
         self._textured = self._mirror.textured
         see_through_changed = self._see_through != self._mirror.see_through
         self._see_through = self._mirror.see_through
+        emission_changed = self._emissive_surfaces != self._mirror.emissive_surfaces
+        self._emissive_surfaces = self._mirror.emissive_surfaces
         new_pipeline = (
             smoothness_changed
             or texturing_changed
             or see_through_changed
+            or emission_changed
             or (kinds, stack_size, features)
             != (
                 self._kinds,
@@ -501,6 +511,7 @@ class Renderer:
             smooth=self.smooth_shading,
             textured=self._textured,
             see_through=self._see_through,
+            emissive_surfaces=self._emissive_surfaces,
             **{"guides": self._guides, **options},
         )
 

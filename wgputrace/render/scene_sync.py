@@ -72,7 +72,15 @@ from .scene_buffers import (
     set_wide_bounds,
     triangle_records,
 )
-from .texture_atlas import lets_rays_through, material_texture_records, pack_atlas, used_textures
+from .texture_atlas import (
+    lets_rays_through,
+    light_density,
+    material_texture_records,
+    needs_material_record,
+    pack_atlas,
+    surface_radiance,
+    used_textures,
+)
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
 # Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
@@ -156,6 +164,15 @@ class SceneMirror:
         return any(lets_rays_through(material) for material in self.scene.materials)
 
     @property
+    def emissive_surfaces(self) -> bool:
+        """Whether a material emits through its texture record (Principled's emission: gpu/emission.py)."""
+        return any(max(surface_radiance(material)) > 0 for material in self.scene.materials)
+
+    def _surface_light_densities(self) -> np.ndarray:
+        """Each material's light table weight per unit area from its texture record (0: none)."""
+        return np.array([light_density(material) for material in self.scene.materials], np.float64)
+
+    @property
     def material_kinds(self) -> frozenset:
         return frozenset(material.kind for material in self._materials)
 
@@ -188,9 +205,11 @@ class SceneMirror:
             changes = _union(changes, self._reassign_materials())
         else:
             changes = _union(changes, self._update_material_records())
-        emitter = emitting(self.materials)
+        densities = self._surface_light_densities()
+        emitter = emitting(self.materials) | (densities > 0)
         if (
-            reassigned
+            not np.array_equal(densities, self._light_densities)
+            or reassigned
             or emitter[self.triangles["material"][changes.get(TRIANGLES, [])]].any()
             or emitter[changes.get(MATERIALS, [])].any()
             or self._lights_edited()
@@ -228,7 +247,7 @@ class SceneMirror:
         textures changed and the corner coordinates where geometry moved; their changed rows."""
         materials = self.scene.materials
         textures = used_textures(materials)
-        if not textures and not any(lets_rays_through(material) for material in materials):
+        if not textures and not any(needs_material_record(material) for material in materials):
             self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
             self.corner_tangents = None
             self._textures = []
@@ -449,11 +468,13 @@ class SceneMirror:
             changes.update(self._update_environment_map())
         holds = self._environment_holds()
         environment_weight = environment_power(environment, radius) if holds is not None else 0.0
+        self._light_densities = self._surface_light_densities()
         table = light_table(
             self.triangles[self._position],
             self.materials,
             np.array([light.weight(radius) for light in lights]),
             environment_weight,
+            self._light_densities,
         )
         triangle_entries = table.entries["triangle"] < len(self._position)
         table.entries["triangle"][triangle_entries] = self._position[table.entries["triangle"][triangle_entries]]

@@ -30,13 +30,14 @@ import numpy as np
 from ..gpu.layout import MATERIAL_TEXTURES, TEXTURE
 from ..gpu.textures import NO_TEXTURE
 from ..scene import Material, SceneError
+from ..scene.lights.light import LUMINANCE_WEIGHTS
 from ..scene.materials.principled import ALPHA_MODES
 from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb
 
-# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl reads them)
-_ALPHA_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided")
+# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl, emission.wgsl read them)
+_PARAMETER_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided", "emitted", "light_density")
 # the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
-TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name not in _ALPHA_FIELDS)
+TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name not in _PARAMETER_FIELDS)
 
 
 class TextureWarning(UserWarning):
@@ -61,6 +62,29 @@ def lets_rays_through(material: Material) -> bool:
     return getattr(material, "alpha_mode", "OPAQUE") != "OPAQUE" or not getattr(material, "double_sided", True)
 
 
+def surface_radiance(material: Material) -> tuple[float, float, float]:
+    """The radiance a material without an emitting kind emits through its MATERIAL_TEXTURES
+    record (Principled's emission x emission_strength; x the emission texture on the GPU)."""
+    strength = getattr(material, "emission_strength", 1.0)
+    return tuple(c * strength for c in getattr(material, "emission", (0.0, 0.0, 0.0)))
+
+
+def light_density(material: Material) -> float:
+    """The light table's weight per unit area of the material's triangles (render/lights.py): the
+    luminance of its emitted radiance x its emission texture's mean (every texel alike: a box filter
+    over the whole texture, not each triangle's footprint)."""
+    radiance = np.array(surface_radiance(material))
+    texture = getattr(material, "emission_texture", None)
+    if texture is not None:
+        radiance = radiance * texture.linear_texels[..., :3].reshape(-1, 3).mean(axis=0, dtype=np.float64)
+    return float(radiance @ LUMINANCE_WEIGHTS)
+
+
+def needs_material_record(material: Material) -> bool:
+    """Whether `material` lets rays through or emits through its MATERIAL_TEXTURES record."""
+    return lets_rays_through(material) or max(surface_radiance(material)) > 0
+
+
 def used_textures(materials: list[Material]) -> list[Texture]:
     """Every texture the materials read, each once, in first-use order."""
     seen: dict[int, Texture] = {}
@@ -82,6 +106,8 @@ def material_texture_records(materials: list[Material], textures: list[Texture])
         record["alpha_mode"] = ALPHA_MODES.index(getattr(material, "alpha_mode", "OPAQUE"))
         record["alpha_cutoff"] = getattr(material, "alpha_cutoff", 0.5)
         record["double_sided"] = getattr(material, "double_sided", True)
+        record["emitted"] = surface_radiance(material)
+        record["light_density"] = light_density(material)
     return records
 
 

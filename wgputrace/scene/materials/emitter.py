@@ -30,7 +30,7 @@ class Emitter(Material):
     emittance: float = 1.0
 
     kind = 1
-    emission = "material.color"
+    emission_wgsl = "material.color"
 
     def checked_parameters(self) -> dict[str, object]:
         color = check_color(self.name, "color", self.color, upper=None)

@@ -13,7 +13,7 @@ is the whole descriptor, and like pbrt-v4's `BxDF::Flags()` it answers what the 
 | every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
 | can a light sample land in its lobe?    | `samples_lights` (WGSL)          | path_tracer.wgsl's next-event estimation        |
 | the same BSDF seen from both sides?     | `two_sided`                      | bsdf.wgsl; the Mitsuba `twosided` wrapper       |
-| the radiance it emits                   | `emission` (WGSL), `record_radiance` | path_tracer.wgsl, light_sampling.wgsl, render/lights.py |
+| the radiance it emits                   | `emission_wgsl`, `record_radiance` | path_tracer.wgsl, light_sampling.wgsl, render/lights.py |
 | its Mitsuba 3 equivalent                | `mitsuba_bsdf`, `mitsuba_emitter` | reference/mitsuba_scene.py                     |
 
 A class registers itself as a kind when its body sets `kind`; subclassing a kind without setting
@@ -103,7 +103,7 @@ class MaterialShader:
 def _check_kind(cls: type[Material], where: str) -> None:
     if cls.shader is not None and not isinstance(cls.shader, MaterialShader):
         raise TypeError(f"{where}: shader must be a MaterialShader or None, got {cls.shader!r}")
-    if cls.emission is not None and cls.record_radiance.__func__ is Material.record_radiance.__func__:
+    if cls.emission_wgsl is not None and cls.record_radiance.__func__ is Material.record_radiance.__func__:
         raise TypeError(f"{where}: declares an emission but no record_radiance for the light table")
 
 
@@ -133,7 +133,7 @@ class Material(Kind):
     # the BSDF is the same seen from below (Mitsuba's `twosided`): bsdf.wgsl mirrors wi to +z first
     two_sided: ClassVar[bool] = True
     # WGSL vec3<f32> over `material`: the radiance it emits; None: it emits nothing
-    emission: ClassVar[str | None] = None
+    emission_wgsl: ClassVar[str | None] = None
 
     @classmethod
     def light_sampling(cls) -> str:
@@ -144,13 +144,13 @@ class Material(Kind):
 
     @classmethod
     def record_radiance(cls, records: np.ndarray) -> np.ndarray:
-        """(n, 3) float64: what `emission` gives for MATERIAL `records` of this kind, as the light
-        table weighs lights by it (render/lights.py). Needed where `emission` is set."""
+        """(n, 3) float64: what `emission_wgsl` gives for MATERIAL `records` of this kind, as the light
+        table weighs lights by it (render/lights.py). Needed where `emission_wgsl` is set."""
         raise NotImplementedError(f"{cls.__name__} emits nothing")
 
     def fill_record(self, record: np.void) -> None:
         """Write the parameters into `record`, one MATERIAL record (gpu/layout.py), by field name, as
-        `shader` and `emission` read them. `kind` is written by the caller; other fields stay zero."""
+        `shader` and `emission_wgsl` read them. `kind` is written by the caller; other fields stay zero."""
         raise NotImplementedError
 
     def mitsuba_bsdf(self) -> dict:

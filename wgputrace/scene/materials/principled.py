@@ -16,6 +16,9 @@ need, the same on both sides.
 | alpha_mode | "OPAQUE", "MASK", "BLEND" | "OPAQUE" | glTF's: alpha ignored; texels of alpha < alpha_cutoff cut out; stochastic transparency |
 | alpha_cutoff | float [0, 1] | 0.5    | MASK's threshold                                                  |
 | double_sided | bool       | True    | False: the surface is invisible from behind (its back face culled, as glTF viewers do) |
+| emission   | RGB >= 0      | 0       | emitted radiance (glTF emissiveFactor), on both sides unless single-sided |
+| emission_texture | Texture (sRGB) or None | None | RGB x emission (glTF emissiveTexture) |
+| emission_strength | float >= 0 | 1    | x emission (KHR_materials_emissive_strength)                     |
 
 A Disney diffuse lobe with retro-reflection, weighted by 1 - metallic, plus GGX reflection whose
 Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic Schlick(base_color). Sampling
@@ -34,6 +37,7 @@ import math
 from dataclasses import dataclass
 
 from ..texture import Texture
+from .emitter import RADIANCE_MAX
 from .glass import IOR_MAX
 from .material import Material, MaterialError, MaterialShader, check_color, check_number, mitsuba_rgb
 
@@ -64,6 +68,9 @@ class Principled(Material):
     alpha_mode: str = "OPAQUE"
     alpha_cutoff: float = 0.5
     double_sided: bool = True
+    emission: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    emission_texture: Texture | None = None
+    emission_strength: float = 1.0
 
     kind = 5
     shader = MaterialShader(
@@ -79,7 +86,7 @@ class Principled(Material):
                 f"material {self.name!r}: spec_trans must be 0 (transmission is not supported yet), got {self.spec_trans!r}",
                 "spec_trans",
             )
-        for parameter in ("base_color_texture", "metallic_roughness_texture", "normal_texture"):
+        for parameter in ("base_color_texture", "metallic_roughness_texture", "normal_texture", "emission_texture"):
             value = getattr(self, parameter)
             if value is not None and not isinstance(value, Texture):
                 raise MaterialError(
@@ -100,6 +107,10 @@ class Principled(Material):
             "alpha_mode": self.alpha_mode,
             "alpha_cutoff": check_number(self.name, "alpha_cutoff", self.alpha_cutoff, low=0.0, high=1.0),
             "double_sided": self.double_sided,
+            "emission": check_color(self.name, "emission", self.emission, upper=None),
+            "emission_strength": check_number(
+                self.name, "emission_strength", self.emission_strength, low=0.0, high=RADIANCE_MAX
+            ),
             "base_color": check_color(self.name, "base_color", self.base_color, upper=1.0),
             "metallic": check_number(self.name, "metallic", self.metallic, low=0.0, high=1.0),
             "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
