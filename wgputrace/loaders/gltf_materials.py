@@ -51,7 +51,7 @@ import warnings
 from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Principled, SceneError
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
-from .textures import ImageError, decode_image, supported_parameters
+from .textures import ImageError, decode_image
 
 DEFAULT_DIFFUSE = 0.8
 DEFAULT_IOR = 1.5  # KHR_materials_ior's default
@@ -121,7 +121,6 @@ class GltfMaterials:
             if (slots or alpha_mode != "OPAQUE") and transmission < LOBE_THRESHOLD:
                 parameters = {parameter: self._texture(entry, path, srgb, where) for path, parameter, srgb in slots}
                 parameters |= self._set_values(entry, where, emissive, strength, alpha_mode)
-                parameters = supported_parameters(Principled, parameters, f"{reader.path}: {where}", stacklevel=6)
                 return Principled(
                     name,
                     base_color=tuple(base[:3]),

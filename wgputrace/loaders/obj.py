@@ -60,7 +60,7 @@ from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Pr
 from .errors import SceneLoadError, SceneLoadWarning
 from .mtl_maps import MAP_KEYS, PRINCIPLED_MAPS, MapImages, TextureMap, parse_map
 from .orientation import wind_outwards
-from .textures import material_textures, supported_parameters
+from .textures import material_textures
 
 DEFAULT_DIFFUSE = 0.8
 DEFAULT_IOR = 1.5
@@ -354,7 +354,6 @@ def _material(path: Path, entry: _MtlEntry, images: MapImages) -> Material:
     try:
         if kind is Principled:
             parameters |= images.principled_textures(entry.maps)
-            parameters = supported_parameters(Principled, parameters, f"{path}:{entry.line}", stacklevel=5)
         return kind(entry.name, **parameters)
     except MaterialError as error:
         source = sources.get(error.parameter, "newmtl")

@@ -9,10 +9,8 @@ limit load, and the renderer downscales them with a warning (render/limits.py).
 
 from __future__ import annotations
 
-import dataclasses
 import io
 import struct
-import warnings
 import zlib
 
 import numpy as np
@@ -20,7 +18,6 @@ from PIL import Image, UnidentifiedImageError
 
 from ..scene import Material
 from ..scene.texture import MAX_TEXTURE_SIDE, Texture
-from .errors import SceneLoadWarning
 
 # Pillow modes kept as they are; any other is converted to RGBA (palettes, CMYK, 16-bit grey...)
 KEPT_MODES = ("L", "LA", "RGB", "RGBA")
@@ -98,18 +95,3 @@ def material_textures(material: Material) -> dict[str, Texture]:
     """The parameters of `material` that are textures, by name."""
     found = {name: getattr(material, name, None) for name in TEXTURE_PARAMETERS}
     return {name: texture for name, texture in found.items() if texture is not None}
-
-
-def supported_parameters(kind: type[Material], parameters: dict, origin: str, stacklevel: int) -> dict:
-    """`parameters` less those material `kind` does not take (Principled gains its texture, alpha
-    and emission parameters in parts: issue 14), the dropped ones named in a SceneLoadWarning, so
-    that a file still loads with what the renderer supports. Pass only values a file sets."""
-    accepted = {field.name for field in dataclasses.fields(kind)}
-    dropped = [name for name in parameters if name not in accepted]
-    if dropped:
-        warnings.warn(
-            f"{origin}: {', '.join(dropped)} not supported by {kind.__name__} yet: ignored",
-            SceneLoadWarning,
-            stacklevel=stacklevel + 1,
-        )
-    return {name: value for name, value in parameters.items() if name in accepted}
