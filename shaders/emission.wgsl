@@ -17,8 +17,9 @@ fn surface_emission(material_index: u32, triangle_index: u32, triangle: Triangle
     return slots.emitted * texture_sample(slots.emission, surface_uv(triangle_index, triangle, p)).rgb;
 }
 
-// The light table's weight per unit area of the material's triangles (render/texture_atlas.py
-// light_density), for the density with which the light sampler picks their points.
-fn surface_light_density(material_index: u32) -> f32 {
-    return material_textures[material_index].light_density;
+// The light table's weight per unit area of triangle `triangle_index` (its emitted luminance over
+// its footprint in the emission texture: render/emission_footprints.py), for the density with
+// which the light sampler picks its points.
+fn surface_light_density(triangle_index: u32) -> f32 {
+    return triangle_light_densities[triangle_index];
 }

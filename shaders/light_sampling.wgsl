@@ -39,19 +39,19 @@ fn samples_solid_angle(solid_angle: f32) -> bool {
     return solid_angle >= SPHERICAL_SAMPLING_MIN_SOLID_ANGLE && solid_angle <= SPHERICAL_SAMPLING_MAX_SOLID_ANGLE;
 }
 
-// The light table's weight per unit area of a light triangle of material `material_index`
-// (render/lights.py): the luminance of its kind's radiance, or of what its texture record emits.
-fn light_density(material_index: u32) -> f32 {
-    return luminance(material_emitted(materials[material_index])) + surface_light_density(material_index);
+// The light table's weight per unit area of light triangle `triangle_index` (render/lights.py):
+// the luminance of its material kind's radiance, or of what it emits through a texture record.
+fn light_density(triangle_index: u32, triangle: Triangle) -> f32 {
+    return luminance(material_emitted(materials[triangle.material])) + surface_light_density(triangle_index);
 }
 
 // Density per steradian, seen from `p`, with which sample_light picks the point of light triangle
-// `triangle` at squared distance `distance_squared` and cosine `cos_light`. Triangles are chosen
+// `triangle` (number `triangle_index`) at squared distance `distance_squared` and cosine `cos_light`. Triangles are chosen
 // with probability area x light_density / total (the total over every light, each weighed in the
 // same units); within the triangle the point is uniform in solid angle (1 / solid angle) or in
 // area (1 / area, converted to solid angle).
-fn pdf_light(p: vec3<f32>, triangle: Triangle, distance_squared: f32, cos_light: f32) -> f32 {
-    let per_area = light_density(triangle.material) / frame.light_weight_total;
+fn pdf_light(p: vec3<f32>, triangle_index: u32, triangle: Triangle, distance_squared: f32, cos_light: f32) -> f32 {
+    let per_area = light_density(triangle_index, triangle) / frame.light_weight_total;
     let solid_angle = light_triangle_solid_angle(p, triangle);
     if samples_solid_angle(solid_angle) {
         return per_area * (0.5 * length(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0))) / solid_angle;
@@ -86,6 +86,6 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
     let distance_squared = dot(to_light, to_light);
     let cos_light = abs(dot(normal, to_light)) / sqrt(distance_squared);
     let radiance = material_emitted(materials[triangle.material]) + surface_emission(triangle.material, index, triangle, position, to_light);
-    let pdf = pdf_light(p, triangle, distance_squared, cos_light);
+    let pdf = pdf_light(p, index, triangle, distance_squared, cos_light);
     return LightSample(position, normal, radiance, index, pdf, vec3<f32>(0.0), false, false);
 }

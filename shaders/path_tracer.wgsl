@@ -111,14 +111,14 @@ fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: Sh
 // sample lights (the camera, glass, near-mirrors), not at all under pure NEE (light sampling
 // counted it), and by the power heuristic under MIS. `previous_position` is the point the light
 // sampler would have sampled from (unmoved by the ray offset, as in direct_light).
-fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, previous_position: vec3<f32>, triangle: Triangle, distance: f32, cos_light: f32) -> f32 {
+fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, previous_position: vec3<f32>, triangle_index: u32, triangle: Triangle, distance: f32, cos_light: f32) -> f32 {
     if !previous_sampled_lights {
         return 1.0;
     }
     if INTEGRATOR == INTEGRATOR_NEE {
         return 0.0;
     }
-    return power_heuristic(previous_bsdf_pdf, pdf_light(previous_position, triangle, distance * distance, cos_light));
+    return power_heuristic(previous_bsdf_pdf, pdf_light(previous_position, triangle_index, triangle, distance * distance, cos_light));
 }
 
 // emission_weight's rule for light found by a ray leaving the scene (the environment, the sun),
@@ -170,7 +170,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {
             let emitted = material_emitted(material) + surface_emitted;
             let cos_light = abs(dot(normal, ray.direction));
-            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, previous_position, triangle, hit.t, cos_light);
+            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, previous_position, hit.triangle, triangle, hit.t, cos_light);
             radiance += throughput * emitted * weight;
         }
         if !material_reflects(material) || depth >= frame.max_depth {

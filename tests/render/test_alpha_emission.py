@@ -185,15 +185,18 @@ CHECKER = Texture(np.kron([[0, 255], [255, 0]], np.ones((4, 4)))[..., None].repe
 ROOM_CAMERA = Camera.looking_at((0, 0, -0.9), (0, 0, 0), vfov_degrees=80.0)
 
 
-def lit_room(panel_material, spp: int = 64) -> tuple[np.ndarray, SceneMirror]:
-    panel = Shape(
-        "panel",
-        quad(-0.5, 0.5, -0.5, 0.5, 0.0)[:, :, [0, 2, 1]] + np.float32([0, 0.99, 0]),
-        panel_material,
-        uvs=quad_uvs(2.0),
-    )
-    scene = Scene([Shape("room", cube(1.0), Diffuse("white", (0.7, 0.7, 0.7))), panel], ROOM_CAMERA)
-    renderer = Renderer(scene, SIZE, SIZE, seed=7, max_depth=3)
+def ceiling_panel(material, x0: float = -0.5, x1: float = 0.5, u0: float = 0.0, u1: float = 2.0) -> Shape:
+    """A horizontal quad under the room's ceiling, its texture coordinates u0..u1 across x, 0..2 along z."""
+    uvs = quad_uvs(1.0)
+    uvs[..., 0] = u0 + (u1 - u0) * uvs[..., 0]
+    uvs[..., 1] *= 2.0
+    return Shape("panel", quad(x0, x1, -0.5, 0.5, 0.0)[:, :, [0, 2, 1]] + np.float32([0, 0.99, 0]), material, uvs=uvs)
+
+
+def lit_room(panel_material, spp: int = 64, panels: list[Shape] | None = None, integrator: str = "mis"):
+    panels = [ceiling_panel(panel_material)] if panels is None else panels
+    scene = Scene([Shape("room", cube(1.0), Diffuse("white", (0.7, 0.7, 0.7))), *panels], ROOM_CAMERA)
+    renderer = Renderer(scene, SIZE, SIZE, seed=7, max_depth=3, integrator=integrator)
     renderer.render(spp)
     image = renderer.image()
     assert np.isfinite(image).all()
@@ -214,3 +217,20 @@ def test_a_black_emission_texture_is_no_light():
     dark = black("panel", emission=(1.0, 1.0, 1.0), emission_texture=Texture(np.zeros((2, 2, 3), np.uint8)))
     image, mirror = lit_room(dark, spp=4)
     assert mirror.lights.count == 0 and image.max() == 0.0
+
+
+def test_light_table_weights_follow_the_texture_over_each_footprint():
+    # four strips across a texture whose last two of eight texel columns are white: the first two
+    # strips read only black texels and are no light; the others weigh by their footprint's mean
+    columns = np.zeros((1, 8, 3), np.uint8)
+    columns[:, 6:] = 255
+    stripes = Texture(columns, wrap_s="clamp", wrap_t="clamp")
+    glow = black("glow", emission=(1.0, 1.0, 1.0), emission_texture=stripes)
+    strips = [ceiling_panel(glow, -0.5 + i / 4, -0.25 + i / 4, i / 4, (i + 1) / 4) for i in range(4)]
+    image, mirror = lit_room(None, spp=64, panels=strips)
+    # strip 2 reads texel columns 3..6 (one white of 4), strip 3 columns 5..7 (two of 3); area 1/4 each
+    assert mirror.lights.count == 4
+    assert mirror.lights.total_weight == pytest.approx(0.25 * (1 / 4 + 2 / 3), rel=1e-5)
+    # light sampling by those weights agrees with BSDF sampling alone, which needs no table
+    bsdf_only, _ = lit_room(None, spp=256, panels=strips, integrator="bsdf")
+    assert image.mean() == pytest.approx(bsdf_only.mean(), rel=0.05)

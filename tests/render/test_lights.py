@@ -88,7 +88,7 @@ fn compute(i: u32) -> vec4<f32> {
     let distance_squared = dot(to_light, to_light);
     let cos_light = abs(dot(light.normal, to_light)) / sqrt(distance_squared);
     let triangle = scene_triangle(light.triangle);
-    let consistent = light.pdf == pdf_light(p, triangle, distance_squared, cos_light);
+    let consistent = light.pdf == pdf_light(p, light.triangle, triangle, distance_squared, cos_light);
     return vec4<f32>(light.position, bitcast<f32>(light.triangle | select(0x80000000u, 0u, consistent)));
 }
 """
@@ -175,7 +175,7 @@ fn compute(i: u32) -> vec4<f32> {
     let distance_squared = dot(to_light, to_light);
     let cos_light = abs(dot(light.normal, to_light)) / sqrt(distance_squared);
     let triangle = scene_triangle(light.triangle);
-    let consistent = light.pdf == pdf_light(p, triangle, distance_squared, cos_light);
+    let consistent = light.pdf == pdf_light(p, light.triangle, triangle, distance_squared, cos_light);
     return vec4<f32>(light.position, select(-light.pdf, light.pdf, consistent));
 }
 """

@@ -88,6 +88,7 @@ def sample_on_gpu(gpu_context, textures: list[Texture], queries: np.ndarray) -> 
         "texture_atlas": FloatTexture(gpu_context, "atlas", atlas.texels).resource,
         "textures": storage_buffer(gpu_context, "textures", atlas.records),
         "material_textures": storage_buffer(gpu_context, "material textures", MATERIAL_TEXTURES.zeros(1)),
+        "triangle_light_densities": storage_buffer(gpu_context, "triangle light densities", np.zeros(1, np.float32)),
     }
     return run_kernel(
         gpu_context,

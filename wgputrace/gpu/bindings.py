@@ -275,13 +275,15 @@ SHADING_GROUP = BindGroup(
 )
 # What textured scenes add to it (gpu/textures.py): the corner texture coordinates, the atlas
 # (linear rgba32float texels read with textureLoad and filtered by hand, as the environment map),
-# the textures' rectangles in it, each material's textures, and the corner tangents of normal maps.
+# the textures' rectangles in it, each material's textures, the corner tangents of normal maps, and
+# the light table's weight per unit area of each triangle emitting through a texture record.
 _TEXTURE_BINDINGS = (
     Binding("corner_uvs", STORAGE_READ, CORNER_UVS),
     Binding("corner_tangents", STORAGE_READ, CORNER_TANGENTS),
     Binding("texture_atlas", TEXTURE_F32),
     Binding("textures", STORAGE_READ, TEXTURE),
     Binding("material_textures", STORAGE_READ, MATERIAL_TEXTURES),
+    Binding("triangle_light_densities", STORAGE_READ, "f32"),
 )
 
 

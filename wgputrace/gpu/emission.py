@@ -24,6 +24,6 @@ def emission_hook(emissive: bool) -> str:
         lines += [
             "fn surface_emission(material_index: u32, triangle_index: u32, triangle: Triangle, p: vec3<f32>, "
             "direction: vec3<f32>) -> vec3<f32> { return vec3<f32>(0.0); }",
-            "fn surface_light_density(material_index: u32) -> f32 { return 0.0; }",
+            "fn surface_light_density(triangle_index: u32) -> f32 { return 0.0; }",
         ]
     return "\n".join(lines) + "\n"

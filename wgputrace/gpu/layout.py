@@ -229,12 +229,11 @@ MATERIAL_TEXTURES = GpuStruct(
         ("double_sided", "u32"),
         ("emission", "u32"),
         ("emitted", "vec3<f32>"),
-        ("light_density", "f32"),
     ),
     "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's); "
     "alpha_mode as scene/materials/principled.py ALPHA_MODES numbers them, its cutoff, and 0 for a "
-    "single-sided surface (shaders/alpha.wgsl); the radiance it emits (x the emission texture's) and "
-    "its light table weight per unit area (shaders/emission.wgsl).",
+    "single-sided surface (shaders/alpha.wgsl); the radiance it emits (x the emission texture's: "
+    "shaders/emission.wgsl).",
 )
 
 ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

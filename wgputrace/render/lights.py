@@ -77,19 +77,19 @@ def light_table(
     """The light table of the emissive triangles of GPU `triangles` records (TRIANGLE.dtype), in the
     triangles' GPU order, with the materials' GPU records (MATERIAL.dtype); of the light sources
     weighing `source_weights` (each light's `weight`, in the scene's order); and of an environment
-    weighing `environment_weight`. `surface_densities` (one per material) adds the weight per unit
-    area of light emitted through the materials' texture records (render/texture_atlas.py
-    light_density), which the shaders read back (light_sampling.wgsl light_density)."""
-    densities = np.zeros(len(materials)) if surface_densities is None else surface_densities
-    density = emitted_radiance(materials) @ LUMINANCE_WEIGHTS + densities
-    index = np.flatnonzero((emitting(materials) | (densities > 0))[triangles["material"]])
+    weighing `environment_weight`. `surface_densities` (one per triangle) adds the weight per unit
+    area of light emitted through the materials' texture records (render/emission_footprints.py),
+    which the shaders read back (light_sampling.wgsl light_density)."""
+    surface = np.zeros(len(triangles)) if surface_densities is None else surface_densities
+    density = (emitted_radiance(materials) @ LUMINANCE_WEIGHTS)[triangles["material"]] + surface
+    index = np.flatnonzero(emitting(materials)[triangles["material"]] | (surface > 0))
     v0, v1, v2 = (triangles[corner][index].astype(np.float64) for corner in ("v0", "v1", "v2"))
     area = 0.5 * np.linalg.norm(np.cross(v1 - v0, v2 - v0), axis=1)
     source_weights = np.zeros(0) if source_weights is None else np.asarray(source_weights, np.float64)
     words = np.concatenate([index, LIGHT_SOURCE_FLAG | np.arange(len(source_weights)), [ENVIRONMENT_LIGHT]]).astype(
         np.uint32
     )
-    weight = np.concatenate([area * density[triangles["material"][index]], source_weights, [environment_weight]])
+    weight = np.concatenate([area * density[index], source_weights, [environment_weight]])
     keep = weight > 0
     entries = LIGHT.zeros(int(np.count_nonzero(keep)))
     if len(entries) == 0:

@@ -53,6 +53,7 @@ from ..scene import Scene, Shape
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_normals, corner_uvs
 from ..scene.tangents import corner_tangents
+from .emission_footprints import footprint_means
 from .environment_records import (
     environment_power,
     environment_state,
@@ -60,7 +61,7 @@ from .environment_records import (
     environment_texels,
     fill_environment,
 )
-from .lights import LightTable, emitting, light_table
+from .lights import LUMINANCE_WEIGHTS, LightTable, emitting, light_table
 from .scene_buffers import (
     SceneRecords,
     build_acceleration,
@@ -96,6 +97,7 @@ TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights
 CORNER_ATTRIBUTES = "corner attributes"
 CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
 CORNER_TANGENTS = "corner tangents"
+TRIANGLE_LIGHT_DENSITIES = "triangle light densities"
 # WebGPU's default max-texture-dimension-2d: the atlas side where no device says otherwise
 DEFAULT_TEXTURE_SIDE = 8192
 LIGHT_SOURCES, LIGHTING_PARAMETERS = "light sources", "lighting"
@@ -132,6 +134,9 @@ class SceneMirror:
         self.corner_tangents: np.ndarray | None = None
         self._normal_mapped = False
         self._textures: list = []
+        # float32 in BVH order: each triangle's light table weight per unit area from what it emits
+        # through a texture record (render/emission_footprints.py); one zero where none emits so
+        self.triangle_light_densities = np.zeros(1, np.float32)
         self.lights: LightTable | None = None
         # the light sources' records (LIGHT_SOURCE), the lighting parameters (one LIGHTING record),
         # and an environment map's texels (float32 (H, W, 4)) and sampling tables (uint32 words)
@@ -207,8 +212,15 @@ class SceneMirror:
             changes = _union(changes, self._update_material_records())
         densities = self._surface_light_densities()
         emitter = emitting(self.materials) | (densities > 0)
+        emission_edited = any(
+            density > 0 and material.version != version
+            for material, density, version in zip(
+                self.scene.materials, densities, self._material_versions, strict=False
+            )
+        )
         if (
             not np.array_equal(densities, self._light_densities)
+            or emission_edited
             or reassigned
             or emitter[self.triangles["material"][changes.get(TRIANGLES, [])]].any()
             or emitter[changes.get(MATERIALS, [])].any()
@@ -295,6 +307,38 @@ class SceneMirror:
         old = self.corner_tangents
         self.corner_tangents, self._normal_mapped = records, normal_mapped
         return np.arange(len(records)) if old is None or len(old) != len(records) else changed_rows(old, records)
+
+    def _triangle_light_densities(self) -> np.ndarray:
+        """Each triangle's light table weight per unit area, in scene order, from what its material
+        emits through its texture record: the luminance of the emitted radiance x the emission
+        texture's mean over the triangle's footprint (render/emission_footprints.py)."""
+        material_of = self.triangles["material"][self._position]
+        densities = self._light_densities[material_of]
+        textured = [
+            (index, material)
+            for index, material in enumerate(self.scene.materials)
+            if self._light_densities[index] > 0 and getattr(material, "emission_texture", None) is not None
+        ]
+        if textured:
+            shapes = self.scene.shapes
+            shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
+            uvs = corner_uvs(shapes, shape_index, self._local_index)
+            uvs = np.zeros((len(material_of), 3, 2), np.float32) if uvs is None else uvs
+            for index, material in textured:
+                rows = material_of == index
+                means = footprint_means(material.emission_texture, uvs[rows])
+                densities[rows] = (means * surface_radiance(material)) @ LUMINANCE_WEIGHTS
+        return densities
+
+    def _update_triangle_light_densities(self, densities: np.ndarray) -> np.ndarray:
+        """The GPU's copy of `densities` (scene order) in BVH order, or one zero where no triangle
+        emits through a texture record; its changed rows."""
+        records = np.zeros(len(densities) if densities.any() else 1, np.float32)
+        if densities.any():
+            records[self._position] = densities
+        old = self.triangle_light_densities
+        self.triangle_light_densities = records
+        return np.arange(len(records)) if len(old) != len(records) else np.flatnonzero(old != records)
 
     def _update_environment_map(self) -> dict[str, np.ndarray]:
         """A new environment or new texels: the map's texels and sampling tables as the GPU holds
@@ -469,13 +513,15 @@ class SceneMirror:
         holds = self._environment_holds()
         environment_weight = environment_power(environment, radius) if holds is not None else 0.0
         self._light_densities = self._surface_light_densities()
+        densities = self._triangle_light_densities()
         table = light_table(
             self.triangles[self._position],
             self.materials,
             np.array([light.weight(radius) for light in lights]),
             environment_weight,
-            self._light_densities,
+            densities,
         )
+        changes[TRIANGLE_LIGHT_DENSITIES] = self._update_triangle_light_densities(densities)
         triangle_entries = table.entries["triangle"] < len(self._position)
         table.entries["triangle"][triangle_entries] = self._position[table.entries["triangle"][triangle_entries]]
         changes[LIGHTS] = (

@@ -35,7 +35,7 @@ from ..scene.materials.principled import ALPHA_MODES
 from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb
 
 # the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl, emission.wgsl read them)
-_PARAMETER_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided", "emitted", "light_density")
+_PARAMETER_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided", "emitted")
 # the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
 TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name not in _PARAMETER_FIELDS)
 
@@ -70,9 +70,8 @@ def surface_radiance(material: Material) -> tuple[float, float, float]:
 
 
 def light_density(material: Material) -> float:
-    """The light table's weight per unit area of the material's triangles (render/lights.py): the
-    luminance of its emitted radiance x its emission texture's mean (every texel alike: a box filter
-    over the whole texture, not each triangle's footprint)."""
+    """The luminance of the material's emitted radiance x its emission texture's mean over every
+    texel: zero where it emits nothing (render/emission_footprints.py weighs each triangle)."""
     radiance = np.array(surface_radiance(material))
     texture = getattr(material, "emission_texture", None)
     if texture is not None:
@@ -107,7 +106,6 @@ def material_texture_records(materials: list[Material], textures: list[Texture])
         record["alpha_cutoff"] = getattr(material, "alpha_cutoff", 0.5)
         record["double_sided"] = getattr(material, "double_sided", True)
         record["emitted"] = surface_radiance(material)
-        record["light_density"] = light_density(material)
     return records
 
 

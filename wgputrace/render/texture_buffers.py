@@ -11,7 +11,15 @@ import wgpu
 from ..gpu.device import GpuContext
 from ..gpu.float_texture import FloatTexture
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
-from .scene_sync import CORNER_TANGENTS, CORNER_UVS, MATERIAL_TEXTURES, TEXTURE_ATLAS, TEXTURES, SceneMirror
+from .scene_sync import (
+    CORNER_TANGENTS,
+    CORNER_UVS,
+    MATERIAL_TEXTURES,
+    TEXTURE_ATLAS,
+    TEXTURES,
+    TRIANGLE_LIGHT_DENSITIES,
+    SceneMirror,
+)
 
 # the mirror's arrays (their labels) by the shading group's binding names
 BINDINGS = {
@@ -20,6 +28,7 @@ BINDINGS = {
     TEXTURE_ATLAS: "texture_atlas",
     TEXTURES: "textures",
     MATERIAL_TEXTURES: "material_textures",
+    TRIANGLE_LIGHT_DENSITIES: "triangle_light_densities",
 }
 _STORAGE = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST | wgpu.BufferUsage.COPY_SRC
 
@@ -31,6 +40,7 @@ def _arrays(mirror: SceneMirror) -> dict[str, np.ndarray]:
         TEXTURE_ATLAS: mirror.atlas_texels,
         TEXTURES: mirror.texture_records,
         MATERIAL_TEXTURES: mirror.material_textures,
+        TRIANGLE_LIGHT_DENSITIES: mirror.triangle_light_densities,
     }
 
 
