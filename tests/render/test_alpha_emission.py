@@ -234,3 +234,11 @@ def test_light_table_weights_follow_the_texture_over_each_footprint():
     # light sampling by those weights agrees with BSDF sampling alone, which needs no table
     bsdf_only, _ = lit_room(None, spp=256, panels=strips, integrator="bsdf")
     assert image.mean() == pytest.approx(bsdf_only.mean(), rel=0.05)
+
+
+def test_the_mitsuba_export_refuses_what_it_cannot_carry_yet():
+    with pytest.raises(ValueError, match=r"material 'leaf': alpha_mode MASK has no Mitsuba export yet"):
+        Principled("leaf", alpha_mode="MASK").mitsuba_bsdf()
+    with pytest.raises(ValueError, match=r"material 'lamp': emission has no Mitsuba export yet"):
+        Principled("lamp", emission=(1.0, 0.5, 0.0)).mitsuba_bsdf()
+    assert Principled("card", double_sided=False).mitsuba_bsdf()["type"] == "principled"

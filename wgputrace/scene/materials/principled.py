@@ -127,10 +127,16 @@ class Principled(Material):
 
     def mitsuba_bsdf(self) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
-        GPU forms after filtering, which bilinear filtering leaves the same). A normal map is refused
-        (ValueError): not exported yet, a reference would render the surface without its bumps."""
+        GPU forms after filtering, which bilinear filtering leaves the same). A normal map, alpha
+        modes other than OPAQUE and emission are refused (ValueError): not exported yet, a reference
+        would render the surface without them. Sidedness is not exported: a single-sided surface
+        renders alike from its front (`twosided` differs only from behind)."""
         if self.normal_texture is not None:
             raise ValueError(f"material {self.name!r}: normal_texture has no Mitsuba export yet")
+        if self.alpha_mode != "OPAQUE":
+            raise ValueError(f"material {self.name!r}: alpha_mode {self.alpha_mode} has no Mitsuba export yet")
+        if max(self.emission) * self.emission_strength > 0:
+            raise ValueError(f"material {self.name!r}: emission has no Mitsuba export yet")
         bsdf = {
             "type": "principled",
             "base_color": mitsuba_rgb(self.base_color),
