@@ -19,7 +19,15 @@ import wgpu
 
 from ..denoise import denoise
 from ..gpu.alpha import GENERATED_ALPHA, alpha_hook
-from ..gpu.bindings import BAND_GROUP, RAY_COUNT_GROUP, lights_group, pixels_group, scene_group, shading_group
+from ..gpu.bindings import (
+    BAND_GROUP,
+    RAY_COUNT_GROUP,
+    BindGroup,
+    lights_group,
+    pixels_group,
+    scene_group,
+    shading_group,
+)
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, GpuContext, gpu
 from ..gpu.emission import GENERATED_EMISSION, emission_hook
@@ -93,6 +101,41 @@ class SubmitPlan:
             self.dispatches = min(2 * self.dispatches, _MAX_DISPATCHES_PER_SUBMIT)
 
 
+@dataclass(frozen=True)
+class SceneVariant:
+    """What a scene compiles into every kernel that traces it: the traversal (and its stack), the
+    lights besides emissive triangles, smooth shading, textures, see-through surfaces and emissive
+    textures (path_tracer_kernel's options of the same names). The path tracer and the viewer's
+    guides take their generated hooks and extra bind groups from here, so both see one scene."""
+
+    acceleration: str
+    stack_size: int = BVH_STACK_SIZE
+    lights: LightFeatures = NO_LIGHTS
+    smooth: bool = False
+    textured: bool = False
+    see_through: bool = False
+    emissive_surfaces: bool = False
+
+    def groups(self) -> tuple[BindGroup, ...]:
+        """The bind groups besides the scene's: the lights group and the shading group where used."""
+        lights = (lights_group(self.lights),) if self.lights.any else ()
+        shading = (shading_group(self.smooth, self.textured),) if self.smooth or self.textured else ()
+        return lights + shading
+
+    def generated(self) -> dict[str, str]:
+        """The generated files of this variant, by name."""
+        return {
+            "acceleration.wgsl": f'//! include "traverse_{self.acceleration}.wgsl"\n',
+            GENERATED_TRAVERSAL_STACK: traversal_stack(self.stack_size),
+            GENERATED_LIGHTS: light_dispatch(self.lights),
+            GENERATED_ESCAPED_LIGHT: escaped_light_hook(self.lights),
+            GENERATED_SHADING_NORMALS: shading_normals_hook(self.smooth, self.textured),
+            GENERATED_TEXTURES: textures_hook(self.textured),
+            GENERATED_ALPHA: alpha_hook(self.see_through),
+            GENERATED_EMISSION: emission_hook(self.emissive_surfaces),
+        }
+
+
 _kernels: dict[tuple, ComputeKernel] = {}
 
 
@@ -149,26 +192,18 @@ def path_tracer_kernel(
         emissive_surfaces,
     )
     if key not in _kernels:
-        traversal = f'//! include "traverse_{acceleration}.wgsl"\n'
+        variant = SceneVariant(acceleration, stack_size, lights, smooth, textured, see_through, emissive_surfaces)
         groups = (scene_group(acceleration), pixels_group(guides), *((BAND_GROUP,) if rows else ()))
-        groups += ((RAY_COUNT_GROUP,) if count_rays else ()) + ((lights_group(lights),) if lights.any else ())
-        groups += (shading_group(smooth, textured),) if smooth or textured else ()
+        groups += ((RAY_COUNT_GROUP,) if count_rays else ()) + variant.groups()
         _kernels[key] = ComputeKernel(
             context,
             "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
             groups,
             generated={
-                "acceleration.wgsl": traversal,
+                **variant.generated(),
                 GENERATED_MATERIALS: material_dispatch(kinds),
                 GENERATED_RAY_COUNT: ray_count_hook(count_rays),
                 GENERATED_PATH_GUIDES: path_guides_hook(guides, kinds),
-                GENERATED_TRAVERSAL_STACK: traversal_stack(stack_size),
-                GENERATED_LIGHTS: light_dispatch(lights),
-                GENERATED_ESCAPED_LIGHT: escaped_light_hook(lights),
-                GENERATED_SHADING_NORMALS: shading_normals_hook(smooth, textured),
-                GENERATED_TEXTURES: textures_hook(textured),
-                GENERATED_ALPHA: alpha_hook(see_through),
-                GENERATED_EMISSION: emission_hook(emissive_surfaces),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
@@ -513,6 +548,19 @@ class Renderer:
             see_through=self._see_through,
             emissive_surfaces=self._emissive_surfaces,
             **{"guides": self._guides, **options},
+        )
+
+    @property
+    def scene_variant(self) -> SceneVariant:
+        """What this renderer's scene compiles into the kernels that trace it, as it is now."""
+        return SceneVariant(
+            self.accel,
+            self._stack_size,
+            self._light_features,
+            self.smooth_shading,
+            self._textured,
+            self._see_through,
+            self._emissive_surfaces,
         )
 
     @property
