@@ -9,6 +9,7 @@ import pytest
 from wgputrace import Camera, Diffuse, Emitter, Renderer, Scene, default_scene, make_plane
 from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL
+from wgputrace.scene import Principled, Shape, Texture
 from wgputrace.testing.oracles import brute_force_closest_hit, record_corners, t_tolerance
 from wgputrace.view.banded import BandedRenderer
 from wgputrace.view.display import (
@@ -206,3 +207,77 @@ def test_box_lines_project_where_the_camera_rays_go(rng):
     clip = np.c_[points, np.ones(100)] @ matrix.T
     np.testing.assert_allclose(clip[:, :2] / clip[:, 3:], ndc, atol=1e-9)
     assert np.all((clip[:, 2] >= 0) & (clip[:, 2] <= clip[:, 3]))
+
+
+# A quad filling the view of QUAD_CAMERA (|x|, |y| < 1.24 seen at z = 0), uv (0, 0) at its top-left corner.
+QUAD_CAMERA = Camera.looking_at((0.0, 0.0, -3.0), (0.0, 0.0, 0.0), vfov_degrees=45.0)
+QUAD_HALF = 2.0
+
+
+def quad(z: float) -> np.ndarray:
+    a, b, c, d = (
+        (-QUAD_HALF, QUAD_HALF, z),
+        (QUAD_HALF, QUAD_HALF, z),
+        (QUAD_HALF, -QUAD_HALF, z),
+        (-QUAD_HALF, -QUAD_HALF, z),
+    )
+    return np.array([[a, b, c], [a, c, d]], np.float32)
+
+
+QUAD_UVS = np.array([[(0, 0), (1, 0), (1, 1)], [(0, 0), (1, 1), (0, 1)]], np.float32)
+
+
+def scene_display(shapes: list[Shape]) -> Display:
+    banded = BandedRenderer(Renderer(Scene(shapes, QUAD_CAMERA), WIDTH, HEIGHT, seed=1))
+    banded.restart(QUAD_CAMERA)
+    return Display(banded)
+
+
+def pixel_centre_uvs(z: float) -> np.ndarray:
+    """Where each pixel centre's camera ray meets the quad at `z`, in its uv coordinates (H, W, 2)."""
+    right, up, forward = QUAD_CAMERA.image_plane(WIDTH, HEIGHT)
+    x, y = np.meshgrid((np.arange(WIDTH) + 0.5) / WIDTH * 2 - 1, (np.arange(HEIGHT) + 0.5) / HEIGHT * 2 - 1)
+    directions = forward + x[..., None] * right - y[..., None] * up
+    origin = np.asarray(QUAD_CAMERA.position, np.float64)
+    points = origin + (z - origin[2]) / directions[..., 2:3] * directions
+    return np.stack([points[..., 0] + QUAD_HALF, QUAD_HALF - points[..., 1]], axis=-1) / (2 * QUAD_HALF)
+
+
+def test_the_albedo_guide_is_the_base_colour_texture_at_the_pixel_centre(gpu_context):
+    """Texels affine in their centre's uv (R = u, G = v): bilinear lookups between texel centres
+    (all the view sees) give that affine function, so the guide is (u, v, B) at the pixel centre."""
+    size = 8
+    centres = (np.arange(size) + 0.5) / size
+    texels = np.zeros((size, size, 3), np.float32)
+    texels[..., 0], texels[..., 1], texels[..., 2] = centres[None, :], centres[:, None], 0.25
+    material = Principled("textured", base_color=(1, 1, 1), base_color_texture=Texture(texels, srgb=False))
+    display = scene_display([Shape("quad", quad(0.0), material, uvs=QUAD_UVS)])
+    uvs = pixel_centre_uvs(0.0)
+    assert uvs.min() > centres[0] and uvs.max() < centres[-1]
+    expected = np.concatenate([uvs, np.full((HEIGHT, WIDTH, 1), 0.25)], axis=-1)
+    np.testing.assert_allclose(guides_of(display)["albedo"], expected, atol=GUIDE_ALBEDO_ERROR)
+
+
+def test_the_normal_guide_is_the_shading_normal(gpu_context):
+    tilted = np.array([0.3, 0.0, -1.0]) / np.linalg.norm([0.3, 0.0, -1.0])
+    normals = np.broadcast_to(tilted, (2, 3, 3)).astype(np.float32)
+    display = scene_display([Shape("quad", quad(0.0), Diffuse("white"), normals=normals)])
+    guides = guides_of(display)
+    np.testing.assert_allclose(guides["normal"], np.broadcast_to(tilted, (HEIGHT, WIDTH, 3)), atol=GUIDE_NORMAL_ERROR)
+
+
+def test_guides_see_through_cut_out_texels_and_follow_the_renderer_to_its_see_through_kernel(gpu_context):
+    """A screen before a wall, its texture fully cut out: while OPAQUE the guides show the screen;
+    made MASK on the live renderer, they show the wall as a display of the wall alone does."""
+    wall = Shape("wall", quad(0.0), Diffuse("wall", color=(0.2, 0.6, 0.4)))
+    clear = Texture(np.zeros((2, 2, 4), np.uint8))
+    screen_material = Principled("screen", base_color=(1, 1, 1), base_color_texture=clear)
+    display = scene_display([Shape("screen", quad(-1.0), screen_material, uvs=QUAD_UVS), wall])
+    opaque = guides_of(display)
+    behind = guides_of(scene_display([wall]))
+    assert np.all(opaque["depth"] < behind["depth"])
+    screen_material.alpha_mode = "MASK"
+    display.banded.renderer.update()
+    cut = guides_of(display)
+    for name in ("normal", "albedo", "depth"):
+        np.testing.assert_allclose(cut[name], behind[name], atol=1e-6, err_msg=name)

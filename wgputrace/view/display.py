@@ -1,7 +1,8 @@
 """What a frame shows, as linear colour on the GPU: the accumulated mean (optionally through the
 pre-convergence filter) or a debug view (normal, albedo, depth, BVH steps), never read back.
 
-The guides (first hit through each pixel's centre) are traced once per camera; the filter is an
+The guides (first hit through each pixel's centre, with the scene's textures, cut-outs and shading
+normals as the renderer's path tracer has them) are traced once per camera; the filter is an
 edge-avoiding a-trous wavelet (Dammertz et al. 2010) on radiance divided by albedo, its edges
 stopped by the guides, blended with the plain mean by a weight that falls to zero at
 FILTER_FADE_SPP samples per pixel: from there on the picture is the unfiltered mean, bit for bit.
@@ -19,8 +20,10 @@ import numpy as np
 
 from ..gpu.bindings import scene_group
 from ..gpu.buffers import uniform_buffer, write_buffer
+from ..gpu.device import GpuContext
 from ..gpu.graphics import copy_texture, image_texture, read_texture
 from ..gpu.kernel import ComputeKernel, Pass, submit
+from ..render.renderer import SceneVariant
 from .banded import BandedRenderer
 from .layout import (
     ATROUS_GROUP,
@@ -78,13 +81,10 @@ class Display:
         renderer = banded.renderer
         width, height = banded.full_size
         generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
-        traversal = {"acceleration.wgsl": f'//! include "traverse_{renderer.accel}.wgsl"\n'}
-        self._guides_kernel = ComputeKernel(
-            context, "guides.wgsl", (scene_group(renderer.accel), GUIDES_GROUP), generated={**generated, **traversal}
-        )
         self._resolve_kernel = ComputeKernel(context, "resolve.wgsl", (RESOLVE_GROUP,), generated=generated)
         self._atrous_kernel = ComputeKernel(context, "atrous.wgsl", (ATROUS_GROUP,), generated=generated)
         self.guides = image_texture(context, "pixel guides", width, height, GUIDE_FORMAT)
+        self._compile_guides(renderer.scene_variant)
         self.resolved = image_texture(context, "resolved image", width, height, IMAGE_FORMAT)
         self._demodulated = image_texture(context, "demodulated image", width, height, IMAGE_FORMAT)
         self._ping_pong = [image_texture(context, f"filter {k}", width, height, IMAGE_FORMAT) for k in range(2)]
@@ -95,7 +95,6 @@ class Display:
         self._atrous_params = [
             uniform_buffer(context, f"a-trous params {k}", ATROUS_PARAMS.zeros(1)) for k in range(FILTER_PASSES)
         ]
-        self._guides_group = self._guides_kernel.bind("guides", guides=self.guides)
         resolve_inputs = {
             "params": self._resolve_params,
             "accumulation": renderer.resources["accumulation"],
@@ -133,6 +132,15 @@ class Display:
         self._filtered_at = None
         self._resolved_as = None
 
+    def _compile_guides(self, variant: SceneVariant) -> None:
+        """Compile the guides kernel for the renderer's scene `variant` (its traversal, shading
+        normals, textures and see-through surfaces, as the path tracer has them) and trace the
+        guides again with it."""
+        self._guides_kernel = guides_kernel(self.context, variant)
+        self._guides_group = self._guides_kernel.bind("guides", guides=self.guides)
+        self._guides_variant = variant
+        self._guides_current = False
+
     def _resolve_params_record(
         self, settings: ViewSettings, mode: ResolveMode, weight: float, first_row: int = 0
     ) -> np.ndarray:
@@ -169,9 +177,12 @@ class Display:
     def render(self, settings: ViewSettings):
         """Resolve the current samples as `settings` asks; returns the texture holding the image
         (the banded renderer's current size, from the top-left corner; row 0 on top)."""
+        renderer = self.banded.renderer
+        if renderer.scene_variant != self._guides_variant:
+            self._compile_guides(renderer.scene_variant)
         if not self._guides_current:
-            scene = self.banded.renderer.bind_groups["scene"]
-            self._guides_kernel.dispatch(self.banded.size, {"scene": scene, "guides": self._guides_group})
+            groups = {name: group for name, group in renderer.bind_groups.items() if name in self._guides_kernel.groups}
+            self._guides_kernel.dispatch(self.banded.size, {**groups, "guides": self._guides_group})
             self._guides_current = True
         weight = 0.0
         if settings.filter_enabled and settings.view == View.RADIANCE:
@@ -205,6 +216,20 @@ class Display:
         """The guides as decoded arrays (tests): normal (H, W, 3), depth, albedo (H, W, 3), steps."""
         texels = read_texture(self.context, self.guides, np.uint32, 4, self.banded.size)
         return decode_guides(texels)
+
+
+_guides_kernels: dict[tuple, ComputeKernel] = {}
+
+
+def guides_kernel(context: GpuContext, variant: SceneVariant) -> ComputeKernel:
+    """guides.wgsl compiled for a scene `variant`, with its groups besides the scene's (cached per
+    device and variant, as the path tracer's kernels are)."""
+    key = (id(context.device), variant)
+    if key not in _guides_kernels:
+        groups = (scene_group(variant.acceleration), GUIDES_GROUP, *variant.groups())
+        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs(), **variant.generated()}
+        _guides_kernels[key] = ComputeKernel(context, "guides.wgsl", groups, generated=generated)
+    return _guides_kernels[key]
 
 
 def decode_guides(texels: np.ndarray) -> dict[str, np.ndarray]:
