@@ -236,9 +236,13 @@ def test_light_table_weights_follow_the_texture_over_each_footprint():
     assert image.mean() == pytest.approx(bsdf_only.mean(), rel=0.05)
 
 
-def test_the_mitsuba_export_refuses_what_it_cannot_carry_yet():
+def test_the_mitsuba_export_refuses_alpha_modes_and_exports_emission_as_an_area_emitter():
     with pytest.raises(ValueError, match=r"material 'leaf': alpha_mode MASK has no Mitsuba export yet"):
         Principled("leaf", alpha_mode="MASK").mitsuba_bsdf()
-    with pytest.raises(ValueError, match=r"material 'lamp': emission has no Mitsuba export yet"):
-        Principled("lamp", emission=(1.0, 0.5, 0.0)).mitsuba_bsdf()
     assert Principled("card", double_sided=False).mitsuba_bsdf()["type"] == "principled"
+    assert Principled("card").mitsuba_emitter() is None
+    texture = Texture(np.full((2, 2, 3), 255, np.uint8))
+    lamp = Principled("lamp", emission=(1.0, 0.5, 0.0), emission_texture=texture, emission_strength=2.0)
+    emitter = lamp.mitsuba_emitter()
+    assert emitter["type"] == "area" and emitter["radiance"]["type"] == "bitmap"
+    assert emitter["radiance"]["data"][1, 1] == pytest.approx((2.0, 1.0, 0.0))

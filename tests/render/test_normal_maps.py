@@ -103,9 +103,14 @@ def test_grazing_views_noisy_maps_and_degenerate_uvs_give_no_nan():
             assert np.isfinite(render(scene, spp=2)).all()
 
 
-def test_a_normal_map_is_not_exported_to_mitsuba_without_its_bumps():
-    with pytest.raises(ValueError, match=r"material 'bumpy': normal_texture has no Mitsuba export yet"):
-        material(normal_texture=normal_texture((0.0, 0.0, 1.0))).mitsuba_bsdf()
+def test_the_mitsuba_export_wraps_the_map_flipping_green_for_left_handed_tangents():
+    """Mitsuba's `normalmap` reads green along n x dP/du, glTF's along the bitangent w (n x t); the
+    scale multiplies x and y (tests/render/test_asset_reference.py renders it against Mitsuba)."""
+    tilted = material(normal_texture=normal_texture((0.0, 0.6, 0.8)), normal_scale=0.5)
+    right, left = tilted.mitsuba_bsdf(tangent_handedness=1.0), tilted.mitsuba_bsdf(tangent_handedness=-1.0)
+    assert right["type"] == "normalmap" and right["bsdf"]["type"] == "principled"
+    assert right["normalmap"]["data"][0, 0] == pytest.approx((0.5, 0.5 + 0.5 * 0.3, 0.9))
+    assert left["normalmap"]["data"][0, 0] == pytest.approx((0.5, 0.5 - 0.5 * 0.3, 0.9))
 
 
 def test_a_normal_map_added_to_and_removed_from_a_live_renderer():

@@ -9,8 +9,12 @@ Used by scripts/make_references.py (the test references) and bench/versus_mitsub
 our materials becomes one mesh, flat shaded (README: Conventions; tests/data/README.md) unless its
 shapes have per-vertex normals, which become Mitsuba's vertex normals (`face_normals` false; the
 triangles of shapes without them get their face normal at each corner, flat as ours), and their
-texture coordinates its texcoords (glTF's convention is Mitsuba's); textures are `bitmap`s;
-the integrator is Mitsuba's `path` at our max depth, the pixel filter a box.
+texture coordinates its texcoords (glTF's convention is Mitsuba's); textures are `bitmap`s, a
+normal map Mitsuba's `normalmap` wrapper given the handedness of the material's corner tangents
+(one for all its triangles: Principled.mitsuba_bsdf), an emission texture an `area` emitter's
+`bitmap` radiance; the integrator is Mitsuba's `path` at our max depth, the pixel filter a box.
+Mitsuba's `normalmap` frames the texel with the triangle's dP/du, ours with MikkTSpace's or the
+file's tangents: the same frame where those follow dP/du (a flat, undistorted UV map).
 
 Lights: each light's own `mitsuba_emitter()` (scene/lights/: `point`, `spot`, `directional`); the
 environment a `constant` (radiance x intensity) or an `envmap` of its texels (scale = intensity,
@@ -36,6 +40,7 @@ from wgputrace.scene import Light, Material, Scene
 from wgputrace.scene.environment import Environment
 from wgputrace.scene.materials.material import mitsuba_rgb
 from wgputrace.scene.shapes import corner_normals, corner_uvs
+from wgputrace.scene.tangents import corner_tangents
 
 DEBIAN_LIBLLVM = Path("/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
 LLVM_VARIANT = "llvm_ad_rgb"
@@ -88,21 +93,36 @@ def load_mitsuba(variant: str) -> ModuleType:
     return mi
 
 
-def bsdf_dict(material: Material) -> dict:
+def bsdf_dict(material: Material, tangents: np.ndarray | None = None) -> dict:
     """Our material as a Mitsuba BSDF: its class's mapping (material.py), in `twosided` where ours
-    is two-sided; black where it reflects nothing (an emitter)."""
+    is two-sided; black where it reflects nothing (an emitter). A normal-mapped material is given
+    the handedness of its triangles' corner `tangents` (one for all: Mitsuba's `normalmap` has one
+    texture per BSDF)."""
     if material.shader is None:
         return {"type": "diffuse", "reflectance": mitsuba_rgb((0.0, 0.0, 0.0))}
-    bsdf = material.mitsuba_bsdf()
+    if getattr(material, "normal_texture", None) is None:
+        bsdf = material.mitsuba_bsdf()
+    else:
+        bsdf = material.mitsuba_bsdf(tangent_handedness=uniform_handedness(material, tangents))
     return {"type": "twosided", "bsdf": bsdf} if material.two_sided else bsdf
+
+
+def uniform_handedness(material: Material, tangents: np.ndarray | None) -> float:
+    """The w shared by every corner tangent of `material`'s triangles; ValueError where they differ
+    or where there are none (a material exported without its triangles)."""
+    signs = np.unique(np.sign(tangents[..., 3])) if tangents is not None else np.zeros(0)
+    if len(signs) != 1 or signs[0] == 0:
+        raise ValueError(
+            f"material {material.name!r}: its normal map's triangles have tangent handedness {signs.tolist()}; "
+            "Mitsuba's normalmap export needs one (+1 or -1)"
+        )
+    return float(signs[0])
 
 
 def emitter_dict(material: Material) -> dict | None:
     """Our material's emission as a Mitsuba emitter (of one side), None where it emits nothing."""
-    if material.emission_wgsl is None:
-        return None
     emitter = material.mitsuba_emitter()
-    if emitter is None:
+    if emitter is None and material.emission_wgsl is not None:
         raise ValueError(f"material {material.name!r} ({type(material).__name__}) emits but has no Mitsuba emitter")
     return emitter
 
@@ -179,7 +199,7 @@ def mitsuba_mesh(
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(with_mitsuba_objects(mi, bsdf))
     if emitter is not None:
-        props["emitter"] = mi.load_dict(emitter)
+        props["emitter"] = mi.load_dict(with_mitsuba_objects(mi, emitter))
     smooth = normals is not None
     if smooth:
         props["face_normals"] = False
@@ -215,7 +235,12 @@ def behind(triangles: np.ndarray, distance: float) -> np.ndarray:
     v = triangles.astype(np.float64)
     normal = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    return (v - distance * normal[:, None, :])[:, [0, 2, 1]].astype(np.float32)
+    return rewound((v - distance * normal[:, None, :]).astype(np.float32))
+
+
+def rewound(corners: np.ndarray | None) -> np.ndarray | None:
+    """Per-corner values (n, 3, ...) in the order of triangles wound the other way (behind's)."""
+    return None if corners is None else corners[:, [0, 2, 1]]
 
 
 def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_depth: int):
@@ -226,21 +251,29 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
     magnitude = float(np.max(np.abs(corners)))
     all_normals = corner_normals(scene.shapes, arrays.shape_index, arrays.local_index)
     all_uvs = corner_uvs(scene.shapes, arrays.shape_index, arrays.local_index)
+    all_tangents = corner_tangents(scene.shapes, arrays.shape_index, arrays.local_index)
     shapes = {}
+    emitting = False
     for index, material in enumerate(arrays.materials):
-        triangles = arrays.vertices[arrays.material_index == index]
+        mine = arrays.material_index == index
+        triangles = arrays.vertices[mine]
         normals = None
-        if all_normals is not None and all_normals[arrays.material_index == index].any():
-            normals = face_normals_where_flat(triangles, all_normals[arrays.material_index == index])
-        bsdf, emitter = bsdf_dict(material), emitter_dict(material)
+        if all_normals is not None and all_normals[mine].any():
+            normals = face_normals_where_flat(triangles, all_normals[mine])
+        uvs = None if all_uvs is None else all_uvs[mine]
+        bsdf, emitter = bsdf_dict(material, all_tangents[mine]), emitter_dict(material)
         if emitter is not None:
-            shapes[f"{index}_front"] = mitsuba_mesh(mi, f"{material.name}_front", triangles, bsdf, emitter)
+            emitting = True
+            front = mitsuba_mesh(mi, f"{material.name}_front", triangles, bsdf, emitter, normals, uvs)
             back = behind(triangles, EMITTER_BACK_OFFSET_RELATIVE * magnitude)
-            shapes[f"{index}_back"] = mitsuba_mesh(mi, f"{material.name}_back", back, bsdf, emitter)
+            back_normals = None if normals is None else -rewound(normals)
+            shapes[f"{index}_front"] = front
+            shapes[f"{index}_back"] = mitsuba_mesh(
+                mi, f"{material.name}_back", back, bsdf, emitter, back_normals, rewound(uvs)
+            )
         else:
-            uvs = None if all_uvs is None else all_uvs[arrays.material_index == index]
             shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs)
-    lights, hide_emitters = emitters(mi, scene, any(m.emission_wgsl is not None for m in arrays.materials))
+    lights, hide_emitters = emitters(mi, scene, emitting)
     camera = scene.camera
     position = np.asarray(camera.position)
     sensor = {

@@ -17,6 +17,7 @@ from .principled import principled_spheres
 from .punctual import point_spot_directional
 from .slivers import slivers
 from .textured import textured_quads
+from .textured_asset import textured_asset
 
 BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "cornell": cornell,
@@ -33,6 +34,7 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "env_one_texel": env_one_texel,
     "point_spot_directional": point_spot_directional,
     "textured_quads": textured_quads,
+    "textured_asset": textured_asset,
 }
 DEFAULT_SCENE = "cornell"
 

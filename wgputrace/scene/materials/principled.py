@@ -36,6 +36,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..texture import Texture
 from .emitter import RADIANCE_MAX
 from .glass import IOR_MAX
@@ -125,18 +127,16 @@ class Principled(Material):
         record["ior"], record["metallic"] = self.eta, self.metallic
         record["normal_scale"] = self.normal_scale
 
-    def mitsuba_bsdf(self) -> dict:
+    def mitsuba_bsdf(self, tangent_handedness: float = 1.0) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
-        GPU forms after filtering, which bilinear filtering leaves the same). A normal map, alpha
-        modes other than OPAQUE and emission are refused (ValueError): not exported yet, a reference
-        would render the surface without them. Sidedness is not exported: a single-sided surface
-        renders alike from its front (`twosided` differs only from behind)."""
-        if self.normal_texture is not None:
-            raise ValueError(f"material {self.name!r}: normal_texture has no Mitsuba export yet")
+        GPU forms after filtering, which bilinear filtering leaves the same). A normal map becomes
+        Mitsuba's `normalmap` wrapper (normal_map_texels): `tangent_handedness` is the w of the
+        triangles' tangents, which the material does not know. Alpha modes other than OPAQUE are
+        refused (ValueError): a reference would render the surface without its cut-outs. Sidedness
+        is not exported: a single-sided surface renders alike from its front (`twosided` differs
+        only from behind); emission is mitsuba_emitter's."""
         if self.alpha_mode != "OPAQUE":
             raise ValueError(f"material {self.name!r}: alpha_mode {self.alpha_mode} has no Mitsuba export yet")
-        if max(self.emission) * self.emission_strength > 0:
-            raise ValueError(f"material {self.name!r}: emission has no Mitsuba export yet")
         bsdf = {
             "type": "principled",
             "base_color": mitsuba_rgb(self.base_color),
@@ -151,4 +151,30 @@ class Principled(Material):
             texels = metallic_roughness.linear_texels
             bsdf["roughness"] = metallic_roughness.mitsuba_bitmap(texels[..., 1:2] * self.roughness)
             bsdf["metallic"] = metallic_roughness.mitsuba_bitmap(texels[..., 2:3] * self.metallic)
-        return bsdf
+        normal = self.normal_texture
+        if normal is None:
+            return bsdf
+        texels = normal_map_texels(normal.linear_texels[..., :3], self.normal_scale, tangent_handedness)
+        return {"type": "normalmap", "normalmap": normal.mitsuba_bitmap(texels), "bsdf": bsdf}
+
+    def mitsuba_emitter(self) -> dict | None:
+        """An `area` emitter of emission x strength, times the texture's texels as a `bitmap`
+        radiance where there is one; None where the material emits nothing."""
+        emitted = np.asarray(self.emission, np.float64) * self.emission_strength
+        if emitted.max() <= 0:
+            return None
+        texture = self.emission_texture
+        if texture is None:
+            return {"type": "area", "radiance": mitsuba_rgb(emitted)}
+        return {"type": "area", "radiance": texture.mitsuba_bitmap(texture.linear_texels[..., :3] * emitted)}
+
+
+def normal_map_texels(texels: np.ndarray, scale: float, tangent_handedness: float) -> np.ndarray:
+    """glTF normal-map texels as Mitsuba's `normalmap` reads them. glTF's green runs along the
+    bitangent w (n x t); Mitsuba's along n x dP/du, the same axis times w: green is flipped where
+    w = -1. normal_scale multiplies x and y before normalising (glTF), as Mitsuba normalises after
+    filtering: baked into the texels, which stay linear in the stored value, so filtering agrees."""
+    vectors = 2.0 * np.asarray(texels, np.float64) - 1.0
+    vectors[..., :2] *= scale
+    vectors[..., 1] *= tangent_handedness
+    return (0.5 * (vectors + 1.0)).astype(np.float32)
