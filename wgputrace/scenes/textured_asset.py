@@ -1,7 +1,8 @@
 """A textured asset: a panel carrying every texture the Principled material reads (base colour with
 a marked corner, metallic-roughness, a normal map of bumps, emissive marks), per-vertex normals and
 texture coordinates, standing on a grey floor that its marks light, lit by a point light beside
-the camera. Everything is generated here (no files, nothing to license).
+the camera. Everything is generated here (nothing to license), 8-bit textures as a glTF file holds
+them: wgputrace/testing/gltf_files.py textured_asset_glb writes the same model as a .glb.
 
 Mitsuba 3 renders it as its reference (tests/render/test_asset_reference.py). Two choices keep the
 comparison about textures: the panel faces +z with u along +x, so Mitsuba's `normalmap`, which
@@ -16,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scene import Camera, PointLight, Principled, Scene, Shape, Texture
+from ..scene import Camera, Diffuse, PointLight, Principled, Scene, Shape, Texture
 
 PANEL_LEFT, PANEL_RIGHT = -0.8, 0.8
 PANEL_BOTTOM, PANEL_TOP = -0.5, 0.9
@@ -46,15 +47,16 @@ def base_color_texture() -> Texture:
 
 
 def metallic_roughness_texture() -> Texture:
-    """Linear: the left half a rough dielectric, the right half a smoother metal."""
-    texels = np.zeros((8, 8, 3), np.float32)
-    texels[:, :4, 1], texels[:, 4:, 1] = 0.8, 0.35
-    texels[:, 4:, 2] = 1.0
+    """Linear 8-bit: the left half a rough dielectric (roughness 0.8), the right half a smoother
+    metal (0.35)."""
+    texels = np.zeros((8, 8, 3), np.uint8)
+    texels[:, :4, 1], texels[:, 4:, 1] = 204, 89
+    texels[:, 4:, 2] = 255
     return Texture(texels, srgb=False, name="asset_metallic_roughness")
 
 
 def normal_texture() -> Texture:
-    """Linear tangent-space normals of round bumps, BUMP_CELLS to a side: each a dome whose edge
+    """Linear 8-bit tangent-space normals of round bumps, BUMP_CELLS to a side: each a dome whose edge
     tilts BUMP_MAX_TILT_DEGREES (x along u, y up the image: glTF's convention)."""
     centres = (np.arange(NORMAL_TEXELS) + 0.5) / NORMAL_TEXELS * BUMP_CELLS % 1.0 * 2.0 - 1.0
     down, right = np.meshgrid(centres, centres, indexing="ij")
@@ -63,7 +65,8 @@ def normal_texture() -> Texture:
     slope = np.tan(np.radians(BUMP_MAX_TILT_DEGREES)) * inside
     vectors = np.stack([slope * right, -slope * down, np.ones_like(right)], axis=-1)
     vectors /= np.linalg.norm(vectors, axis=-1, keepdims=True)
-    return Texture((0.5 * (vectors + 1.0)).astype(np.float32), srgb=False, name="asset_normals")
+    texels = np.round(127.5 * (vectors + 1.0)).astype(np.uint8)
+    return Texture(texels, srgb=False, name="asset_normals")
 
 
 def emission_texture() -> Texture:
@@ -105,11 +108,11 @@ def panel() -> Shape:
 
 
 def floor() -> Shape:
-    """A grey rough floor in front of the panel, facing up."""
+    """A grey Lambertian floor in front of the panel, facing up (glTF's metallic 0, roughness 1)."""
     w, y = FLOOR_HALF_WIDTH, FLOOR_Y
     corners = np.array([(-w, y, 0), (w, y, 0), (w, y, FLOOR_DEPTH), (-w, y, FLOOR_DEPTH)], np.float32)
     faces = np.array([[0, 2, 1], [0, 3, 2]])
-    return Shape("floor", corners[faces], Principled("asset_floor", (0.6, 0.6, 0.6), roughness=1.0))
+    return Shape("floor", corners[faces], Diffuse("asset_floor", (0.6, 0.6, 0.6)))
 
 
 def textured_asset() -> Scene:

@@ -16,6 +16,8 @@ import numpy as np
 from PIL import Image
 
 from wgputrace import Diffuse, make_box
+from wgputrace.scenes.textured_asset import floor as asset_floor
+from wgputrace.scenes.textured_asset import panel as asset_panel
 
 FLOAT, UNSIGNED_INT = 5126, 5125
 ACCESSOR_TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}
@@ -224,3 +226,54 @@ def png_header(width: int, height: int) -> bytes:
 
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
     return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", b"") + chunk(b"IEND", b"")
+
+
+def textured_asset_glb(path: Path) -> Path:
+    """The panel and floor of the built-in `textured_asset` scene (wgputrace/scenes/textured_asset.py)
+    written as a .glb: the panel's NORMAL and TEXCOORD_0 per vertex (corners not shared), its four
+    textures as embedded PNGs (their 8-bit texels), its factors, normal scale and emissive strength;
+    the camera and light are the scene's, not the file's. Loading it gives the scene's model."""
+    shapes = asset_panel(), asset_floor()
+    meshes = [
+        (shape.vertices.reshape(-1, 3), np.arange(3 * len(shape.vertices)).reshape(-1, 3), i)
+        for i, shape in enumerate(shapes)
+    ]
+    panel, floor = (shape.material for shape in shapes)
+    textures = (
+        panel.base_color_texture,
+        panel.metallic_roughness_texture,
+        panel.normal_texture,
+        panel.emission_texture,
+    )
+    materials = [
+        {
+            "name": panel.name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [*panel.base_color, 1.0],
+                "baseColorTexture": {"index": 0},
+                "metallicFactor": panel.metallic,
+                "roughnessFactor": panel.roughness,
+                "metallicRoughnessTexture": {"index": 1},
+            },
+            "normalTexture": {"index": 2, "scale": panel.normal_scale},
+            "emissiveFactor": list(panel.emission),
+            "emissiveTexture": {"index": 3},
+            "doubleSided": True,
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": panel.emission_strength}},
+        },
+        {
+            "name": floor.name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [*floor.color, 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 1.0,
+            },
+            "doubleSided": True,
+        },
+    ]
+    document, blob = gltf_document(meshes, materials=materials, extensionsUsed=["KHR_materials_emissive_strength"])
+    # the floor has neither: flat and untextured, as glTF reads a primitive without them
+    blob = with_vertex_attribute(document, blob, 0, "NORMAL", shapes[0].normals.reshape(-1, 3))
+    blob = with_vertex_attribute(document, blob, 0, "TEXCOORD_0", shapes[0].uvs.reshape(-1, 2))
+    blob = with_images(document, blob, [png_bytes(texture.encoded_texels) for texture in textures], "bufferView")
+    return write_glb(path, document, blob)
