@@ -218,10 +218,14 @@ def apply_lighting(scene: Scene, args) -> str | None:
 
 def _has_light(scene: Scene) -> bool:
     """Whether anything in `scene` sends light: a light, an environment, or a material that emits
-    (judged as the renderer's light table judges it: from its GPU record)."""
+    (judged as the renderer's light table judges it: from its GPU record, or for an emission through
+    a texture record (Principled's), from that)."""
     from .render.lights import emitted_radiance
     from .render.scene_buffers import material_records
+    from .render.texture_atlas import surface_radiance
 
     if scene.lights or scene.environment is not None:
+        return True
+    if any(max(surface_radiance(material)) > 0 for material in scene.materials):
         return True
     return bool(emitted_radiance(material_records(scene.materials)).max(initial=0.0) > 0)

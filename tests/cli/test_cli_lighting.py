@@ -16,7 +16,16 @@ import pytest
 from wgputrace import load_image, load_scene, save_image
 from wgputrace.cli import argument_parser, main
 from wgputrace.cli_arguments import apply_lighting
-from wgputrace.testing.gltf_files import BOX, BOX_INDICES, LIGHTS, gltf_document, light_node, with_lights, write_glb
+from wgputrace.testing.gltf_files import (
+    BOX,
+    BOX_INDICES,
+    LIGHTS,
+    gltf_document,
+    light_node,
+    textured_asset_glb,
+    with_lights,
+    write_glb,
+)
 
 DEFAULT_NOTE = "lighting         the scene brings no light: lit by the default environment"
 # Small and few samples: what is checked is exact under BSDF sampling (below) or a mean far from 0.
@@ -55,6 +64,8 @@ def test_default_environment_only_where_the_scene_brings_no_light(lightless_box,
     with_lights(document, LIGHTS[:1], [light_node(0, translation=[0, 3, 0])])
     lamp = load_scene(write_glb(tmp_path / "lamp.glb", document, blob))  # lit by its glTF light
     assert apply_lighting(lamp, parsed()) is None and lamp.environment is None
+    glowing = load_scene(textured_asset_glb(tmp_path / "asset.glb"))  # lit by its emissive texture
+    assert apply_lighting(glowing, parsed()) is None and glowing.environment is None
 
 
 def test_env_options_set_the_environment(lightless_box, tmp_path):
