@@ -236,9 +236,16 @@ def test_light_table_weights_follow_the_texture_over_each_footprint():
     assert image.mean() == pytest.approx(bsdf_only.mean(), rel=0.05)
 
 
-def test_the_mitsuba_export_refuses_alpha_modes_and_exports_emission_as_an_area_emitter():
-    with pytest.raises(ValueError, match=r"material 'leaf': alpha_mode MASK has no Mitsuba export yet"):
-        Principled("leaf", alpha_mode="MASK").mitsuba_bsdf()
+def test_the_mitsuba_export_cuts_mask_refuses_blend_and_exports_emission_as_an_area_emitter():
+    with pytest.raises(ValueError, match=r"material 'veil': alpha_mode BLEND has no Mitsuba export yet"):
+        Principled("veil", alpha_mode="BLEND").mitsuba_bsdf()
+    # MASK: opacity 1 where alpha x the texel's alpha reaches the cutoff, looked up nearest
+    half = Texture(np.array([[[255, 255, 255, 255], [255, 255, 255, 100]]], np.uint8))
+    mask = Principled("leaf", alpha=0.9, alpha_mode="MASK", base_color_texture=half).mitsuba_bsdf()
+    assert mask["type"] == "mask" and mask["bsdf"]["type"] == "principled"
+    assert mask["opacity"]["filter_type"] == "nearest"
+    assert mask["opacity"]["data"][..., 0].tolist() == [[1.0, 0.0]]
+    assert Principled("card", alpha=0.4, alpha_mode="MASK").mitsuba_bsdf()["opacity"] == 0.0
     assert Principled("card", double_sided=False).mitsuba_bsdf()["type"] == "principled"
     assert Principled("card").mitsuba_emitter() is None
     texture = Texture(np.full((2, 2, 3), 255, np.uint8))

@@ -42,7 +42,7 @@ def test_default_scene_is_the_cornell_box():
 
 
 def test_unknown_scene_names_the_known_ones():
-    with pytest.raises(ValueError, match="unknown scene 'nope'; built-in scenes: axis_boxes, "):
+    with pytest.raises(ValueError, match="unknown scene 'nope'; built-in scenes: alpha_cutout, axis_boxes, "):
         scene_by_name("nope")
 
 

@@ -104,7 +104,11 @@ def bsdf_dict(material: Material, tangents: np.ndarray | None = None) -> dict:
         bsdf = material.mitsuba_bsdf()
     else:
         bsdf = material.mitsuba_bsdf(tangent_handedness=uniform_handedness(material, tangents))
-    return {"type": "twosided", "bsdf": bsdf} if material.two_sided else bsdf
+    if not material.two_sided:
+        return bsdf
+    if bsdf["type"] == "mask":  # Mitsuba's twosided refuses a BSDF that transmits: it goes inside
+        return bsdf | {"bsdf": {"type": "twosided", "bsdf": bsdf["bsdf"]}}
+    return {"type": "twosided", "bsdf": bsdf}
 
 
 def uniform_handedness(material: Material, tangents: np.ndarray | None) -> float:

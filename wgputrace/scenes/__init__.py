@@ -8,6 +8,7 @@ from collections.abc import Callable
 from functools import partial
 
 from ..scene import Scene
+from .alpha_cutout import alpha_cutout
 from .axis_aligned import axis_boxes
 from .cornell import cornell, scaled_cornell, tiny_light
 from .environment_lit import constant_env, env_one_texel, env_sun_spheres
@@ -35,6 +36,7 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "point_spot_directional": point_spot_directional,
     "textured_quads": textured_quads,
     "textured_asset": textured_asset,
+    "alpha_cutout": alpha_cutout,
 }
 DEFAULT_SCENE = "cornell"
 

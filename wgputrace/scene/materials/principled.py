@@ -131,12 +131,13 @@ class Principled(Material):
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
         GPU forms after filtering, which bilinear filtering leaves the same). A normal map becomes
         Mitsuba's `normalmap` wrapper (normal_map_texels): `tangent_handedness` is the w of the
-        triangles' tangents, which the material does not know. Alpha modes other than OPAQUE are
-        refused (ValueError): a reference would render the surface without its cut-outs. Sidedness
+        triangles' tangents, which the material does not know. MASK wraps the whole in Mitsuba's
+        `mask` (mitsuba_cutout_opacity); BLEND is refused (ValueError): its stochastic transparency
+        has no export. Sidedness
         is not exported: a single-sided surface renders alike from its front (`twosided` differs
         only from behind); emission is mitsuba_emitter's."""
-        if self.alpha_mode != "OPAQUE":
-            raise ValueError(f"material {self.name!r}: alpha_mode {self.alpha_mode} has no Mitsuba export yet")
+        if self.alpha_mode == "BLEND":
+            raise ValueError(f"material {self.name!r}: alpha_mode BLEND has no Mitsuba export yet")
         bsdf = {
             "type": "principled",
             "base_color": mitsuba_rgb(self.base_color),
@@ -152,10 +153,24 @@ class Principled(Material):
             bsdf["roughness"] = metallic_roughness.mitsuba_bitmap(texels[..., 1:2] * self.roughness)
             bsdf["metallic"] = metallic_roughness.mitsuba_bitmap(texels[..., 2:3] * self.metallic)
         normal = self.normal_texture
-        if normal is None:
-            return bsdf
-        texels = normal_map_texels(normal.linear_texels[..., :3], self.normal_scale, tangent_handedness)
-        return {"type": "normalmap", "normalmap": normal.mitsuba_bitmap(texels), "bsdf": bsdf}
+        if normal is not None:
+            texels = normal_map_texels(normal.linear_texels[..., :3], self.normal_scale, tangent_handedness)
+            bsdf = {"type": "normalmap", "normalmap": normal.mitsuba_bitmap(texels), "bsdf": bsdf}
+        if self.alpha_mode == "MASK":
+            bsdf = {"type": "mask", "opacity": self.mitsuba_cutout_opacity(), "bsdf": bsdf}
+        return bsdf
+
+    def mitsuba_cutout_opacity(self) -> dict | float:
+        """MASK's cut-out as Mitsuba's `mask` opacity: 1 where alpha x the texel's alpha reaches
+        alpha_cutoff, else 0, looked up nearest. The GPU thresholds the bilinear alpha instead, which
+        cuts at the same texel boundaries only where neighbouring texels are 0 and 1 about a cutoff of
+        0.5 (as tests/render/test_alpha_reference.py's stripes are); elsewhere the edges differ by
+        under a texel."""
+        base = self.base_color_texture
+        if base is None:
+            return float(self.alpha >= self.alpha_cutoff)
+        opaque = (self.alpha * base.linear_texels[..., 3:4] >= self.alpha_cutoff).astype(np.float32)
+        return base.mitsuba_bitmap(opaque) | {"filter_type": "nearest"}
 
     def mitsuba_emitter(self) -> dict | None:
         """An `area` emitter of emission x strength, times the texture's texels as a `bitmap`

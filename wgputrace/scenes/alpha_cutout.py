@@ -1,0 +1,54 @@
+"""An alpha-cut quad casting a shadow: a Principled MASK quad striped by its base colour
+texture's alpha, between a small lamp and a white wall, the camera seeing the quad and its striped
+shadow. The cut-out decides the camera's rays and the shadow rays alike (shaders/alpha.wgsl).
+
+The stripes are two texels wide with alpha 0 or 1: the bilinear alpha the shader thresholds at 0.5
+crosses it on texel boundaries, so the cut-out is the thresholded texels looked up nearest, as the
+Mitsuba export's `mask` opacity is (Principled.mitsuba_bsdf).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..scene import Camera, Diffuse, Emitter, Principled, Scene, Shape, Texture
+
+STRIPE_TEXELS = 2
+TEXTURE_TEXELS = 8
+QUAD_HALF_SIZE = 0.5
+WALL_HALF_SIZE = 3.0
+WALL_Z = 1.5
+LAMP_CENTRE = (0.8, 0.5, -1.5)
+LAMP_HALF_SIZE = 0.15
+LAMP_EMITTANCE = 100.0
+
+
+def stripes_texture() -> Texture:
+    """sRGB orange, opaque in columns of STRIPE_TEXELS alternating with transparent ones."""
+    columns = np.indices((TEXTURE_TEXELS, TEXTURE_TEXELS))[1]
+    pixels = np.empty((TEXTURE_TEXELS, TEXTURE_TEXELS, 4), np.uint8)
+    pixels[..., :3] = (230, 140, 40)
+    pixels[..., 3] = np.where((columns // STRIPE_TEXELS) % 2 == 0, 255, 0)
+    return Texture(pixels, name="stripes")
+
+
+def square(centre, half_size: float) -> np.ndarray:
+    """Two triangles of a square in the plane z = centre's z, facing -z, uv (0, 0) at the top-left
+    as a camera looking along +z sees it (image right is -x)."""
+    x, y, z = centre
+    h = half_size
+    corners = np.array([(x + h, y + h, z), (x - h, y + h, z), (x - h, y - h, z), (x + h, y - h, z)], np.float32)
+    return corners[np.array([[0, 2, 1], [0, 3, 2]])]
+
+
+def alpha_cutout() -> Scene:
+    uv = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)], np.float32)[np.array([[0, 2, 1], [0, 3, 2]])]
+    leaf = Principled("leaf", roughness=0.8, base_color_texture=stripes_texture(), alpha_mode="MASK")
+    lamp = Emitter("lamp", color=(1.0, 0.95, 0.9), emittance=LAMP_EMITTANCE)
+    shapes = [
+        Shape("wall", square((0.0, 0.0, WALL_Z), WALL_HALF_SIZE), Diffuse("wall", (0.8, 0.8, 0.8))),
+        Shape("leaf", square((0.0, 0.0, 0.0), QUAD_HALF_SIZE), leaf, uvs=uv),
+        # facing +z, towards the quad and the wall
+        Shape("lamp", square(LAMP_CENTRE, LAMP_HALF_SIZE)[:, [0, 2, 1]], lamp),
+    ]
+    return Scene(shapes, Camera.looking_at((0.0, 0.0, -3.0), (0.0, 0.0, 0.0), vfov_degrees=45.0))
