@@ -164,7 +164,7 @@ class Principled(Material):
         """MASK's cut-out as Mitsuba's `mask` opacity: 1 where alpha x the texel's alpha reaches
         alpha_cutoff, else 0, looked up nearest. The GPU thresholds the bilinear alpha instead, which
         cuts at the same texel boundaries only where neighbouring texels are 0 and 1 about a cutoff of
-        0.5 (as tests/render/test_alpha_reference.py's stripes are); elsewhere the edges differ by
+        0.5 (as the stripes of scenes/alpha_cutout.py are); elsewhere the edges differ by
         under a texel."""
         base = self.base_color_texture
         if base is None:
