@@ -142,15 +142,12 @@ def test_references_are_small_and_match_their_settings():
     paths = sorted(reference_dir().glob("*.npz"))
     total = sum(path.stat().st_size for path in paths)
     assert total < REFERENCES_MAX_BYTES, f"references take {total:,} bytes, more than {REFERENCES_MAX_BYTES:,}"
-    # every reference file is some test's (imported here: that module imports this one)
-    from tests.render.test_alpha_reference import SCENE as ALPHA_SCENE
-    from tests.render.test_asset_reference import SCENE as ASSET_SCENE
+    # every reference file is some test's
     from tests.render.test_light_references import CASES as LIGHT_CASES
-    from tests.render.test_principled_reference import SCENE as PRINCIPLED_SCENE
-    from tests.render.test_textures_reference import SCENE as TEXTURED_SCENE
+    from tests.render.test_material_references import SCENES as MATERIAL_SCENES
 
     used = {case.reference for case in CASES.values()} | {case.scene for case in LIGHT_CASES}
-    used |= {PRINCIPLED_SCENE, TEXTURED_SCENE, ASSET_SCENE, ALPHA_SCENE}
+    used |= set(MATERIAL_SCENES)
     assert {path.stem for path in paths} == used
     for path in paths:
         ref = reference(path.stem)

@@ -4,7 +4,7 @@ texture coordinates, standing on a grey floor that its marks light, lit by a poi
 the camera. Everything is generated here (nothing to license), 8-bit textures as a glTF file holds
 them: wgputrace/testing/gltf_files.py textured_asset_glb writes the same model as a .glb.
 
-Mitsuba 3 renders it as its reference (tests/render/test_asset_reference.py). Two choices keep the
+Mitsuba 3 renders it as its reference (tests/render/test_material_references.py). Two choices keep the
 comparison about textures: the panel faces +z with u along +x, so Mitsuba's `normalmap`, which
 frames the texel with the triangle's dP/du, and our tangents (MikkTSpace) give the same frame; and
 the light is within 25 degrees of the panel's normal while the bumps tilt at most 15 degrees, so
