@@ -12,7 +12,8 @@ from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE
 from ..gpu.device import GpuContext
 from ..gpu.float_texture import FloatTexture
 from ..gpu.light_dispatch import ENVIRONMENT_MAP, LightFeatures
-from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
+from ..gpu.tracked_buffer import TrackedBuffer
+from .group_resources import GroupResources
 from .scene_sync import ENVIRONMENT_TABLES, ENVIRONMENT_TEXELS, LIGHT_SOURCES, LIGHTING_PARAMETERS, SceneMirror
 
 # the mirror's arrays (their labels) by the lights group's binding names
@@ -46,17 +47,13 @@ def _arrays(mirror: SceneMirror) -> dict[str, np.ndarray | None]:
     }
 
 
-def _destroy(buffer: TrackedBuffer | FloatTexture) -> None:
-    (buffer if isinstance(buffer, FloatTexture) else buffer.buffer).destroy()
+class LightBuffers(GroupResources):
+    """The lights group's resources for a mirror's light features."""
 
-
-class LightBuffers:
-    """`generation` changes whenever a resource was made anew, and the lights group must be rebound."""
+    BINDINGS = BINDINGS
 
     def __init__(self, context: GpuContext, mirror: SceneMirror) -> None:
-        self.context = context
-        self.buffers: dict[str, TrackedBuffer | FloatTexture] = {}
-        self.generation = 0
+        super().__init__(context)
         self.sync(mirror, {})
 
     def _create(self, name: str, data: np.ndarray) -> TrackedBuffer | FloatTexture:
@@ -73,22 +70,5 @@ class LightBuffers:
     def sync(self, mirror: SceneMirror, changes: dict[str, np.ndarray]) -> None:
         """Make the resources the mirror's features need, free the others, and upload the rows
         `changes` names."""
-        for buffer in self.buffers.values():
-            buffer.uploads = UploadCount()
-        wanted, arrays = needed(mirror.light_features), _arrays(mirror)
-        for name in [name for name in self.buffers if name not in wanted]:
-            _destroy(self.buffers.pop(name))
-            self.generation += 1
-        for name in wanted:
-            generation = getattr(self.buffers.get(name), "generation", None)
-            if name not in self.buffers:
-                self.buffers[name] = self._create(name, arrays[name])
-            elif name in changes:
-                self.buffers[name].upload(arrays[name], changes[name])
-            if self.buffers[name].generation != generation:
-                self.generation += 1
-
-    @property
-    def resources(self) -> dict[str, object]:
-        """What the lights group binds, by binding name."""
-        return {BINDINGS[name]: buffer.resource for name, buffer in self.buffers.items()}
+        arrays = _arrays(mirror)
+        self._sync({name: arrays[name] for name in needed(mirror.light_features)}, changes)

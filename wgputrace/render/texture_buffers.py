@@ -10,7 +10,8 @@ import wgpu
 
 from ..gpu.device import GpuContext
 from ..gpu.float_texture import FloatTexture
-from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
+from ..gpu.tracked_buffer import TrackedBuffer
+from .group_resources import GroupResources
 from .scene_sync import (
     CORNER_TANGENTS,
     CORNER_UVS,
@@ -44,14 +45,13 @@ def _arrays(mirror: SceneMirror) -> dict[str, np.ndarray]:
     }
 
 
-class TextureBuffers:
-    """`generation` changes whenever a resource was made anew or freed, and the shading group must
-    be rebound."""
+class TextureBuffers(GroupResources):
+    """The shading group's texture resources: all of them while a material reads a texture, none otherwise."""
+
+    BINDINGS = BINDINGS
 
     def __init__(self, context: GpuContext, mirror: SceneMirror) -> None:
-        self.context = context
-        self.buffers: dict[str, TrackedBuffer | FloatTexture] = {}
-        self.generation = 0
+        super().__init__(context)
         self.sync(mirror, {})
 
     def _create(self, name: str, data: np.ndarray) -> TrackedBuffer | FloatTexture:
@@ -62,24 +62,4 @@ class TextureBuffers:
     def sync(self, mirror: SceneMirror, changes: dict[str, np.ndarray]) -> None:
         """Make the resources a textured scene needs or free them all, and upload the rows
         `changes` names."""
-        for buffer in self.buffers.values():
-            buffer.uploads = UploadCount()
-        if not mirror.textured:
-            for buffer in self.buffers.values():
-                (buffer if isinstance(buffer, FloatTexture) else buffer.buffer).destroy()
-            self.generation += bool(self.buffers)
-            self.buffers = {}
-            return
-        for name, data in _arrays(mirror).items():
-            generation = getattr(self.buffers.get(name), "generation", None)
-            if name not in self.buffers:
-                self.buffers[name] = self._create(name, data)
-            elif name in changes:
-                self.buffers[name].upload(data, changes[name])
-            if self.buffers[name].generation != generation:
-                self.generation += 1
-
-    @property
-    def resources(self) -> dict[str, object]:
-        """What the shading group binds for textures, by binding name (none without textures)."""
-        return {BINDINGS[name]: buffer.resource for name, buffer in self.buffers.items()}
+        self._sync(_arrays(mirror) if mirror.textured else {}, changes)
