@@ -40,7 +40,7 @@ def denoised_from_layers(path) -> tuple[np.ndarray, np.ndarray]:
 
 @pytest.mark.gpu
 def test_denoise_writes_the_denoised_image_nearer_the_reference(tmp_path, capsys):
-    pytest.importorskip("pyoidn")
+    pytest.importorskip("pyoidn", reason="the denoise extra (pyoidn) is not installed")
     reference = load_reference(SCENE)
     height, width, _ = reference.estimate.mean.shape
     output = tmp_path / "denoised.exr"
@@ -61,7 +61,7 @@ def test_denoise_writes_the_denoised_image_nearer_the_reference(tmp_path, capsys
 def test_an_interrupted_denoise_render_writes_the_denoised_samples_done(tmp_path, monkeypatch):
     """A SIGINT raised right after the first sample per pixel: the render stops there (exit 130)
     and the file holds that sample denoised."""
-    pytest.importorskip("pyoidn")
+    pytest.importorskip("pyoidn", reason="the denoise extra (pyoidn) is not installed")
     render = Renderer.render
 
     def render_interrupted_after_one_batch(self, spp=None, progress=None, **options):

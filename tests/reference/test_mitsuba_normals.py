@@ -11,7 +11,7 @@ from wgputrace.reference.mitsuba_scene import SCALAR_VARIANT, load_mitsuba, mits
 from wgputrace.scene import Camera, Diffuse, Scene
 from wgputrace.scene.shapes import make_icosphere, make_plane
 
-pytest.importorskip("mitsuba")
+pytest.importorskip("mitsuba", reason="Mitsuba 3 (the reference extra) is not installed")
 
 GREY = Diffuse("grey", color=(0.5, 0.5, 0.5))
 

@@ -15,7 +15,7 @@ from wgputrace.reference.mitsuba_scene import (
 )
 from wgputrace.scenes import scene_by_name
 
-pytest.importorskip("mitsuba")
+pytest.importorskip("mitsuba", reason="Mitsuba 3 (the reference extra) is not installed")
 
 SIZE = 8
 MAX_DEPTH = 9

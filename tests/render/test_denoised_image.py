@@ -31,7 +31,7 @@ def rendered(guides: bool) -> Renderer:
 
 @pytest.mark.gpu
 def test_without_guides_the_colour_alone_is_denoised():
-    pytest.importorskip("pyoidn")
+    pytest.importorskip("pyoidn", reason="the denoise extra (pyoidn) is not installed")
     renderer = rendered(guides=False)
     image, denoised = renderer.image(), renderer.image(denoised=True)
     assert denoised.shape == image.shape and np.all(np.isfinite(denoised))
@@ -41,7 +41,7 @@ def test_without_guides_the_colour_alone_is_denoised():
 
 @pytest.mark.gpu
 def test_with_guides_they_guide_the_denoiser():
-    pytest.importorskip("pyoidn")
+    pytest.importorskip("pyoidn", reason="the denoise extra (pyoidn) is not installed")
     renderer = rendered(guides=True)
     image, denoised = renderer.image(), renderer.image(denoised=True)
     np.testing.assert_array_equal(denoised, denoise(image, **renderer.guides()))
