@@ -1,7 +1,7 @@
 // The path tracing megakernel: one sample per pixel per dispatch, added to the accumulation buffer.
 //! include "acceleration.wgsl"
 //! include "camera.wgsl"
-//! include "rng.wgsl"
+//! include "sampler.wgsl"
 //! include "bsdf.wgsl"
 //! include "light_sampling.wgsl"
 //! include "mis.wgsl"
@@ -70,7 +70,7 @@ fn light_occluded(origin: vec3<f32>, light: LightSample, skip_triangle: u32) -> 
 // plain path tracing only delta lights count here. `geometric`: the triangle's normal, which the
 // shadow ray starts from; `towards_viewer`: wi in world space.
 fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, geometric: vec3<f32>, towards_viewer: vec3<f32>, material: Material, wi: vec3<f32>) -> vec3<f32> {
-    let light = sample_light(p, rng_next_2d(), rng_next_2d());
+    let light = sample_light(p, sample_2d(), sample_2d());
     // An environment sample's density is evaluated again from its direction, which f32 rounding
     // can put in a neighbouring cell of density 0 (and radiance 0): no light, not 0 / 0.
     if !(light.pdf > 0.0) {
@@ -183,8 +183,8 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         if previous_sampled_lights || samples_delta_lights_only(material) {
             radiance += throughput * direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
         }
-        let u = rng_next_2d();
-        let sample = bsdf_sample(material, wi, u, rng_next_f32());
+        let u = sample_2d();
+        let sample = bsdf_sample(material, wi, u, sample_1d());
         if sample.pdf <= 0.0 {
             break;
         }
@@ -198,7 +198,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
         eta_scale /= sample.eta * sample.eta;
         if depth >= RUSSIAN_ROULETTE_DEPTH {
             let survival = min(max_component(throughput) * eta_scale, RUSSIAN_ROULETTE_MAX_SURVIVAL);
-            if rng_next_f32() >= survival {
+            if sample_1d() >= survival {
                 break;
             }
             throughput /= survival;
@@ -216,15 +216,15 @@ fn render_pixel(xy: vec2<u32>) {
         return;
     }
     let pixel = xy.y * frame.width + xy.x;
-    rng_state = rng_states[pixel];
-    let radiance = trace_path(camera_ray(xy, rng_next_2d()));
+    sampler_begin(pixel);
+    let radiance = trace_path(camera_ray(xy, sample_2d()));
     if loop_budget_spent(frame.width) {
         accumulation[pixel] = drop_cut_short_sample(accumulation[pixel]);
     } else {
         accumulation[pixel] = accumulate_sample(accumulation[pixel], radiance);
         accumulate_guides(pixel, radiance);
     }
-    rng_states[pixel] = rng_state;
+    sampler_end(pixel);
 }
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
