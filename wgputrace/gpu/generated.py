@@ -17,6 +17,7 @@ from .light_dispatch import (
 from .material_dispatch import GENERATED_MATERIALS, material_dispatch, material_kind_constants
 from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
+from .sampler import DEFAULT_SAMPLER, GENERATED_SAMPLER, sampler_hook
 from .shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
 from .texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
 from .textures import GENERATED_TEXTURES, textures_hook
@@ -71,7 +72,7 @@ def generated_structs() -> str:
 def standard_files() -> dict[str, str]:
     """The generated files every kernel gets unless it replaces them: structs and ids, the material
     dispatch for every kind, no lights besides emissive triangles, no ray counting, no denoiser
-    guides, flat shading, no textures, every surface opaque and emitting by its kind alone, the texel loaders and the largest traversal stack."""
+    guides, flat shading, no textures, every surface opaque and emitting by its kind alone, the texel loaders, the largest traversal stack and the default sampler."""
     return {
         GENERATED_STRUCTS: generated_structs(),
         GENERATED_MATERIALS: material_dispatch(),
@@ -85,4 +86,5 @@ def standard_files() -> dict[str, str]:
         GENERATED_EMISSION: emission_hook(emissive=False),
         GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS),
         GENERATED_TRAVERSAL_STACK: traversal_stack(),
+        GENERATED_SAMPLER: sampler_hook(DEFAULT_SAMPLER),
     }

@@ -51,6 +51,7 @@ from ..gpu.light_dispatch import (
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from ..gpu.ray_count import GENERATED_RAY_COUNT, ray_count_hook
+from ..gpu.sampler import DEFAULT_SAMPLER, GENERATED_SAMPLER, check_sampler, sampler_hook
 from ..gpu.shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
 from ..gpu.texels import TrackedTexels
 from ..gpu.textures import GENERATED_TEXTURES, textures_hook
@@ -63,6 +64,7 @@ from .limits import atlas_side, check_image_size, check_scene_size, fit_environm
 from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
 from .scene_sync import CORNER_ATTRIBUTES, LIGHTS, MATERIALS, NODES, TEXTURE_ATLAS, TRIANGLES, SceneMirror
+from .sobol import pixel_sobol_states
 from .texture_buffers import TextureBuffers
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
@@ -155,6 +157,7 @@ def path_tracer_kernel(
     textured: bool = False,
     see_through: bool = False,
     emissive_surfaces: bool = False,
+    sampler: str = DEFAULT_SAMPLER,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
     (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
@@ -170,9 +173,11 @@ def path_tracer_kernel(
     compiles in the materials' textures (gpu/textures.py) and declares their bindings in that group;
     `see_through` (textured scenes only) compiles into every ray's triangle test the alpha modes and
     single-sided surfaces (gpu/alpha.py), which slow that test; `emissive_surfaces` (textured scenes
-    only) the light that materials emit through their texture records (gpu/emission.py)."""
+    only) the light that materials emit through their texture records (gpu/emission.py). `sampler`
+    chooses what stands behind sample_1d and sample_2d (gpu/sampler.py)."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
+    check_sampler(sampler)
     overrides = overrides or {}
     kinds = shaded_kinds(material_kinds)
     key = (
@@ -190,6 +195,7 @@ def path_tracer_kernel(
         textured,
         see_through,
         emissive_surfaces,
+        sampler,
     )
     if key not in _kernels:
         variant = SceneVariant(acceleration, stack_size, lights, smooth, textured, see_through, emissive_surfaces)
@@ -204,12 +210,13 @@ def path_tracer_kernel(
                 GENERATED_MATERIALS: material_dispatch(kinds),
                 GENERATED_RAY_COUNT: ray_count_hook(count_rays),
                 GENERATED_PATH_GUIDES: path_guides_hook(guides, kinds),
+                GENERATED_SAMPLER: sampler_hook(sampler),
             },
             constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
             f"{', counting rays' if count_rays else ''}{', guides' if guides else ''}"
             f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''}{', textured' if textured else ''}{', see-through' if see_through else ''}"
-            f"{', emissive surfaces' if emissive_surfaces else ''})",
+            f"{', emissive surfaces' if emissive_surfaces else ''}, {sampler} sampler)",
             entry_point="main_rows" if rows else "main",
         )
     return _kernels[key]
@@ -230,7 +237,9 @@ class Renderer:
 
     With `guides` (or `guides_enabled` set later), every sample also adds the albedo and shading
     normal the denoiser takes as guides (`guides()`); without, the path tracer compiles no guide
-    code and the renderer allocates no guide buffer."""
+    code and the renderer allocates no guide buffer. `sampler` (gpu/sampler.py SAMPLERS) chooses
+    where the paths' random numbers come from: independent streams or Owen-scrambled Sobol points,
+    each pixel's sequence taken in order across `render` calls either way."""
 
     def __init__(
         self,
@@ -244,7 +253,9 @@ class Renderer:
         integrator: str = "mis",
         shader_overrides: dict[str, float] | None = None,
         guides: bool = False,
+        sampler: str = DEFAULT_SAMPLER,
     ) -> None:
+        check_sampler(sampler)
         if width < 1 or height < 1:
             raise ValueError(f"image size must be at least 1x1, got {width}x{height}")
         if max_depth != UNLIMITED_DEPTH and not 1 <= max_depth < _UNLIMITED_DEPTH_GPU:
@@ -273,6 +284,7 @@ class Renderer:
         pixels = width * height
         device = self.context.device
         self.integrator = integrator
+        self.sampler = sampler
         self._shader_overrides = shader_overrides
         self._kinds = shaded_kinds(self._mirror.material_kinds)
         self._stack_size = self._needed_stack_size()
@@ -297,7 +309,9 @@ class Renderer:
             binding_limit=PARAMETER_BINDING_LIMIT,
             spare=False,
         )
-        states = pixel_rng_states(seed, pixels)
+        states = self._sampler_states(replicate=0)
+        # resets since the last restart: each gives the Sobol sampler an independent scramble
+        self._replicate = 0
         self._rng = storage_buffer(self.context, "rng states", states)
         # the states at the seed, copied over the live ones on the GPU when accumulation restarts
         self._rng_at_seed = storage_buffer(self.context, "rng states at the seed", states, read_back=True)
@@ -530,7 +544,16 @@ class Renderer:
             encoder.clear_buffer(self._guide_sums)
         encoder.copy_buffer_to_buffer(self._rng_at_seed, 0, self._rng, 0, self._rng.size)
         self.context.submit(encoder, "restarting accumulation")
+        self._replicate = 0
         self.stats = RenderStats()
+
+    def _sampler_states(self, replicate: int) -> np.ndarray:
+        """Every pixel's sampler state at the seed: a xoshiro128** state, or a Sobol seed for
+        `replicate` (render/sobol.py) and no samples taken."""
+        pixels = self.width * self.height
+        if self.sampler == "sobol":
+            return pixel_sobol_states(self.seed, pixels, replicate)
+        return pixel_rng_states(self.seed, pixels)
 
     def kernel_variant(self, **options) -> ComputeKernel:
         """This renderer's path tracer (acceleration, integrator, overrides, material kinds, stack
@@ -547,6 +570,7 @@ class Renderer:
             textured=self._textured,
             see_through=self._see_through,
             emissive_surfaces=self._emissive_surfaces,
+            sampler=self.sampler,
             **{"guides": self._guides, **options},
         )
 
@@ -724,8 +748,13 @@ class Renderer:
         return tuple(int(pixels[field][:, 3].astype(np.float64).sum()) for field in ("sum", "compensation"))
 
     def reset(self) -> None:
-        """Forget all samples (the random sequence continues, so new samples are independent)."""
+        """Forget all samples; the samples that follow are independent of those before: the
+        independent sampler's streams continue, the Sobol sampler starts every pixel's sequence
+        again under a new scramble (continuing it would stratify the new samples against the old)."""
         write_buffer(self.context, self._accumulation, 0, ACCUMULATED_PIXEL.zeros(self.width * self.height))
+        if self.sampler == "sobol":
+            self._replicate += 1
+            write_buffer(self.context, self._rng, 0, self._sampler_states(self._replicate))
         if self._guide_sums is not None:
             write_buffer(self.context, self._guide_sums, 0, ACCUMULATED_PIXEL.zeros(2 * self.width * self.height))
         self.stats = RenderStats()
@@ -733,7 +762,7 @@ class Renderer:
 
 def render(scene: Scene, spp: int = 64, width: int = 512, height: int = 512, **options) -> np.ndarray:
     """Render `scene` from scratch: the mean of `spp` samples per pixel, float32 (H, W, 3).
-    `options` are the Renderer's keyword arguments (seed, max_depth, accel, integrator, ...)."""
+    `options` are the Renderer's keyword arguments (seed, max_depth, accel, integrator, sampler, ...)."""
     renderer = Renderer(scene, width, height, **options)
     renderer.render(spp)
     return renderer.image()
