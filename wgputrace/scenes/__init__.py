@@ -17,6 +17,7 @@ from .glossy import glossy_spheres
 from .principled import principled_spheres
 from .punctual import point_spot_directional
 from .slivers import slivers
+from .smooth_sphere import smooth_sphere
 from .textured import textured_quads
 from .textured_asset import textured_asset
 
@@ -37,6 +38,7 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "textured_quads": textured_quads,
     "textured_asset": textured_asset,
     "alpha_cutout": alpha_cutout,
+    "smooth_sphere": smooth_sphere,
 }
 DEFAULT_SCENE = "cornell"
 
