@@ -63,6 +63,10 @@ REFERENCES = {
     "constant_env": ReferenceSettings(max_depth=6, spp=256, passes=16),
     "env_one_texel": ReferenceSettings(max_depth=3, spp=256, passes=16),
     "point_spot_directional": ReferenceSettings(max_depth=5, spp=256, passes=16),
+    # scenes that break path tracers (issue 18): mostly indirect light, a caustic, glossy seen in glossy
+    "door_ajar": ReferenceSettings(max_depth=10, spp=4096, passes=16),
+    "caustic": ReferenceSettings(max_depth=8, spp=8192, passes=16),
+    "glossy_through_glossy": ReferenceSettings(max_depth=8, spp=8192, passes=16),
 }
 
 

@@ -10,10 +10,13 @@ from functools import partial
 from ..scene import Scene
 from .alpha_cutout import alpha_cutout
 from .axis_aligned import axis_boxes
+from .caustic import caustic
 from .cornell import cornell, scaled_cornell, tiny_light
+from .door_ajar import door_ajar
 from .environment_lit import constant_env, env_one_texel, env_sun_spheres
 from .glass import glass_grazing
 from .glossy import glossy_spheres
+from .glossy_through_glossy import glossy_through_glossy
 from .principled import principled_spheres
 from .punctual import point_spot_directional
 from .slivers import slivers
@@ -39,6 +42,9 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "textured_asset": textured_asset,
     "alpha_cutout": alpha_cutout,
     "smooth_sphere": smooth_sphere,
+    "door_ajar": door_ajar,
+    "caustic": caustic,
+    "glossy_through_glossy": glossy_through_glossy,
 }
 DEFAULT_SCENE = "cornell"
 
