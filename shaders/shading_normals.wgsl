@@ -22,7 +22,8 @@
 
 // The corner normals interpolated at `p` (barycentric), turned to the geometric side, unit length;
 // the geometric normal for flat triangles (zero corner normals), degenerate interpolations (opposite
-// corner normals cancelling: no NaN) and views from between the two horizons.
+// corner normals cancelling: no NaN) and views from between the two horizons (unless the override
+// SILHOUETTE_GEOMETRIC_NORMAL is off: generated/shading_normals.wgsl declares it).
 fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32> {
     let corners = corner_attributes[triangle_index];
     if all(corners.normal0 == vec3<f32>(0.0)) {
@@ -38,7 +39,7 @@ fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometr
     n = n / n_length;
     // normals given against the winding shade the side the geometry says is out
     n = select(n, -n, dot(n, geometric) < 0.0);
-    if dot(n, towards_viewer) * dot(geometric, towards_viewer) <= 0.0 {
+    if SILHOUETTE_GEOMETRIC_NORMAL && dot(n, towards_viewer) * dot(geometric, towards_viewer) <= 0.0 {
         return geometric;
     }
     return n;

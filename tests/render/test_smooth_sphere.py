@@ -1,0 +1,130 @@
+"""A smooth low-poly sphere (wgputrace/scenes/smooth_sphere.py: an 80-triangle icosphere with the
+sphere's normals at its corners, above its flat version, lit from the side) against Mitsuba 3 and
+against its flat self.
+
+Against Mitsuba: Mitsuba shades with the interpolated normals as we do, but has no terminator term
+and shades a point seen from between the shading and geometric horizons (at silhouettes) with the
+shading normal as well (dark: the viewer is below it), where we take the geometric one. Ours is
+compared with both off (gpu/shading_normals.py MITSUBA_SHADING_NORMALS), per block of pixels as
+tests/render/test_material_references.py compares its scenes (block Welch tests, Sidak). With
+either on, ours differs where it should: with the term on it is darker near the terminator (3.7%
+over the smooth sphere), with the silhouette's geometric normal 12 of 192 blocks along the smooth
+sphere's outline are brighter (measured, the term off).
+
+What the term is for, tested with it on: a shading normal can tilt a facet towards a light its
+own plane barely faces (geometric cosine near 0); without the term that facet is lit by the larger
+shading cosine and goes black at once where the light passes its plane, a hard facet-shaped step
+at the shadow terminator. Chiang et al. 2019's weight G' = G (1 + G - G^2) of G = min(1, cos_g /
+(cos_s n_s.n_g)) is at most 1.25 G, so a Lambertian facet's radiance rho/pi E cos_s G' is at most
+1.25 / (n_s.n_g) times its flat version's rho/pi E cos_g: with the term, the smooth sphere fades
+to its geometric horizon as the flat one does, never brighter than that bound, and the step is no
+larger than the flat sphere's own. The test renders the smooth sphere and the same sphere with its
+normals dropped under the point light alone (direct light, same seed), pixel by pixel: with the
+term every pixel keeps the bound, without it pixels near the terminator break it (so the test can
+fail), and the term only darkens (never brightens) and darkens the sphere by at most a tenth.
+"""
+
+from __future__ import annotations
+
+from functools import cache, partial
+
+import numpy as np
+import pytest
+
+from wgputrace import Renderer
+from wgputrace.gpu.shading_normals import MITSUBA_SHADING_NORMALS, SHADOW_TERMINATOR_TERM
+from wgputrace.scenes.smooth_sphere import CENTRE_Y, RADIUS, smooth_sphere
+from wgputrace.testing import references
+from wgputrace.testing.references import STORAGE_RTOL, assert_same_expectation, load_reference, render_batches
+from wgputrace.testing.stats import sidak
+
+pytestmark = pytest.mark.gpu
+
+SEED = 20261205
+SIZE = 64
+BLOCKS = (8, SIZE)
+BATCHES = 16
+SPP = 32  # per batch
+FAMILY_SIGNIFICANCE = 1e-3
+PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, sum((SIZE // block) ** 2 for block in BLOCKS) * 3)
+
+# The direct-light comparison: camera and light samples only (a point light: no noise but the
+# pixel's jitter, the same in both renders at one seed).
+DIRECT_DEPTH = 2
+DIRECT_SPP = 256
+# G' <= 1.25 G: the largest of G (1 + G - G^2) / G over G in [0, 1] (at G = 1/2)
+TERM_GAIN_MAX = 1.25
+# Float32 roundings of two renders that agree sample for sample.
+RADIANCE_ATOL = 1e-5
+# The smooth sphere's radiance with the term over that without: measured 0.963.
+DARKENING_MIN = 0.9
+
+
+def test_terminator_term_off_matches_mitsuba(gpu_context, failure_dir, monkeypatch):
+    reference = load_reference("smooth_sphere")
+    # render_batches with the term off: its Renderer given the override
+    monkeypatch.setattr(references, "Renderer", partial(Renderer, shader_overrides=MITSUBA_SHADING_NORMALS))
+    render = render_batches(
+        "smooth_sphere", SIZE, batches=BATCHES, spp=SPP, seed=SEED, max_depth=reference.metadata["max_depth"]
+    )
+    assert render.nonfinite_samples == 0
+    expected = reference.estimate.downsampled(reference.metadata["width"] // SIZE)
+    assert_same_expectation(
+        "smooth_sphere_term_off_vs_mitsuba",
+        render.estimate,
+        expected,
+        expected.mean,
+        STORAGE_RTOL,
+        failure_dir,
+        blocks=BLOCKS,
+        per_test_significance=PER_TEST_SIGNIFICANCE,
+    )
+
+
+@cache
+def direct_light(smooth: bool, term: bool) -> np.ndarray:
+    """The red channel of the scene under its point light alone (no sky), `smooth` False with
+    the upper sphere's normals dropped."""
+    scene = smooth_sphere(smooth)
+    scene.environment = None
+    renderer = Renderer(
+        scene, SIZE, SIZE, seed=SEED, max_depth=DIRECT_DEPTH, shader_overrides={SHADOW_TERMINATOR_TERM: term}
+    )
+    renderer.render(DIRECT_SPP)
+    assert renderer.nonfinite_samples == 0
+    return renderer.image()[..., 0]
+
+
+def upper_sphere_pixels(fraction: float) -> np.ndarray:
+    """The pixels whose centre ray meets the sphere of `fraction` x RADIUS about the upper
+    sphere's centre: inside the mesh's silhouette for fractions below its inscribed radius."""
+    camera = smooth_sphere().camera
+    right, up, forward = camera.image_plane(SIZE, SIZE)
+    ndc = (np.arange(SIZE) + 0.5) / SIZE * 2.0 - 1.0
+    x, y = np.meshgrid(ndc, ndc)
+    directions = forward + x[..., None] * right - y[..., None] * up
+    directions /= np.linalg.norm(directions, axis=-1, keepdims=True)
+    origin = np.asarray(camera.position) - np.array([0.0, CENTRE_Y, 0.0])
+    b = directions @ origin
+    return b * b - (origin @ origin - (fraction * RADIUS) ** 2) > 0.0
+
+
+def smallest_normal_agreement() -> float:
+    """The smallest n_s.n_g over the upper sphere's corners: how far a corner normal leans from its face."""
+    shape = smooth_sphere().shapes[0]
+    v = shape.world_vertices.astype(np.float64)
+    face = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    face /= np.linalg.norm(face, axis=1, keepdims=True)
+    return float(np.einsum("tcj,tj->tc", shape.world_normals, face).min())
+
+
+def test_terminator_term_fades_the_smooth_sphere_as_its_flat_version():
+    # inside the inscribed sphere (an 80-triangle icosphere's is 0.79 of its radius): no silhouette
+    inside = upper_sphere_pixels(0.75)
+    flat = direct_light(smooth=False, term=True)[inside]
+    bound = TERM_GAIN_MAX / smallest_normal_agreement() * flat + RADIANCE_ATOL
+    with_term, without_term = direct_light(True, True)[inside], direct_light(True, False)[inside]
+    assert (with_term <= bound).all(), f"{(with_term > bound).sum()} pixels brighter than the flat facets allow"
+    assert (without_term > bound).sum() >= 10  # measured 22: the steps the term removes
+    assert (with_term <= without_term + RADIANCE_ATOL).all()
+    assert with_term.sum() >= DARKENING_MIN * without_term.sum()
