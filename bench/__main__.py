@@ -213,6 +213,47 @@ def environment_targets(result: dict) -> list[Target]:
     ]
 
 
+def convergence_targets(result: dict) -> list[Target]:
+    default, targets, gains = result["default_strategy"], result["targets"], result["gains"]
+    sampler = default.split("/")[1]
+
+    def shown(value: float | None) -> str:
+        return "not measured" if value is None else f"{value:.3g}"
+
+    rows = []
+    if "cornell" in gains:
+        size = "{width}x{height}".format(**result["scenes"]["cornell"])
+        for mitsuba_sampler, limit in (("independent", targets["cornell_time_over_mitsuba"]), ("multijitter", None)):
+            value = gains["cornell"]["ours_time_over_mitsuba"][mitsuba_sampler]
+            rows.append(
+                Target(
+                    "convergence",
+                    f"Cornell box {size}: time to equal RMSE, ours ({default}) / Mitsuba {mitsuba_sampler}",
+                    shown(value),
+                    "-" if limit is None else f"<= {limit:g}",
+                    None if limit is None else value is not None and value <= limit,
+                )
+            )
+    for scene, limit in targets["bdpt_efficiency_over_mis"].items():
+        if scene in gains:
+            value = gains[scene]["bdpt_efficiency_over_mis"].get(sampler)
+            rows.append(
+                Target(
+                    "convergence",
+                    f"{scene}: efficiency 1/(MSE x s), bdpt / mis ({sampler} sampler)",
+                    shown(value),
+                    f">= {limit:g}",
+                    value is not None and value >= limit,
+                )
+            )
+    for scene, entry in gains.items():
+        for label, value in entry["sampler_efficiency_over_independent"].items():
+            rows.append(Target("convergence", f"{scene}: efficiency {label} / independent sampler", shown(value)))
+    failed = result["validation_failed"]
+    rows.append(Target("convergence", "strategies failing validation", ", ".join(failed) or "none", "none", not failed))
+    return rows
+
+
 def denoiser_missing() -> str | None:
     """Why the denoising benchmark cannot run here, or None."""
     return None if denoiser_available() else f"Intel Open Image Denoise is missing: {INSTALL_HINT}"
@@ -366,6 +407,12 @@ BENCHMARKS = (
         ),
         ("--spp", "256", "--reference-spp", "65536", "--validation-spp", "1024", "--cornell-spp", "1024"),
         environment_targets,
+    ),
+    Benchmark(
+        "convergence",
+        ("--scenes", "cornell", "caustic", "--integrators", "mis", "bdpt", "--max-spp", "64"),
+        ("--max-spp", "4096", "--runs", "2"),
+        convergence_targets,
     ),
     Benchmark("soak", ("--minutes", "1", "--cycles", "1000"), (), soak_targets, in_default_run=False),
 )

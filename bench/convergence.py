@@ -1,32 +1,62 @@
-"""Error against time: RMSE and relative MSE of our image against the Mitsuba 3 reference, as
-functions of samples per pixel and of render time, for the Cornell box and the tiny-light scene.
+"""Error against time on the Cornell box and the scenes that break path tracers: RMSE against the
+Mitsuba 3 reference as a function of render time, for each integrator x sampler of ours and for
+Mitsuba 3's `path` integrator with its `independent` and `multijitter` samplers, in one run.
 
-    python -m bench.convergence
-    python -m bench.convergence --max-spp 64 --runs 1 --integrators mis
+    /tmp/mvenv/bin/python -m bench.convergence          (mitsuba importable: Mitsuba's rows too)
+    python -m bench.convergence --scenes caustic --integrators mis bdpt --runs 1
+    python -m bench --only convergence
 
-For each scene and integrator: a validation render first (finite, no dropped samples, image mean
-equal to the reference's within a z-test; its first dispatch is the shader compile, so it is the
-warm-up too), then `runs` progressive renders from different seeds, the image read back at 1, 2,
-4, ... max-spp samples per pixel. Only Renderer.render is timed; read-backs are not. The reference
-(tests/references/<scene>.npz, 128x128) is noisy itself; its variance is subtracted (bench/common.py's
-`errors`), so the curves show our error alone. A converging unbiased estimator has RMSE ~ spp^-0.5
-(slope -0.5 on log-log axes) and relative MSE ~ spp^-1; the height of a curve is the efficiency
-later work improves. Writes bench/results/convergence_<adapter>.csv (every checkpoint), .json
-(settings, versions, fits, validation) and .png.
+Strategies: every integrator (mis, nee, bsdf, bdpt) with every sampler (independent, sobol) of
+ours, and Mitsuba's `llvm_ad_rgb` variant where mitsuba is importable (bench/common.py
+`mitsuba_missing`). A combination the installed renderer does not have (an integrator or sampler
+still to come) is skipped and the reason recorded under "skipped"; so is Mitsuba without mitsuba.
+
+For each scene and strategy: a validation render first (finite, no dropped samples, image mean
+equal to the reference's within a z-test; its first dispatch is the shader compile or Mitsuba's
+JIT, so it is the warm-up too), then `runs` renders read back at checkpoints 1, 2, 4, ... spp.
+Ours renders progressively and only Renderer.render is timed (read-backs are not); Mitsuba
+renders each checkpoint fresh at that spp (its usual use and its fastest), timed with evaluation.
+Errors are bench/common.py's: MSE against the reference minus the reference's own variance.
+
+The reference is tests/references/<scene>.npz (128x128), or bench/references/<scene>.npz where
+that exists: the Cornell box's there is 256x256, the issue's setting, made with
+
+    /tmp/mvenv/bin/python -c "import sys; sys.path.insert(0, 'scripts'); import make_references as m; \\
+        from pathlib import Path; m.WIDTH = m.HEIGHT = 256; \\
+        m.make_reference('cornell', m.REFERENCES['cornell'], 'llvm_ad_rgb', Path('bench/references'))"
+
+Each scene renders at its reference's size; `--max-spp` is the last checkpoint at 128x128, and a
+larger image stops at as many paths (256x256: a quarter of the spp). The caustic scene is measured
+twice: on the whole image, and on the floor pixels its caustic falls on (scenes/caustic.py
+`caustic_mask`), as the scene "caustic:caustic_pixels".
+
+Read off each curve, from a power law fitted to RMSE against time (checkpoints from FIT_MIN_SPP
+on): the time to reach a fixed RMSE per scene (the largest of the strategies' fitted final RMSEs,
+so every curve reaches it inside its measured range) and the efficiency 1 / (MSE x seconds) at the
+fitted final point. Ratios compare with ours at the default integrator and sampler, and with
+Mitsuba's independent sampler. Writes bench/results/convergence_<adapter>.csv (every checkpoint),
+.json (settings, versions, validation, curves, the table) and .png (one panel per scene, and the
+efficiencies).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import inspect
+import json
 import sys
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from bench.common import (
     CHANNELS,
-    RELATIVE_MSE_EPSILON,
+    FIT_MIN_SPP,
+    MitsubaSide,
     Run,
     add_max_spp,
     agreement,
@@ -38,172 +68,488 @@ from bench.common import (
     fit_power_law,
     image_failures,
     log,
+    mitsuba_missing,
     parse,
     save_figure,
     seconds_to_reach,
     sidak_critical_z,
+    threads,
     write_csv,
     write_result,
 )
 from wgputrace import Renderer, load_scene
-from wgputrace.testing.references import load_reference
+from wgputrace.scenes.caustic import caustic_mask
+from wgputrace.testing.image_statistics import Estimate
+from wgputrace.testing.references import Reference, load_reference
 
-SCENES = ("cornell", "tiny_light")
-INTEGRATORS = ("mis", "nee", "bsdf")
-# Time-to-equal-error ratios are measured against this strategy's error at its last checkpoint.
-BASELINE_INTEGRATOR = "bsdf"
+SCENES = ("cornell", "door_ajar", "caustic", "glossy_through_glossy", "tiny_light")
+INTEGRATORS = ("mis", "nee", "bsdf", "bdpt")
+SAMPLERS = ("independent", "sobol")
+MITSUBA = "mitsuba"
+MITSUBA_SAMPLERS = ("independent", "multijitter")
+# Pixels where one kind of light transport decides the error, measured apart as "<scene>:<region>".
+REGIONS: dict[str, dict[str, Callable]] = {"caustic": {"caustic_pixels": caustic_mask}}
+BENCH_REFERENCES = Path(__file__).resolve().parent / "references"
+# --max-spp counts samples per pixel at this size; larger references stop at as many paths.
+BASE_PIXELS = 128 * 128
+# Issue 18's targets: ours as shipped reaches the Cornell box's fixed RMSE no later than Mitsuba
+# (its default sampler), and bidirectional paths are this many times as efficient as mis.
+TARGETS = {
+    "cornell_time_over_mitsuba": 1.0,
+    "bdpt_efficiency_over_mis": {"door_ajar": 5.0, "caustic:caustic_pixels": 10.0},
+}
 VALIDATION_SPP = 16
-VALIDATION_SIGNIFICANCE = 1e-3  # family-wise, over scenes x integrators x channels
+VALIDATION_SIGNIFICANCE = 1e-3  # family-wise, over scenes x strategies x channels
 CSV_COLUMNS = ("scene", "integrator", "run", "seed", "spp", "seconds", "cpu_seconds", "rmse", "relative_mse", "raw_mse")
 
 
-def validate(renderer: Renderer, reference_mean: np.ndarray, z_critical: float) -> dict:
-    """The first image (it compiles the shader): finite, nothing dropped, mean equal to the reference's."""
-    renderer.render(VALIDATION_SPP)
-    image = renderer.image()
-    check = agreement(image, reference_mean.astype(np.float32), z_critical)
-    renderer.reset()
-    failures = image_failures(image, renderer.dropped_samples) + check["failures"]
-    return {"spp": VALIDATION_SPP, "agreement_with_reference": check, "failures": failures}
+class Unavailable(Exception):
+    """The installed code lacks a strategy (an integrator or sampler still to come, or Mitsuba)."""
 
 
-def measure(scene: str, integrator: str, args: argparse.Namespace, z_critical: float) -> tuple[list[dict], dict]:
-    reference = load_reference(scene)
-    width, height, max_depth = (reference.metadata[key] for key in ("width", "height", "max_depth"))
-    reference_mean, reference_variance = reference.estimate.mean, reference.estimate.variance
-    rows, validation = [], None
+class ValidationFailed(Exception):
+    """A strategy's first image failed its checks: it is not timed."""
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """One curve's estimator: ours (an integrator with a sampler) or Mitsuba's path tracer with a sampler."""
+
+    integrator: str  # ours: Renderer's integrator; Mitsuba: MITSUBA
+    sampler: str
+
+    @property
+    def label(self) -> str:
+        """ "mis/sobol", "mitsuba/multijitter": the curves' "integrator" column."""
+        return f"{self.integrator}/{self.sampler}"
+
+
+def default_strategy() -> Strategy:
+    """Ours as a user gets it: Renderer's default integrator and sampler."""
+    parameters = inspect.signature(Renderer).parameters
+    sampler = parameters["sampler"].default if "sampler" in parameters else "independent"
+    return Strategy(parameters["integrator"].default, sampler)
+
+
+BASELINE = default_strategy()
+MITSUBA_BASELINE = Strategy(MITSUBA, "independent")
+
+
+def renderer_options(strategy: Strategy) -> dict:
+    """Renderer's keyword arguments for `strategy`; a Renderer without `sampler` has the independent one only."""
+    if "sampler" in inspect.signature(Renderer).parameters:
+        return {"integrator": strategy.integrator, "sampler": strategy.sampler}
+    if strategy.sampler != "independent":
+        raise ValueError(
+            f"this Renderer has no sampler option (only the independent sampler), got {strategy.sampler!r}"
+        )
+    return {"integrator": strategy.integrator}
+
+
+def bench_reference(scene: str) -> Reference:
+    """bench/references/<scene>.npz where there is one (larger than the test's), else the test's."""
+    path = BENCH_REFERENCES / f"{scene}.npz"
+    if not path.exists():
+        return load_reference(scene)
+    with np.load(path) as data:
+        metadata = json.loads(str(data["metadata"]))
+        mean = data["mean"].astype(np.float64)
+        standard_error = data["standard_error"].astype(np.float64)
+    return Reference(Estimate(mean, standard_error**2, metadata["passes"] - 1.0), metadata)
+
+
+def scene_spp(max_spp: int, width: int, height: int) -> int:
+    """The last checkpoint at this size: as many paths as `max_spp` at 128x128, a power of two,
+    leaving checkpoints to fit."""
+    spp = max_spp * BASE_PIXELS // (width * height)
+    return max(1 << max(spp, 1).bit_length() - 1, FIT_MIN_SPP * 4)
+
+
+@dataclass
+class SceneSetup:
+    name: str
+    reference: Reference
+    max_spp: int
+    regions: dict[str, np.ndarray]  # region name: (height, width) bool mask
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.reference.metadata["width"], self.reference.metadata["height"]
+
+    @property
+    def max_depth(self) -> int:
+        return self.reference.metadata["max_depth"]
+
+
+def scene_setup(name: str, max_spp: int) -> SceneSetup:
+    reference = bench_reference(name)
+    width, height = reference.metadata["width"], reference.metadata["height"]
+    camera = load_scene(name).camera
+    regions = {region: mask(camera, width, height) for region, mask in REGIONS.get(name, {}).items()}
+    return SceneSetup(name, reference, scene_spp(max_spp, width, height), regions)
+
+
+def error_rows(setup: SceneSetup, image: np.ndarray, row: dict) -> list[dict]:
+    """`row` with the errors of `image`, on the whole image and on each of the scene's regions."""
+    mean, variance = setup.reference.estimate.mean, setup.reference.estimate.variance
+    rows = [row | {"scene": setup.name} | errors(image, mean, variance)]
+    for region, mask in setup.regions.items():
+        rows.append(row | {"scene": f"{setup.name}:{region}"} | errors(image[mask], mean[mask], variance[mask]))
+    return rows
+
+
+def validation(image: np.ndarray, dropped: int, setup: SceneSetup, z_critical: float) -> dict:
+    check = agreement(image, setup.reference.estimate.mean.astype(np.float32), z_critical)
+    return {
+        "spp": VALIDATION_SPP,
+        "agreement_with_reference": check,
+        "failures": image_failures(image, dropped) + check["failures"],
+    }
+
+
+def new_renderer(setup: SceneSetup, strategy: Strategy, seed: int) -> Renderer:
+    """Ours for `strategy`, or Unavailable where the installed Renderer refuses its integrator or
+    sampler (checked before anything compiles)."""
+    width, height = setup.size
+    try:
+        options = renderer_options(strategy)
+        return Renderer(load_scene(setup.name), width, height, seed=seed, max_depth=setup.max_depth, **options)
+    except (ValueError, TypeError) as error:
+        raise Unavailable(str(error)) from None
+
+
+def measure_ours(
+    setup: SceneSetup, strategy: Strategy, args: argparse.Namespace, z_critical: float
+) -> tuple[list[dict], dict]:
+    """Progressive renders of `runs` seeds, read back at every checkpoint."""
+    rows, checked = [], None
     for run in range(args.runs):
         seed = args.seed + run
-        renderer = Renderer(load_scene(scene), width, height, seed=seed, max_depth=max_depth, integrator=integrator)
-        if validation is None:
-            validation = validate(renderer, reference_mean, z_critical)
-            if validation["failures"]:
-                raise SystemExit(f"{scene}/{integrator}: validation failed, nothing timed: {validation['failures']}")
+        renderer = new_renderer(setup, strategy, seed)
+        if checked is None:
+            renderer.render(VALIDATION_SPP)  # compiles the shader: the warm-up
+            checked = validation(renderer.image(), renderer.dropped_samples, setup, z_critical)
+            if checked["failures"]:
+                raise ValidationFailed("; ".join(checked["failures"]))
         else:
             renderer.render(1)  # this renderer's warm-up (a Mesa cache hit), discarded
-            renderer.reset()
+        renderer.reset()
         cpu_seconds = 0.0
-        for spp in checkpoints(args.max_spp):
+        for spp in checkpoints(setup.max_spp):
             cpu_start = time.process_time()
             renderer.render(spp - renderer.samples_per_pixel)
             cpu_seconds += time.process_time() - cpu_start
             if renderer.dropped_samples:
-                raise SystemExit(f"{scene}/{integrator} run {run + 1}: {renderer.dropped_samples} dropped samples")
-            row = {"scene": scene, "integrator": integrator, "run": run + 1, "seed": seed, "spp": spp}
-            row["seconds"], row["cpu_seconds"] = renderer.stats.render_seconds, cpu_seconds
-            rows.append(row | errors(renderer.image(), reference_mean, reference_variance))
+                raise SystemExit(
+                    f"{setup.name}/{strategy.label} run {run + 1}: {renderer.dropped_samples} dropped samples"
+                )
+            row = {"integrator": strategy.label, "run": run + 1, "seed": seed, "spp": spp}
+            row |= {"seconds": renderer.stats.render_seconds, "cpu_seconds": cpu_seconds}
+            rows += error_rows(setup, renderer.image(), row)
         log(
-            f"{scene}/{integrator} run {run + 1}: {args.max_spp} spp in {row['seconds']:.1f} s, RMSE {rows[-1]['rmse']:.4g}"
+            f"{setup.name}/{strategy.label} run {run + 1}: {spp} spp in {row['seconds']:.1f} s, RMSE {rows[-1]['rmse']:.4g}"
         )
-    settings = {"width": width, "height": height, "max_depth": max_depth, "reference": reference.metadata}
-    return rows, {"validation": validation, **settings}
+    return rows, {"validation": checked}
 
 
-def time_to_equal_error(curves_by_name: dict) -> dict:
-    """Per scene and integrator: the time it needs to reach the relative MSE that the baseline
-    (BSDF sampling) reaches at its last checkpoint, over the baseline's time for it. Both times
-    come from power laws fitted to relative MSE against time over the checkpoints from
-    FIT_MIN_SPP on, so single noisy checkpoints (a firefly in a heavy-tailed estimator) do not
-    decide the ratio. For unbiased strategies relative MSE falls as 1/time, so the ratio does not
-    depend on which error level is chosen."""
-    ratios = {}
-    for baseline in (c for c in curves_by_name.values() if c["integrator"] == BASELINE_INTEGRATOR):
-        base_slope, base_intercept = fit_power_law(baseline, "relative_mse")
-        target = float(np.exp(base_intercept + base_slope * np.log(baseline["seconds"][-1])))
-        for curve in (c for c in curves_by_name.values() if c["scene"] == baseline["scene"]):
-            slope, intercept = fit_power_law(curve, "relative_mse")
-            seconds = seconds_to_reach(slope, intercept, target)
-            ratios[f"{curve['scene']}/{curve['integrator']}"] = {
-                "baseline_relative_mse": target,
-                "baseline_seconds": baseline["seconds"][-1],
-                "seconds_to_reach_it": seconds,
-                "ratio_to_baseline_time": seconds / baseline["seconds"][-1],
-                "fitted_slope_relative_mse_vs_seconds": slope,
+@contextlib.contextmanager
+def mitsuba_sampler(mi, sampler: str):
+    """Scenes that mitsuba_scene loads meanwhile get `sampler` as their sensor's sampler
+    (mitsuba_scene itself always asks for `independent`)."""
+    load_dict = mi.load_dict
+
+    def with_sampler(description: dict, *rest, **options):
+        if "sensor" in description:
+            description = {**description, "sensor": {**description["sensor"], "sampler": {"type": sampler}}}
+        return load_dict(description, *rest, **options)
+
+    mi.load_dict = with_sampler
+    try:
+        yield
+    finally:
+        mi.load_dict = load_dict
+
+
+def measure_mitsuba(
+    mitsuba: tuple, setup: SceneSetup, strategy: Strategy, args: argparse.Namespace, z_critical: float
+) -> tuple[list[dict], dict]:
+    """Each checkpoint a fresh Mitsuba render at that spp, `runs` times; the first render compiles."""
+    if isinstance(mitsuba, str):
+        raise Unavailable(mitsuba)
+    mi, dr = mitsuba
+    width, height = setup.size
+    side = MitsubaSide(mi, dr, setup.name)
+    with mitsuba_sampler(mi, strategy.sampler):
+        side.scene(width, setup.max_depth)
+    image = side.render(width, setup.max_depth, VALIDATION_SPP)[0]
+    checked = validation(image, 0, setup, z_critical)
+    if checked["failures"]:
+        raise ValidationFailed("; ".join(checked["failures"]))
+    for spp in checkpoints(setup.max_spp):  # every spp's kernel is the same; this proves it
+        side.render(width, setup.max_depth, spp)
+    side.kernel_report()
+    rows = []
+    for run in range(args.runs):
+        for spp in checkpoints(setup.max_spp):
+            image, wall, cpu = side.render(width, setup.max_depth, spp)
+            if image_failures(image, 0):
+                raise SystemExit(f"{setup.name}/{strategy.label} run {run + 1}, {spp} spp: {image_failures(image, 0)}")
+            row = {
+                "integrator": strategy.label,
+                "run": run + 1,
+                "seed": None,
+                "spp": spp,
+                "seconds": wall,
+                "cpu_seconds": cpu,
             }
-    return ratios
+            rows += error_rows(setup, image, row)
+        log(f"{setup.name}/{strategy.label} run {run + 1}: {spp} spp in {wall:.2f} s, RMSE {rows[-1]['rmse']:.4g}")
+    return rows, {"validation": checked, "timed_kernels": side.compiled_nothing("timed renders")}
+
+
+def load_mitsuba_pair():
+    """(mitsuba, drjit) with the LLVM variant set."""
+    import drjit
+
+    from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, load_mitsuba
+
+    return load_mitsuba(LLVM_VARIANT), drjit
+
+
+def fitted_rmse(curve: dict, seconds: float) -> float:
+    slope, intercept = fit_power_law(curve, "rmse")
+    return float(np.exp(intercept + slope * np.log(seconds)))
+
+
+def read_off(curves_by_name: dict) -> dict:
+    """Per scene: the fixed RMSE (the largest fitted final RMSE among its curves), each curve's
+    time to reach it and efficiency 1 / (MSE x seconds) at its fitted final point, and both as
+    ratios to BASELINE (ours as shipped) and MITSUBA_BASELINE where those ran. A curve whose
+    fitted RMSE does not fall with time has no time to reach (None)."""
+    table = {}
+    for scene in dict.fromkeys(curve["scene"] for curve in curves_by_name.values()):
+        mine = {c["integrator"]: c for c in curves_by_name.values() if c["scene"] == scene}
+        final = {label: fitted_rmse(c, c["seconds"][-1]) for label, c in mine.items()}
+        level = max(final.values())
+        entries = {}
+        for label, curve in mine.items():
+            slope, intercept = fit_power_law(curve, "rmse")
+            entries[label] = {
+                "final_rmse": curve["rmse"][-1],
+                "final_seconds": curve["seconds"][-1],
+                "final_spp": curve["spp"][-1],
+                "fitted_slope_rmse_vs_seconds": slope,
+                "seconds_to_fixed_rmse": seconds_to_reach(slope, intercept, level) if slope < 0 else None,
+                "efficiency": 1.0 / (final[label] ** 2 * curve["seconds"][-1]),
+            }
+        for baseline in (BASELINE.label, MITSUBA_BASELINE.label):
+            for label, entry in entries.items():
+                entry[f"efficiency_over_{baseline}"] = ratio(entries, label, baseline)
+                entry[f"time_over_{baseline}"] = ratio(entries, label, baseline, "seconds_to_fixed_rmse")
+        table[scene] = {"fixed_rmse": level, "strategies": entries}
+    return table
+
+
+def ratio(entries: dict, numerator: str, denominator: str, key: str = "efficiency") -> float | None:
+    """entries[numerator][key] / entries[denominator][key], None where either is missing."""
+    a, b = entries.get(numerator, {}).get(key), entries.get(denominator, {}).get(key)
+    return a / b if a is not None and b else None
+
+
+def gains(table: dict) -> dict:
+    """The issue's ratios per scene: each sampler's efficiency over the independent one (same
+    integrator), bdpt's over mis (same sampler), and ours as shipped against Mitsuba's samplers
+    (time to the fixed RMSE, ours over theirs)."""
+    result = {}
+    for scene, entry in table.items():
+        entries = entry["strategies"]
+        found = [Strategy(*label.split("/")) for label in entries]
+        result[scene] = {
+            "sampler_efficiency_over_independent": {
+                s.label: ratio(entries, s.label, Strategy(s.integrator, "independent").label)
+                for s in found
+                if s.integrator != MITSUBA and s.sampler != "independent"
+            },
+            "bdpt_efficiency_over_mis": {
+                s.sampler: ratio(entries, s.label, Strategy("mis", s.sampler).label)
+                for s in found
+                if s.integrator == "bdpt"
+            },
+            "ours_time_over_mitsuba": {
+                sampler: ratio(entries, BASELINE.label, Strategy(MITSUBA, sampler).label, "seconds_to_fixed_rmse")
+                for sampler in MITSUBA_SAMPLERS
+            },
+        }
+    return result
+
+
+INTEGRATOR_COLORS = {"mis": "#3b75af", "nee": "#519e3e", "bsdf": "#8c8c8c", "bdpt": "#c4452c", MITSUBA: "#000000"}
+SAMPLER_STYLES = {"independent": "-", "sobol": "--", "multijitter": ":"}
 
 
 def plot(path: Path, result: dict) -> None:
-    chart = figure(11.0, 8.0)
-    panels = chart.subplots(2, 2)
-    colors = {"cornell": "#3b75af", "tiny_light": "#c4452c"}
-    styles = {"mis": "-", "bsdf": ":"}
-    metrics = (("rmse", "slope_rmse_vs_spp", "RMSE"), ("relative_mse", "slope_relative_mse_vs_spp", "relative MSE"))
-    axes_keys = (("seconds", "render time (s, median over runs)"), ("spp", "samples per pixel"))
-    for row, (metric, slope, metric_label) in enumerate(metrics):
-        for column, (axis_key, axis_label) in enumerate(axes_keys):
-            axes = panels[row][column]
-            for curve in result["curves"].values():
-                label = f"{curve['scene']}, {curve['integrator']}"
-                axes.loglog(
-                    curve[axis_key],
-                    curve[metric],
-                    styles.get(curve["integrator"], "--"),
-                    marker="o",
-                    markersize=3,
-                    color=colors.get(curve["scene"], "black"),
-                    label=f"{label} (slope {curve[slope]:.2f} vs spp)" if column == 1 else label,
-                )
-            axes.set_xlabel(axis_label)
-            axes.set_ylabel(metric_label)
-            axes.grid(which="both", alpha=0.3)
-            axes.legend(fontsize=7)
-    title = (
-        f"wgputrace convergence against Mitsuba {result['mitsuba']} references, {result['width']}x{result['height']}, "
-        f"up to {result['max_spp']} spp, {result['runs']} runs, max depth {result['max_depth']}"
-    )
+    scenes = list(result["table"])
+    columns = 3
+    rows = -(-(len(scenes) + 1) // columns)
+    chart = figure(5.0 * columns, 4.0 * rows)
+    panels = chart.subplots(rows, columns, squeeze=False).ravel()
+    for axes, scene in zip(panels, scenes, strict=False):
+        level = result["table"][scene]["fixed_rmse"]
+        for curve in (c for c in result["curves"].values() if c["scene"] == scene):
+            integrator, sampler = curve["integrator"].split("/")
+            color = INTEGRATOR_COLORS.get(integrator, "#7a4ca0")
+            axes.loglog(
+                curve["seconds"],
+                curve["rmse"],
+                SAMPLER_STYLES.get(sampler, "-."),
+                marker="o",
+                markersize=2.5,
+                color=color,
+                label=curve["integrator"],
+            )
+            reached = result["table"][scene]["strategies"][curve["integrator"]]["seconds_to_fixed_rmse"]
+            if reached is not None:
+                axes.plot([reached], [level], "x", color=color, markersize=7)
+        axes.axhline(level, color="grey", linewidth=0.8, linestyle="--")
+        axes.set_title(f"{scene} (fixed RMSE {level:.3g}: x marks)", fontsize=9)
+        axes.set_xlabel("render time (s)")
+        axes.set_ylabel("RMSE against the reference")
+        axes.grid(which="both", alpha=0.3)
+        axes.legend(fontsize=6)
+    bars = panels[len(scenes)]
+    labels = sorted({label for entry in result["table"].values() for label in entry["strategies"]})
+    width = 0.8 / max(len(labels), 1)
+    for index, label in enumerate(labels):
+        integrator, sampler = label.split("/")
+        values = [
+            result["table"][s]["strategies"].get(label, {}).get(f"efficiency_over_{BASELINE.label}") for s in scenes
+        ]
+        positions = [i + index * width for i, value in enumerate(values) if value]
+        bars.bar(
+            positions,
+            [value for value in values if value],
+            width,
+            color=INTEGRATOR_COLORS.get(integrator, "#7a4ca0"),
+            hatch={"sobol": "//", "multijitter": ".."}.get(sampler),
+            edgecolor="white",
+            label=label,
+        )
+    bars.set_yscale("log")
+    bars.set_xticks([i + 0.4 - width / 2 for i in range(len(scenes))], scenes, rotation=30, fontsize=7, ha="right")
+    bars.set_ylabel(f"efficiency 1/(MSE x s) over {BASELINE.label}")
+    bars.axhline(1.0, color="grey", linewidth=0.8)
+    bars.legend(fontsize=6)
+    for axes in panels[len(scenes) + 1 :]:
+        axes.set_visible(False)
+    title = f"RMSE against time, ours and Mitsuba {result['mitsuba_version'] or '(not run)'}, {result['runs']} run(s) per curve"
     save_figure(chart, path, result, title, fontsize=10)
+
+
+def strategies(args: argparse.Namespace) -> list[Strategy]:
+    ours = [Strategy(integrator, sampler) for integrator in args.integrators for sampler in args.samplers]
+    return ours + [Strategy(MITSUBA, sampler) for sampler in args.mitsuba_samplers]
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argument_parser(__doc__, seed=1)
     parser.add_argument("--scenes", nargs="+", default=list(SCENES), help=f"default: {' '.join(SCENES)}")
     parser.add_argument("--integrators", nargs="+", default=list(INTEGRATORS), help=f"default: {' '.join(INTEGRATORS)}")
+    parser.add_argument("--samplers", nargs="+", default=list(SAMPLERS), help=f"default: {' '.join(SAMPLERS)}")
+    parser.add_argument(
+        "--mitsuba-samplers",
+        nargs="*",
+        default=list(MITSUBA_SAMPLERS),
+        help=f"default: {' '.join(MITSUBA_SAMPLERS)}; none: no Mitsuba",
+    )
     add_max_spp(parser, 256)
-    parser.add_argument("--runs", type=int, default=2, help="progressive renders per scene and integrator (default 2)")
+    parser.add_argument(
+        "--runs", type=int, default=1, help="renders per scene and strategy, errors averaged (default 1)"
+    )
     args = parse(parser, argv, "runs")
     run = Run()
-    z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.scenes) * len(args.integrators) * len(CHANNELS))
-    rows, settings = [], {}
-    for scene in args.scenes:
-        for integrator in args.integrators:
-            new_rows, settings[f"{scene}/{integrator}"] = measure(scene, integrator, args, z_critical)
+    chosen = strategies(args)
+    z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.scenes) * len(chosen) * len(CHANNELS))
+    # (mitsuba, drjit), or why Mitsuba cannot run here
+    mitsuba = (mitsuba_missing() or load_mitsuba_pair()) if args.mitsuba_samplers else "no --mitsuba-samplers"
+    rows, scenes, skipped, failed = [], {}, {}, {}
+    for name in args.scenes:
+        setup = scene_setup(name, args.max_spp)
+        width, height = setup.size
+        scenes[name] = {
+            "width": width,
+            "height": height,
+            "max_depth": setup.max_depth,
+            "max_spp": setup.max_spp,
+            "reference": setup.reference.metadata,
+            "regions": {r: int(m.sum()) for r, m in setup.regions.items()},
+            "strategies": {},
+        }
+        for strategy in chosen:
+            try:
+                if strategy.integrator == MITSUBA:
+                    new_rows, record = measure_mitsuba(mitsuba, setup, strategy, args, z_critical)
+                else:
+                    new_rows, record = measure_ours(setup, strategy, args, z_critical)
+            except Unavailable as why:
+                skipped[f"{name}/{strategy.label}"] = str(why)
+                log(f"{name}/{strategy.label} skipped: {why}")
+                continue
+            except ValidationFailed as why:
+                failed[f"{name}/{strategy.label}"] = str(why)
+                log(f"{name}/{strategy.label}: validation failed, not timed: {why}")
+                continue
             rows += new_rows
-    first = next(iter(settings.values()))
+            scenes[name]["strategies"][strategy.label] = record
+    all_curves = curves(rows)
+    table = read_off(all_curves)
     result = {
         "scene": list(args.scenes),
-        "mitsuba": first["reference"]["mitsuba"],
-        "width": first["width"],
-        "height": first["height"],
-        "max_depth": first["max_depth"],
-        "spp": args.max_spp,  # the last checkpoint; the curves hold every one
+        "width": None,  # per scene: "scenes"
+        "height": None,
+        "spp": args.max_spp,  # at 128x128; per scene: "scenes"
+        "max_depth": None,
         "max_spp": args.max_spp,
         "runs": args.runs,
         "seed": args.seed,
-        "relative_mse_epsilon": RELATIVE_MSE_EPSILON,
-        "timing": "wall clock of Renderer.render between checkpoints, summed; image read-backs not timed. "
-        "cpu_seconds (CSV): process CPU time of the same calls, llvmpipe's threads included, which other load "
-        "on a CPU adapter hardly changes",
-        "error": "MSE against the reference minus the reference's per-pixel variance (its squared standard "
-        "error plus float16 rounding), averaged over pixels and channels",
-        "scenes": settings,
-        "curves": curves(rows),
+        "mitsuba_version": None if isinstance(mitsuba, str) else mitsuba[0].__version__,
+        "threads": None if isinstance(mitsuba, str) else threads(mitsuba[1]),
+        "default_strategy": BASELINE.label,
+        "targets": TARGETS,
+        "timing": "ours: Renderer.render summed over the progressive checkpoints; Mitsuba: one fresh render per "
+        "checkpoint at that spp, evaluated; image read-backs not timed. cpu_seconds (CSV): process CPU time",
+        "error": "MSE against the reference minus the reference's per-pixel variance, over pixels and channels "
+        "(on a region's pixels for '<scene>:<region>')",
+        "read_off": "power law fitted to RMSE against seconds from FIT_MIN_SPP on: time to the scene's fixed RMSE "
+        "(the largest fitted final RMSE) and efficiency 1/(fitted final MSE x final seconds)",
+        "skipped": skipped,
+        "validation_failed": failed,
+        "scenes": scenes,
+        "curves": all_curves,
+        "table": table,
+        "gains": gains(table),
     }
-    result["time_to_equal_error"] = time_to_equal_error(result["curves"])
     write_result("convergence", result, out=args.out, plot=plot, run=run)
     write_csv("convergence", rows, CSV_COLUMNS, args.out)
-    for name, curve in result["curves"].items():
-        print(
-            f"{name:24s} RMSE {curve['rmse'][-1]:.4g} at {curve['spp'][-1]} spp in {curve['seconds'][-1]:.1f} s; "
-            f"slope {curve['slope_rmse_vs_spp']:.3f} vs spp, {curve['slope_rmse_vs_seconds']:.3f} vs time; "
-            f"relative MSE slope {curve['slope_relative_mse_vs_spp']:.3f}"
-        )
-    for name, ratio in result["time_to_equal_error"].items():
-        print(
-            f"{name:24s} reaches {BASELINE_INTEGRATOR}'s final relative MSE in {ratio['ratio_to_baseline_time']:.3g} "
-            f"of its time (fitted slope {ratio['fitted_slope_relative_mse_vs_seconds']:.2f})"
-        )
+    print(summary(result))
     return 0
+
+
+def summary(result: dict) -> str:
+    lines = [
+        f"{'scene':34s} {'strategy':20s} {'RMSE':>9s} {'s':>7s} {'slope':>6s} {'t@fixed':>8s} {'eff/' + BASELINE.label:>22s}"
+    ]
+    for scene, entry in result["table"].items():
+        for label, row in entry["strategies"].items():
+            reached = row["seconds_to_fixed_rmse"]
+            over = row[f"efficiency_over_{BASELINE.label}"]
+            lines.append(
+                f"{scene:34s} {label:20s} {row['final_rmse']:9.4g} {row['final_seconds']:7.2f} "
+                f"{row['fitted_slope_rmse_vs_seconds']:6.2f} {'-' if reached is None else f'{reached:.2f}':>8s} "
+                f"{'-' if over is None else f'{over:.3g}':>22s}"
+            )
+    lines += [f"skipped {name}: {reason}" for name, reason in result["skipped"].items()]
+    lines += [f"VALIDATION FAILED {name}: {reason}" for name, reason in result["validation_failed"].items()]
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -18,6 +18,8 @@ against an independent renderer:
   tangents' w is -1, normal_scale baked into the texels) and an `area` emitter with a `bitmap`
   radiance (wgputrace/reference/mitsuba_scene.py). Our terminator term for mapped normals, which
   Mitsuba lacks, is kept out of play by the scene's lighting (see its module).
+- `alpha_blend` (alpha_cutout.py: the quad BLEND, its alpha ramping across it): stochastic
+  transparency for camera and shadow rays against its expectation, Mitsuba's `mask` of that alpha.
 
 Block sizes: 8x8 finds a moved texel block, stripe or lobe, the whole image small errors spread
 everywhere. The significance of each block test is Sidak's share of FAMILY_SIGNIFICANCE over every

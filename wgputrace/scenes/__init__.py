@@ -8,7 +8,7 @@ from collections.abc import Callable
 from functools import partial
 
 from ..scene import Scene
-from .alpha_cutout import alpha_cutout
+from .alpha_cutout import alpha_blend, alpha_cutout
 from .axis_aligned import axis_boxes
 from .caustic import caustic
 from .cornell import cornell, scaled_cornell, tiny_light
@@ -42,6 +42,7 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "textured_asset": textured_asset,
     "alpha_cutout": alpha_cutout,
     "smooth_sphere": smooth_sphere,
+    "alpha_blend": alpha_blend,
     "door_ajar": door_ajar,
     "caustic": caustic,
     "glossy_through_glossy": glossy_through_glossy,
