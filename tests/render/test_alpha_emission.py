@@ -236,9 +236,13 @@ def test_light_table_weights_follow_the_texture_over_each_footprint():
     assert image.mean() == pytest.approx(bsdf_only.mean(), rel=0.05)
 
 
-def test_the_mitsuba_export_cuts_mask_refuses_blend_and_exports_emission_as_an_area_emitter():
-    with pytest.raises(ValueError, match=r"material 'veil': alpha_mode BLEND has no Mitsuba export yet"):
-        Principled("veil", alpha_mode="BLEND").mitsuba_bsdf()
+def test_the_mitsuba_export_cuts_mask_blends_blend_and_exports_emission_as_an_area_emitter():
+    # BLEND: opacity alpha x the texel's alpha, bilinear (stochastic transparency's expectation)
+    ramp = Texture(np.array([[[255, 255, 255, 255], [255, 255, 255, 51]]], np.uint8))
+    blend = Principled("veil", alpha=0.5, alpha_mode="BLEND", base_color_texture=ramp).mitsuba_bsdf()
+    assert blend["type"] == "mask" and blend["opacity"]["filter_type"] == "bilinear"
+    assert blend["opacity"]["data"][..., 0] == pytest.approx(np.array([[0.5, 0.1]]))
+    assert Principled("veil", alpha=0.3, alpha_mode="BLEND").mitsuba_bsdf()["opacity"] == pytest.approx(0.3)
     # MASK: opacity 1 where alpha x the texel's alpha reaches the cutoff, looked up nearest
     half = Texture(np.array([[[255, 255, 255, 255], [255, 255, 255, 100]]], np.uint8))
     mask = Principled("leaf", alpha=0.9, alpha_mode="MASK", base_color_texture=half).mitsuba_bsdf()

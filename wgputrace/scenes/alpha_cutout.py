@@ -1,6 +1,8 @@
 """An alpha-cut quad casting a shadow: a Principled MASK quad striped by its base colour
 texture's alpha, between a small lamp and a white wall, the camera seeing the quad and its striped
 shadow. The cut-out decides the camera's rays and the shadow rays alike (shaders/alpha.wgsl).
+`alpha_blend` is the same with a BLEND quad whose alpha ramps across it: stochastic transparency
+for every ray, whose expectation Mitsuba's `mask` renders (Principled.mitsuba_opacity).
 
 The stripes are two texels wide with alpha 0 or 1: the bilinear alpha the shader thresholds at 0.5
 crosses it on texel boundaries, so the cut-out is the thresholded texels looked up nearest, as the
@@ -41,9 +43,25 @@ def square(centre, half_size: float) -> np.ndarray:
     return corners[np.array([[0, 2, 1], [0, 3, 2]])]
 
 
+def ramp_texture() -> Texture:
+    """sRGB blue, its alpha rising across the columns from 1/8 to 1 (rows alike)."""
+    pixels = np.empty((TEXTURE_TEXELS, TEXTURE_TEXELS, 4), np.uint8)
+    pixels[..., :3] = (60, 120, 220)
+    pixels[..., 3] = np.round(255 * (np.arange(TEXTURE_TEXELS) + 1) / TEXTURE_TEXELS).astype(np.uint8)
+    return Texture(pixels, name="ramp")
+
+
 def alpha_cutout() -> Scene:
+    return leaf_before_wall(Principled("leaf", roughness=0.8, base_color_texture=stripes_texture(), alpha_mode="MASK"))
+
+
+def alpha_blend() -> Scene:
+    return leaf_before_wall(Principled("veil", roughness=0.8, base_color_texture=ramp_texture(), alpha_mode="BLEND"))
+
+
+def leaf_before_wall(leaf: Principled) -> Scene:
+    """The quad of material `leaf` between the lamp and the wall."""
     uv = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)], np.float32)[np.array([[0, 2, 1], [0, 3, 2]])]
-    leaf = Principled("leaf", roughness=0.8, base_color_texture=stripes_texture(), alpha_mode="MASK")
     lamp = Emitter("lamp", color=(1.0, 0.95, 0.9), emittance=LAMP_EMITTANCE)
     shapes = [
         Shape("wall", square((0.0, 0.0, WALL_Z), WALL_HALF_SIZE), Diffuse("wall", (0.8, 0.8, 0.8))),

@@ -131,13 +131,9 @@ class Principled(Material):
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
         GPU forms after filtering, which bilinear filtering leaves the same). A normal map becomes
         Mitsuba's `normalmap` wrapper (normal_map_texels): `tangent_handedness` is the w of the
-        triangles' tangents, which the material does not know. MASK wraps the whole in Mitsuba's
-        `mask` (mitsuba_cutout_opacity); BLEND is refused (ValueError): its stochastic transparency
-        has no export. Sidedness
-        is not exported: a single-sided surface renders alike from its front (`twosided` differs
-        only from behind); emission is mitsuba_emitter's."""
-        if self.alpha_mode == "BLEND":
-            raise ValueError(f"material {self.name!r}: alpha_mode BLEND has no Mitsuba export yet")
+        triangles' tangents, which the material does not know. MASK and BLEND wrap the whole in
+        Mitsuba's `mask` (mitsuba_opacity). Sidedness is not exported: a single-sided surface renders
+        alike from its front (`twosided` differs only from behind); emission is mitsuba_emitter's."""
         bsdf = {
             "type": "principled",
             "base_color": mitsuba_rgb(self.base_color),
@@ -156,21 +152,26 @@ class Principled(Material):
         if normal is not None:
             texels = normal_map_texels(normal.linear_texels[..., :3], self.normal_scale, tangent_handedness)
             bsdf = {"type": "normalmap", "normalmap": normal.mitsuba_bitmap(texels), "bsdf": bsdf}
-        if self.alpha_mode == "MASK":
-            bsdf = {"type": "mask", "opacity": self.mitsuba_cutout_opacity(), "bsdf": bsdf}
+        if self.alpha_mode != "OPAQUE":
+            bsdf = {"type": "mask", "opacity": self.mitsuba_opacity(), "bsdf": bsdf}
         return bsdf
 
-    def mitsuba_cutout_opacity(self) -> dict | float:
-        """MASK's cut-out as Mitsuba's `mask` opacity: 1 where alpha x the texel's alpha reaches
-        alpha_cutoff, else 0, looked up nearest. The GPU thresholds the bilinear alpha instead, which
-        cuts at the same texel boundaries only where neighbouring texels are 0 and 1 about a cutoff of
-        0.5 (as the stripes of scenes/alpha_cutout.py are); elsewhere the edges differ by
-        under a texel."""
+    def mitsuba_opacity(self) -> dict | float:
+        """The alpha mode as Mitsuba's `mask` opacity (the probability that a ray meets the surface).
+
+        MASK: 1 where alpha x the texel's alpha reaches alpha_cutoff, else 0, looked up nearest. The
+        GPU thresholds the bilinear alpha instead, which cuts at the same texel boundaries only where
+        neighbouring texels are 0 and 1 about a cutoff of 0.5 (as the stripes of
+        scenes/alpha_cutout.py are); elsewhere the edges differ by under a texel.
+        BLEND: alpha x the texel's alpha, bilinear as the GPU looks it up: the probability with which
+        stochastic transparency stops a ray, so Mitsuba's `mask` renders its expectation."""
         base = self.base_color_texture
+        alpha = self.alpha if base is None else self.alpha * base.linear_texels[..., 3:4]
+        if self.alpha_mode == "BLEND":
+            return float(alpha) if base is None else base.mitsuba_bitmap(alpha.astype(np.float32))
         if base is None:
-            return float(self.alpha >= self.alpha_cutoff)
-        opaque = (self.alpha * base.linear_texels[..., 3:4] >= self.alpha_cutoff).astype(np.float32)
-        return base.mitsuba_bitmap(opaque) | {"filter_type": "nearest"}
+            return float(alpha >= self.alpha_cutoff)
+        return base.mitsuba_bitmap((alpha >= self.alpha_cutoff).astype(np.float32)) | {"filter_type": "nearest"}
 
     def mitsuba_emitter(self) -> dict | None:
         """An `area` emitter of emission x strength, times the texture's texels as a `bitmap`
