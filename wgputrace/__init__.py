@@ -8,6 +8,7 @@ wt.save_image("out.exr", img)
 
 from importlib.metadata import version
 
+from . import cluster  # rendering on a Ray cluster; Ray itself is imported only when a cluster call runs
 from .denoise import DenoiserMissing, denoise
 from .gpu.device import DeviceLimitError, GpuFailure
 from .image_io import load_image, load_layers, save_image
@@ -42,6 +43,7 @@ __all__ = [
     "Shape",
     "Texture",
     "TextureTransform",
+    "cluster",
     "default_scene",
     "denoise",
     "load_image",

@@ -1,4 +1,5 @@
-"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY), `wgputrace info [FILE]` and
+"""Command line: `wgputrace render` (headless, to PNG/EXR/NPY; on a Ray cluster with --ray),
+`wgputrace render-frames` (an animation's frames on a Ray cluster), `wgputrace info [FILE]` and
 `wgputrace view` (the window). The benchmarks live in the source checkout, not in the package:
 `python -m bench`.
 
@@ -23,7 +24,10 @@ from typing import TYPE_CHECKING
 from .cli_arguments import (
     OneLineParser,
     UsageError,
+    add_cluster_arguments,
     add_debug_argument,
+    add_frames_arguments,
+    add_method_arguments,
     add_scene_arguments,
     add_view_arguments,
     apply_lighting,
@@ -77,13 +81,7 @@ def argument_parser() -> argparse.ArgumentParser:
         metavar="SECONDS",
         help="render until SECONDS are spent (at least one sample per pixel)",
     )
-    render.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
-    render.add_argument(
-        "--integrator",
-        choices=("bsdf", "nee", "mis"),
-        default="mis",
-        help="direct light by BSDF sampling, light sampling, or both with MIS (default)",
-    )
+    add_method_arguments(render)
     render.add_argument(
         "--denoise",
         action="store_true",
@@ -93,12 +91,22 @@ def argument_parser() -> argparse.ArgumentParser:
     render.add_argument(
         "-o", "--output", type=image_path, default="render.png", help=f"output file ({', '.join(FORMATS)})"
     )
+    add_cluster_arguments(render, batches=True)
+
+    frames = commands.add_parser(
+        "render-frames",
+        help="render an animation's frames (a .py file defining scene(frame)) on a Ray cluster",
+        description="One task per frame; each file is written atomically as its frame finishes, and frames "
+        "whose file exists are skipped, so the same command resumes an interrupted job. Ctrl-C (SIGINT) "
+        "ends the workers at once and keeps the frames written.",
+    )
+    add_frames_arguments(frames, default_spp=DEFAULT_SPP)
 
     info = commands.add_parser("info", help="print the adapter, backend and limits; or how an image file was made")
     info.add_argument("file", nargs="?", type=Path, help="an image wgputrace wrote: print its metadata")
     view = commands.add_parser("view", help="open the interactive viewer (a window; see README)")
     add_view_arguments(view)
-    for command in (render, info, view):
+    for command in (render, frames, info, view):
         add_debug_argument(command, default=argparse.SUPPRESS)
     return parser
 
@@ -147,12 +155,53 @@ def _denoised(renderer: Renderer) -> _Denoised:
     return _Denoised(image, {"raw": raw, **guides}, time.perf_counter() - start)
 
 
+def _check_cluster_options(args: argparse.Namespace) -> None:
+    """Refuse what a render on a cluster does not do, and cluster options without --ray."""
+    if args.ray is None:
+        given = [option for option, value in (("--batches", args.batches), ("--workers", args.workers)) if value]
+        if given:
+            raise ValueError(f"{' and '.join(given)}: only with --ray ADDRESS (a Ray cluster to render on)")
+        return
+    refused = [option for option, value in (("--time-limit", args.time_limit), ("--denoise", args.denoise)) if value]
+    if refused:
+        raise ValueError(f"{' and '.join(refused)}: not with --ray (a cluster render takes --spp)")
+
+
+def _render_on_cluster(args: argparse.Namespace) -> int:
+    from .cluster.command_line import render_on_cluster
+
+    scene = load_scene(args.scene)
+    lighting = apply_lighting(scene, args)
+    if lighting is not None:
+        print(f"lighting         {lighting}")
+    args.spp = DEFAULT_SPP if args.spp is None else args.spp
+    render_on_cluster(args, scene)
+    return 0
+
+
+def _render_frames(args: argparse.Namespace) -> int:
+    from .cluster.command_line import render_frames_on_cluster
+
+    try:
+        render_frames_on_cluster(args)
+    except Aborted as abort:
+        _tell(
+            f"wgputrace: {signal_name(abort.signal)}: stopped; the frames written are kept and the same command "
+            "renders the rest"
+        )
+        return exit_status(abort.signal)
+    return 0
+
+
 def _render(args: argparse.Namespace) -> int:
     from .gpu.device import gpu
     from .provenance import NAMESPACE, render_metadata
     from .render import Renderer
 
     _check_output(args.output)
+    _check_cluster_options(args)
+    if args.ray is not None:
+        return _render_on_cluster(args)
     denoiser_device = _denoiser_device() if args.denoise else None
     load_start = time.perf_counter()
     scene = load_scene(args.scene)
@@ -276,6 +325,8 @@ def _run(args: argparse.Namespace) -> int:
         from .app import run  # the viewer's window and GPU code load only when it runs
 
         return run(args)
+    if args.command == "render-frames":
+        return _render_frames(args)
     return _render(args) if args.command == "render" else _info(args)
 
 
@@ -291,7 +342,9 @@ def _failure(error: Exception) -> tuple[int, str]:
     text = str(error) or type(error).__name__
     if isinstance(error, ValueError | DeviceLimitError):  # SceneLoadError is a ValueError
         return EXIT_BAD_USE, text
-    if isinstance(error, RuntimeError | OSError | MemoryError):  # GpuFailure is a RuntimeError
+    # GpuFailure and the cluster's WorkerFailed are RuntimeErrors, ClusterUnreachable an OSError,
+    # RayMissing an ImportError (its message says how to install Ray)
+    if isinstance(error, RuntimeError | OSError | MemoryError | ImportError):
         return EXIT_FAILURE, text
     return EXIT_FAILURE, f"internal error: {type(error).__name__}: {text} (--debug shows where)"
 

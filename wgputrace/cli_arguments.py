@@ -127,6 +127,27 @@ def add_debug_argument(parser: argparse.ArgumentParser, *, default: object = Fal
     parser.add_argument("--debug", action="store_true", default=default, help="show tracebacks of errors")
 
 
+def add_image_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int]) -> None:
+    """--size, --max-depth, --seed and --exposure: what every image a scene is rendered to takes."""
+    parser.add_argument("--size", type=parse_size, default=size, help=f"WIDTHxHEIGHT (default {size[0]}x{size[1]})")
+    parser.add_argument(
+        "--max-depth", type=max_depth, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit"
+    )
+    parser.add_argument("--seed", type=int, default=1, help="random seed: same seed and adapter, same image")
+    parser.add_argument("--exposure", type=positive_float, default=1.0, help="multiplies radiance before tone mapping")
+
+
+def add_method_arguments(parser: argparse.ArgumentParser) -> None:
+    """--accel and --integrator: how a headless render traces its paths."""
+    parser.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
+    parser.add_argument(
+        "--integrator",
+        choices=("bsdf", "nee", "mis"),
+        default="mis",
+        help="direct light by BSDF sampling, light sampling, or both with MIS (default)",
+    )
+
+
 def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int], scene_note: str = "") -> None:
     """SCENE (as wgputrace.load_scene reads it), --size, --max-depth, --seed, --exposure and the
     lighting options (`apply_lighting` applies them)."""
@@ -137,12 +158,7 @@ def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int
         help=f"a built-in scene ({', '.join(BUILTIN_SCENES)}) or a scene file ({' '.join(SCENE_FORMATS)}; "
         f"a .py file defines scene()){scene_note}",
     )
-    parser.add_argument("--size", type=parse_size, default=size, help=f"WIDTHxHEIGHT (default {size[0]}x{size[1]})")
-    parser.add_argument(
-        "--max-depth", type=max_depth, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit"
-    )
-    parser.add_argument("--seed", type=int, default=1, help="random seed: same seed and adapter, same image")
-    parser.add_argument("--exposure", type=positive_float, default=1.0, help="multiplies radiance before tone mapping")
+    add_image_arguments(parser, size=size)
     parser.add_argument(
         "--env",
         type=environment_spec,
@@ -175,6 +191,86 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
     parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")
+
+
+def ray_address(text: str) -> str:
+    """argparse type for --ray: "auto", host:port or ray://host:port (checked when connecting)."""
+    from .cluster.connection import AUTO, host_and_port
+
+    if text != AUTO:
+        try:
+            host_and_port(text)
+        except ConnectionError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
+    return text
+
+
+def frame_range(text: str) -> range:
+    """argparse type for --frames: START:STOP[:STEP] (STOP excluded) or one frame."""
+    from .cluster.frames import parse_frames
+
+    try:
+        return parse_frames(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def frame_pattern(text: str) -> str:
+    """argparse type for render-frames' output: a file name with {frame} whose extension names a
+    format save_image writes."""
+    from .cluster.frames import frame_path
+
+    try:
+        first = frame_path(text, 0)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    image_path(str(first))
+    return text
+
+
+def add_cluster_arguments(
+    parser: argparse.ArgumentParser, *, batches: bool, default_address: str | None = None
+) -> None:
+    """--ray ADDRESS and --workers N (and for one image, --batches N): rendering on a Ray cluster."""
+    parser.add_argument(
+        "--ray",
+        type=ray_address,
+        metavar="ADDRESS",
+        default=default_address,
+        help="render on the Ray cluster at ADDRESS: host:port of its head, ray://host:port, or auto (the cluster "
+        'this machine runs, else a new local one); needs pip install "wgputrace[ray]"'
+        + (f" (default {default_address})" if default_address else ""),
+    )
+    parser.add_argument(
+        "--workers", type=positive_int, metavar="N", help="at most N workers (default: one per GPU, else per CPU)"
+    )
+    if batches:
+        parser.add_argument(
+            "--batches",
+            type=positive_int,
+            metavar="N",
+            help="split the samples into N batches (default: about 8 spp each); the image does not depend on "
+            "how many workers render them",
+        )
+
+
+def add_frames_arguments(parser: argparse.ArgumentParser, *, default_spp: int) -> None:
+    """render-frames' arguments: the animation file, its frames, the image and the output pattern."""
+    parser.add_argument("scene", type=Path, help="a .py file defining scene(frame) -> wgputrace.Scene")
+    parser.add_argument("--frames", type=frame_range, required=True, help="START:STOP[:STEP] (STOP excluded), or N")
+    parser.add_argument(
+        "--spp", type=positive_int, default=default_spp, help=f"samples per pixel (default {default_spp})"
+    )
+    add_image_arguments(parser, size=(512, 512))
+    add_method_arguments(parser)
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=frame_pattern,
+        default="frames/{frame:04d}.png",
+        help="file of each frame, {frame} replaced by its number (default frames/{frame:04d}.png)",
+    )
+    add_cluster_arguments(parser, batches=False, default_address="auto")
 
 
 def apply_lighting(scene: Scene, args) -> str | None:

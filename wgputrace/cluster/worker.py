@@ -1,0 +1,125 @@
+"""The work one Ray actor does: a Renderer built once for the job's scene, then batch after batch
+from it; or an animation's frames, each from the scene file's text.
+
+`RenderWorker` is a plain class (pool.py makes it an actor), so its work can be checked without
+Ray. A batch restarts the same Renderer at the batch's seed (`start_batch`), so the scene, its BVH,
+its buffers and its pipelines are built once per worker, not per batch.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..gpu.buffers import write_buffer
+from ..loaders.python_scene import scene_from_source
+from ..render import Renderer
+from ..render.rng_seed import pixel_rng_states
+from ..scene import Scene
+from .batches import Batch
+from .merge import BatchImage
+
+# Where a worker renders on the CPU (lavapipe), one thread each: Ray gives every worker a CPU of
+# its own, and lavapipe's default of one thread per core would have the workers fight over them.
+LAVAPIPE_THREADS = "LP_NUM_THREADS"
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """What every batch or frame of a job shares: the image, the seed, the path depth and the
+    Renderer's other keyword arguments (accel, integrator, ...)."""
+
+    width: int
+    height: int
+    seed: int = 1
+    max_depth: int = 9
+    options: dict = field(default_factory=dict)
+
+    def renderer(self, scene: Scene) -> Renderer:
+        return Renderer(scene, self.width, self.height, seed=self.seed, max_depth=self.max_depth, **self.options)
+
+
+@dataclass(frozen=True)
+class WorkerIdentity:
+    """Where a worker runs: its process, its host and the adapter it renders on."""
+
+    pid: int
+    host: str
+    adapter: str
+
+    def __str__(self) -> str:
+        return f"worker {self.pid} on {self.host} ({self.adapter})"
+
+
+@dataclass(frozen=True)
+class BatchOutcome:
+    """A batch's image and the worker's seconds for it: rendering (dispatches, waits) and reading
+    the mean back."""
+
+    image: BatchImage
+    render_seconds: float
+    readback_seconds: float
+
+
+@dataclass(frozen=True)
+class FrameOutcome:
+    """An animation frame's image (float32 (H, W, 3)) and the seconds its worker took: building
+    the scene and Renderer, and rendering."""
+
+    frame: int
+    image: object
+    build_seconds: float
+    render_seconds: float
+
+
+def start_batch(renderer: Renderer, seed: int) -> None:
+    """Put `renderer` where a fresh Renderer of its scene seeded with `seed` starts: every pixel's
+    random state at that seed, no samples."""
+    states = pixel_rng_states(seed, renderer.width * renderer.height)
+    write_buffer(renderer.context, renderer.resources["rng_states"], 0, states)
+    renderer.reset()
+
+
+class RenderWorker:
+    """One worker's renderer and the calls the driver makes on it."""
+
+    def __init__(self, on_cpu: bool = False) -> None:
+        if on_cpu:
+            os.environ[LAVAPIPE_THREADS] = "1"  # read when the device is made, on first use
+        self.renderer: Renderer | None = None
+
+    def identity(self) -> WorkerIdentity:
+        from ..gpu.device import gpu
+
+        return WorkerIdentity(os.getpid(), socket.gethostname(), gpu().adapter_name)
+
+    def prepare(self, scene: Scene, settings: RenderSettings) -> float:
+        """Build the Renderer every batch of the job uses (BVH, buffers, pipeline); its seconds."""
+        start = time.perf_counter()
+        self.renderer = settings.renderer(scene)
+        return time.perf_counter() - start
+
+    def render_batch(self, batch: Batch) -> BatchOutcome:
+        renderer = self.renderer
+        if renderer is None:
+            raise RuntimeError("render_batch before prepare: the worker has no scene")
+        start_batch(renderer, batch.seed)
+        start = time.perf_counter()
+        renderer.render(batch.spp)
+        rendered = time.perf_counter()
+        mean = renderer.image()
+        dropped = renderer.dropped_samples
+        image = BatchImage(batch.index, mean, batch.spp, dropped)
+        return BatchOutcome(image, rendered - start, time.perf_counter() - rendered)
+
+    def render_frame(self, source: str, path: str, frame: int, spp: int, settings: RenderSettings) -> FrameOutcome:
+        """Frame `frame` of the animation whose scene file `path` holds `source`, from scratch."""
+        start = time.perf_counter()
+        renderer = settings.renderer(scene_from_source(source, Path(path), frame))
+        built = time.perf_counter()
+        renderer.render(spp)
+        image = renderer.image()
+        return FrameOutcome(frame, image, built - start, time.perf_counter() - built)
