@@ -57,6 +57,7 @@ REFERENCES = {
     "alpha_cutout": ReferenceSettings(max_depth=6, spp=256, passes=16),
     "smooth_sphere": ReferenceSettings(max_depth=4, spp=256, passes=16),
     "alpha_blend": ReferenceSettings(max_depth=6, spp=256, passes=16),
+    "normal_mapped_plane": ReferenceSettings(max_depth=4, spp=256, passes=16),
     "slivers": ReferenceSettings(max_depth=5, spp=256, passes=16),
     "axis_boxes": ReferenceSettings(max_depth=6, spp=256, passes=16),
     # lit by the environment and by point, spot and directional lights (wgputrace/scenes/)

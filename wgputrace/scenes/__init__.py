@@ -16,6 +16,7 @@ from .door_ajar import door_ajar
 from .environment_lit import constant_env, env_one_texel, env_sun_spheres
 from .glass import glass_grazing
 from .glossy import glossy_spheres
+from .normal_mapped import normal_mapped_plane
 from .glossy_through_glossy import glossy_through_glossy
 from .principled import principled_spheres
 from .punctual import point_spot_directional
@@ -43,6 +44,7 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "alpha_cutout": alpha_cutout,
     "smooth_sphere": smooth_sphere,
     "alpha_blend": alpha_blend,
+    "normal_mapped_plane": normal_mapped_plane,
     "door_ajar": door_ajar,
     "caustic": caustic,
     "glossy_through_glossy": glossy_through_glossy,
