@@ -227,11 +227,16 @@ PIXELS_GROUP = BindGroup(
 # The denoiser's guides (shaders/path_guides.wgsl): two Kahan sums per pixel, the albedo's at 2 * pixel
 # and the normal's at 2 * pixel + 1, bound only in the variant of the path tracer that makes them.
 _GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
+# Light tracing's splats (shaders/bdpt/splat.wgsl, render/splats.py), bound only by the
+# bidirectional path tracer.
+_SPLATS = Binding("splats", ATOMIC_COUNTERS)
 
 
-def pixels_group(guides: bool) -> BindGroup:
-    """The pixels group, with the guide sums where the path tracer accumulates guides."""
-    return PIXELS_GROUP.extended(_GUIDE_SUMS) if guides else PIXELS_GROUP
+def pixels_group(guides: bool, splats: bool = False) -> BindGroup:
+    """The pixels group, with the guide sums where the path tracer accumulates guides and the splat
+    sums where it splats (bidirectional path tracing)."""
+    group = PIXELS_GROUP.extended(_GUIDE_SUMS) if guides else PIXELS_GROUP
+    return group.extended(_SPLATS) if splats else group
 
 
 # The viewer's band of rows (path_tracer_rows.wgsl): the first row of this dispatch.

@@ -26,8 +26,11 @@ GENERATED_STRUCTS = "generated/structs.wgsl"
 
 # Marks "no triangle" in hit records and "skip nothing" in traversal.
 NO_TRIANGLE = 0xFFFFFFFF
-# Estimators of direct light, in the order of their ids in the shaders (INTEGRATOR_BSDF = 0, ...).
-INTEGRATORS = ("bsdf", "nee", "mis")
+# The path tracer's estimators of direct light, in the order of their ids in the shaders
+# (INTEGRATOR_BSDF = 0, ...), and every integrator: those and bidirectional path tracing (its own
+# kernel, shaders/bdpt.wgsl).
+PATH_TRACER_INTEGRATORS = ("bsdf", "nee", "mis")
+INTEGRATORS = (*PATH_TRACER_INTEGRATORS, "bdpt")
 # Entries of the per-ray traversal stack: enough for every tree the renderer builds (bvh/wide.py
 # says why), and more than the binary traversal of those trees needs.
 BVH_STACK_SIZE = WIDE_STACK_SIZE
@@ -59,7 +62,7 @@ def generated_structs() -> str:
     parts += [struct.wgsl() for struct in ALL_STRUCTS]
     parts += material_kind_constants()
     parts += light_kind_constants()
-    parts += [f"const INTEGRATOR_{name.upper()}: u32 = {index}u;" for index, name in enumerate(INTEGRATORS)]
+    parts += [f"const INTEGRATOR_{name.upper()}: u32 = {index}u;" for index, name in enumerate(PATH_TRACER_INTEGRATORS)]
     parts.append(f"const NO_TRIANGLE: u32 = {NO_TRIANGLE:#x}u;")
     parts.append(f"const BVH_STACK_SIZE: u32 = {BVH_STACK_SIZE}u;")
     parts.append(f"const WIDE_LEAF: u32 = {WIDE_LEAF:#x}u;")

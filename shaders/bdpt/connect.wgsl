@@ -1,0 +1,175 @@
+// The strategies that join a camera subpath to light: next-event estimation (s = 1), a connection
+// to a stored light vertex (s >= 2, t >= 2) and light tracing's connection to the camera (t = 1),
+// each with its MIS weight (mis_weight.wgsl) and its own shadow ray.
+//! include "bdpt/vertex.wgsl"
+//! include "bdpt/mis_weight.wgsl"
+//! include "bdpt/camera_importance.wgsl"
+//! include "light_emission.wgsl"
+
+// Point and spot lights' direction density in every weight: the uniform sphere's, whatever cone a
+// spot's light paths are drawn in (mis_weight.wgsl: a stand-in, used alike on both sides).
+const DELTA_POSITION_DIRECTION_PDF: f32 = 0.0795774715459477;
+
+// A vertex of the light subpath kept for connections: where it is, what the light subpath carries
+// there (throughput, MIS sums) and how many edges lead to it from the light.
+struct LightVertex {
+    vertex: SurfaceVertex,
+    throughput: vec3<f32>,
+    sums: MisSums,
+    edges: u32,
+}
+
+// Whether anything blocks the segment between the vertices' points (each moved off its surface).
+fn segment_occluded(a: SurfaceVertex, b: SurfaceVertex, direction: vec3<f32>) -> bool {
+    let start = vertex_ray(a, direction).origin;
+    let end = vertex_ray(b, -direction).origin;
+    let distance = length(end - start);
+    return occluded(Ray(start, (end - start) / distance), distance * SHADOW_RAY_SHORTENING, a.triangle_index);
+}
+
+// Whether anything blocks the way from `x` to the sampled light (towards `direction`): as in
+// path_tracer.wgsl, aimed from the moved origin up to the light point, or to infinity.
+fn light_occluded(x: SurfaceVertex, light: LightSample, direction: vec3<f32>) -> bool {
+    let origin = vertex_ray(x, direction).origin;
+    if light.distant {
+        return occluded(Ray(origin, direction), FLOAT_MAX, x.triangle_index);
+    }
+    let shadow = light.position - origin;
+    let shadow_distance = length(shadow);
+    return occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, x.triangle_index);
+}
+
+// The MIS sums a light subpath starts with from `emitted` (mis_weight.wgsl's stand-in densities:
+// the distant lights' mixture, a directional light's scene disc, point and spot lights' sphere).
+fn emission_mis_sums(emitted: EmissionSample, cos_light: f32) -> MisSums {
+    if emitted.distant && emitted.delta_direction {
+        return MisSums(mis(bdpt_distant_disk_area()), 0.0);
+    }
+    if emitted.distant {
+        return light_mis_sums(distant_emission(-emitted.direction).pdf, emitted.pdf_position * emitted.pdf_direction, 1.0, false);
+    }
+    if emitted.delta_position {
+        return light_mis_sums(emitted.pdf_position, emitted.pdf_position * DELTA_POSITION_DIRECTION_PDF, 1.0, true);
+    }
+    return light_mis_sums(emitted.pdf_position, emitted.pdf_position * emitted.pdf_direction, cos_light, false);
+}
+
+// The weight of emission that camera ray `direction` found at light triangle `triangle_index` (s = 0).
+fn triangle_emission_weight(sums: MisSums, triangle_index: u32, triangle: Triangle, direction: vec3<f32>) -> f32 {
+    let pdf = emission_pdf_triangle(triangle_index, triangle, -direction);
+    return emission_hit_weight(sums, pdf.position, pdf.position * pdf.direction);
+}
+
+// The weight of the distant lights seen by a ray escaping along `direction` (s = 0).
+fn escaped_emission_weight(sums: MisSums, direction: vec3<f32>) -> f32 {
+    let pdf = emission_pdf_distant(-direction);
+    return emission_hit_weight(sums, distant_emission(direction).pdf, pdf.position * pdf.direction);
+}
+
+// The next-event estimation weight of `light` reaching `x` along `direction` (unit, towards the
+// light) from `distance` (distant lights: unused), `cos_light` at the light; `s`: x's scattering.
+fn next_event_mis(x: SurfaceVertex, sums: MisSums, light: LightSample, direction: vec3<f32>, distance: f32, cos_light: f32, s: Scattering) -> f32 {
+    let cos_x = abs(dot(x.geometric, direction));
+    if light.distant && light.delta {
+        return next_event_weight(sums, 0.0, 1.0, cos_x / bdpt_distant_disk_area(), s.reverse);
+    }
+    if light.distant {
+        let pdf = emission_pdf_distant(-direction);
+        let direct = distant_emission(direction).pdf;
+        return next_event_weight(sums, s.forward, direct, pdf.position * pdf.direction * cos_x / direct, s.reverse);
+    }
+    let distance_squared = distance * distance;
+    if light.delta {
+        return next_event_weight(sums, 0.0, 1.0, DELTA_POSITION_DIRECTION_PDF * cos_x / distance_squared, s.reverse);
+    }
+    let pdf = emission_pdf_triangle(light.triangle, scene_triangle(light.triangle), -direction);
+    let direct = pdf.position * distance_squared / cos_light;
+    return next_event_weight(sums, s.forward, direct, pdf.position * pdf.direction * cos_x / (direct * cos_light), s.reverse);
+}
+
+// Next-event estimation from camera vertex `x` (s = 1, t = `t`): one light sample as the path
+// tracer draws it, its shadow ray, weighted.
+fn next_event(x: SurfaceVertex, sums: MisSums, t: u32) -> vec3<f32> {
+    let light = sample_light(x.position, sample_2d(), sample_2d());
+    // as in path_tracer.wgsl's direct_light: an environment sample's density may round to 0
+    if !(light.pdf > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    var direction = light.direction;
+    var distance = FLOAT_MAX;
+    if !light.distant {
+        let to_light = light.position - x.position;
+        distance = length(to_light);
+        direction = to_light / distance;
+    }
+    let cos_light = abs(dot(light.normal, direction));
+    // NaN too: a point light at the receiving point has no direction
+    if !(cos_light > COS_MIN) {
+        return vec3<f32>(0.0);
+    }
+    let s = scattering(x, direction);
+    let weight = strategy_weight(1u, t, next_event_mis(x, sums, light, direction, distance, cos_light, s));
+    if all(s.value == vec3<f32>(0.0)) || weight == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    if light_occluded(x, light, direction) {
+        return vec3<f32>(0.0);
+    }
+    return s.value * light.radiance * (weight / light.pdf);
+}
+
+// Camera vertex `x` (t vertices with the camera) joined to light vertex `y` (s = y.edges + 1).
+fn connect_vertices(x: SurfaceVertex, sums: MisSums, t: u32, y: LightVertex) -> vec3<f32> {
+    let to_y = y.vertex.position - x.position;
+    let distance_squared = dot(to_y, to_y);
+    let direction = to_y * inverseSqrt(distance_squared);
+    let camera_side = scattering(x, direction);
+    let light_side = scattering(y.vertex, -direction);
+    if all(camera_side.value == vec3<f32>(0.0)) || all(light_side.value == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let cos_x = abs(dot(x.geometric, direction));
+    let cos_y = abs(dot(y.vertex.geometric, direction));
+    let light_term = mis_subpath_term(y.sums, light_side.reverse, camera_side.forward * cos_y / distance_squared);
+    let camera_term = mis_subpath_term(sums, camera_side.reverse, light_side.forward * cos_x / distance_squared);
+    let weight = strategy_weight(y.edges + 1u, t, connection_weight(light_term, camera_term));
+    if weight == 0.0 || segment_occluded(x, y.vertex, direction) {
+        return vec3<f32>(0.0);
+    }
+    return y.throughput * camera_side.value * light_side.value * (weight / distance_squared);
+}
+
+// A splat of light tracing: what light vertex `y` sends through the camera into `pixel`.
+struct Splat {
+    pixel: u32,
+    value: vec3<f32>,
+}
+
+// Light vertex `y` (s vertices with the light, carrying `throughput` and `sums`) joined to the
+// camera (t = 1): the contribution to the pixel it lands in, zero where unseen or blocked.
+fn connect_to_camera(y: SurfaceVertex, throughput: vec3<f32>, sums: MisSums, s: u32) -> Splat {
+    let none = Splat(0u, vec3<f32>(0.0));
+    let projection = camera_projection(y.position);
+    if !projection.seen {
+        return none;
+    }
+    let to_camera = frame.camera_position - y.position;
+    let distance_squared = dot(to_camera, to_camera);
+    let direction = to_camera * inverseSqrt(distance_squared);
+    let light_side = scattering(y, direction);
+    if all(light_side.value == vec3<f32>(0.0)) {
+        return none;
+    }
+    let camera_pdf = camera_ray_pdf(projection.cos_theta);
+    let cos_y = abs(dot(y.geometric, direction));
+    let light_term = mis_subpath_term(sums, light_side.reverse, camera_pdf * cos_y / distance_squared);
+    let weight = strategy_weight(s, 1u, connection_weight(light_term, 0.0));
+    if weight == 0.0 {
+        return none;
+    }
+    let ray = vertex_ray(y, direction);
+    if occluded(ray, length(frame.camera_position - ray.origin) * SHADOW_RAY_SHORTENING, y.triangle_index) {
+        return none;
+    }
+    return Splat(projection.pixel, throughput * light_side.value * (camera_pdf * weight / distance_squared));
+}

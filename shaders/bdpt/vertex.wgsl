@@ -1,0 +1,124 @@
+// A vertex of either subpath: the surface point, how it scatters towards a direction (with the
+// adjoint BSDF on light subpaths) and how it samples the subpath's next direction.
+//! include "bsdf.wgsl"
+//! include "ray.wgsl"
+//
+// Both subpaths estimate the path tracer's integrand: at each vertex f(wi, wo) |cos_s(wo)| times
+// shading_weight, where wi points towards the camera's end and wo towards the light's (the BSDF in
+// the shading frame, bsdf_sample.wgsl). `scattering` returns that with the cosine on the side of
+// `direction` instead, as a connection or a light subpath needs it: on a light subpath `direction`
+// is wi, and by reciprocity f(wi, wo) |cos_s(wi)| = bsdf_eval(wo, wi); the factor
+// |cos_s(wo)| |cos_g(wi)| / (|cos_g(wo)| |cos_s(wi)|) is Veach's adjoint correction for shading
+// normals (thesis 5.3), which turns the shading cosine of wi into the geometric one the area
+// measure's geometry term takes. A refraction's eta^2 scales radiance, not importance: light
+// subpaths leave it out.
+
+struct SurfaceVertex {
+    position: vec3<f32>,
+    // unit geometric normal (the triangle's), which measures areas and offsets rays
+    geometric: vec3<f32>,
+    // unit shading normal, the BSDF's frame
+    shading: vec3<f32>,
+    // unit, towards the previous vertex of its own subpath
+    towards: vec3<f32>,
+    material: Material,
+    triangle_index: u32,
+    // on a light subpath (importance flows towards `towards`' opposite)
+    adjoint: bool,
+}
+
+fn triangle_normal(triangle: Triangle) -> vec3<f32> {
+    return normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
+}
+
+// The vertex where `ray` hit `hit` (material resolved through its textures, shading normal as the
+// path tracer takes it, seen from the ray's origin).
+fn surface_vertex(ray: Ray, hit: Hit, triangle: Triangle, adjoint: bool) -> SurfaceVertex {
+    let normal = triangle_normal(triangle);
+    let p = ray.origin + hit.t * ray.direction;
+    let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
+    let towards = -ray.direction;
+    let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards);
+    let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards);
+    return SurfaceVertex(p, normal, shading, towards, material, hit.triangle, adjoint);
+}
+
+// Whether a connection may end at the vertex: glass and near-mirrors scatter as deltas for the
+// weights (mis_weight.wgsl), so no strategy connects there.
+fn connectible(v: SurfaceVertex) -> bool {
+    return material_samples_lights(v.material);
+}
+
+// |cos_s(wo)| |cos_g(wi)| / (|cos_g(wo)| |cos_s(wi)|) for wo = towards (the light's side) and
+// wi = direction: 1 without shading normals.
+fn adjoint_shading_correction(v: SurfaceVertex, direction: vec3<f32>) -> f32 {
+    let denominator = abs(dot(v.geometric, v.towards)) * abs(dot(v.shading, direction));
+    if !(denominator > 0.0) {
+        return 0.0;
+    }
+    return abs(dot(v.shading, v.towards)) * abs(dot(v.geometric, direction)) / denominator;
+}
+
+// What shading_weight keeps for the path through `v` continuing along `direction`: the path
+// tracer's rule, with viewer and light in the roles the path gives them.
+fn vertex_shading_weight(v: SurfaceVertex, direction: vec3<f32>) -> f32 {
+    if v.adjoint {
+        return shading_weight(v.shading, v.geometric, direction, v.towards) * adjoint_shading_correction(v, direction);
+    }
+    return shading_weight(v.shading, v.geometric, v.towards, direction);
+}
+
+// f |cos_g(direction)| of the path through `v` towards `direction` (unit), and the BSDF's densities
+// per steradian: `forward` of `direction` given `towards` (as this subpath would sample it),
+// `reverse` of `towards` given `direction`.
+struct Scattering {
+    value: vec3<f32>,
+    forward: f32,
+    reverse: f32,
+}
+
+fn scattering(v: SurfaceVertex, direction: vec3<f32>) -> Scattering {
+    let local = shading_frame(v.shading);
+    let wi = to_local(local, v.towards);
+    let wo = to_local(local, direction);
+    let value = bsdf_eval(v.material, wi, wo) * vertex_shading_weight(v, direction);
+    return Scattering(value, bsdf_pdf(v.material, wi, wo), bsdf_pdf(v.material, wo, wi));
+}
+
+// The subpath's next direction from `v`: `weight` multiplies the throughput (f |cos_g| over the
+// density, shading_weight and the adjoint correction applied), `eta` the refraction's ratio, the
+// densities as in Scattering (a delta's: its lobe's probability both ways), `delta` also for vertices
+// that cannot connect. A zero `forward` ends the subpath.
+struct ScatteringSample {
+    direction: vec3<f32>,
+    weight: vec3<f32>,
+    forward: f32,
+    reverse: f32,
+    eta: f32,
+    delta: bool,
+}
+
+fn sample_scattering(v: SurfaceVertex) -> ScatteringSample {
+    let local = shading_frame(v.shading);
+    let wi = to_local(local, v.towards);
+    let u = sample_2d();
+    let sample = bsdf_sample(v.material, wi, u, sample_1d());
+    let direction = to_world(local, sample.direction);
+    let kept = vertex_shading_weight(v, direction);
+    if sample.pdf <= 0.0 || kept <= 0.0 {
+        return ScatteringSample(direction, vec3<f32>(0.0), 0.0, 0.0, 1.0, true);
+    }
+    var weight = sample.weight * kept;
+    if v.adjoint {
+        weight /= sample.eta * sample.eta;
+    }
+    let delta = sample.is_delta || !connectible(v);
+    let reverse = select(bsdf_pdf(v.material, sample.direction, wi), sample.pdf, delta);
+    return ScatteringSample(direction, weight, sample.pdf, reverse, sample.eta, delta);
+}
+
+// The ray leaving `v` along `direction`, moved off its triangle.
+fn vertex_ray(v: SurfaceVertex, direction: vec3<f32>) -> Ray {
+    let triangle = scene_triangle(v.triangle_index);
+    return Ray(offset_ray_origin(v.position, v.geometric, direction, triangle.v0, triangle.v1, triangle.v2), direction);
+}
