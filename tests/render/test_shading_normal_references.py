@@ -1,15 +1,18 @@
-"""A smooth low-poly sphere (wgputrace/scenes/smooth_sphere.py: an 80-triangle icosphere with the
-sphere's normals at its corners, above its flat version, lit from the side) against Mitsuba 3 and
-against its flat self.
+"""Shading normals against Mitsuba 3 and against the geometry: a smooth low-poly sphere
+(wgputrace/scenes/smooth_sphere.py: an 80-triangle icosphere with the sphere's normals at its
+corners, above its flat version, lit from the side) and a normal-mapped plane under a grazing
+light (wgputrace/scenes/normal_mapped.py).
 
-Against Mitsuba: Mitsuba shades with the interpolated normals as we do, but has no terminator term
-and shades a point seen from between the shading and geometric horizons (at silhouettes) with the
-shading normal as well (dark: the viewer is below it), where we take the geometric one. Ours is
-compared with both off (gpu/shading_normals.py MITSUBA_SHADING_NORMALS), per block of pixels as
-tests/render/test_material_references.py compares its scenes (block Welch tests, Sidak). With
-either on, ours differs where it should: with the term on it is darker near the terminator (3.7%
-over the smooth sphere), with the silhouette's geometric normal 12 of 192 blocks along the smooth
-sphere's outline are brighter (measured, the term off).
+Against Mitsuba: Mitsuba shades with the interpolated and mapped normals as we do, but has no
+terminator term for vertex normals, another one for normal maps (Estevez et al. 2019, which the
+export turns off), and shades a point seen from between the shading and geometric horizons (at
+silhouettes) with the shading normal as well (dark: the viewer is below it), where we take the
+geometric one. Ours is compared with our term and that rule off (gpu/shading_normals.py
+MITSUBA_SHADING_NORMALS), per block of pixels as tests/render/test_material_references.py compares
+its scenes (block Welch tests, Sidak over both scenes). With either on, ours differs where it
+should: with the term on the smooth sphere is darker near its terminator (3.7%) and the plane's
+bumps far darker on their lit sides (mean 0.126 against 0.165); with the silhouette's geometric
+normal 12 of 192 blocks along the smooth sphere's outline are brighter (measured, the term off).
 
 What the term is for, tested with it on: a shading normal can tilt a facet towards a light its
 own plane barely faces (geometric cosine near 0); without the term that facet is lit by the larger
@@ -31,8 +34,16 @@ from functools import cache, partial
 import numpy as np
 import pytest
 
-from wgputrace import Renderer
+from wgputrace import DirectionalLight, Environment, Renderer
 from wgputrace.gpu.shading_normals import MITSUBA_SHADING_NORMALS, SHADOW_TERMINATOR_TERM
+from wgputrace.scene import Camera
+from wgputrace.scenes.normal_mapped import (
+    HALF_SIZE,
+    LIGHT_ELEVATION_DEGREES,
+    LIGHT_IRRADIANCE,
+    SKY_RADIANCE,
+    normal_mapped_plane,
+)
 from wgputrace.scenes.smooth_sphere import CENTRE_Y, RADIUS, smooth_sphere
 from wgputrace.testing import references
 from wgputrace.testing.references import STORAGE_RTOL, assert_same_expectation, load_reference, render_batches
@@ -40,13 +51,15 @@ from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
 
-SEED = 20261205
+# scene: the seed of its batches
+SCENES = {"smooth_sphere": 20261205, "normal_mapped_plane": 20261207}
+SEED = 20261208
 SIZE = 64
 BLOCKS = (8, SIZE)
 BATCHES = 16
 SPP = 32  # per batch
 FAMILY_SIGNIFICANCE = 1e-3
-PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, sum((SIZE // block) ** 2 for block in BLOCKS) * 3)
+PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, sum((SIZE // block) ** 2 for block in BLOCKS) * 3 * len(SCENES))
 
 # The direct-light comparison: camera and light samples only (a point light: no noise but the
 # pixel's jitter, the same in both renders at one seed).
@@ -60,17 +73,19 @@ RADIANCE_ATOL = 1e-5
 DARKENING_MIN = 0.9
 
 
-def test_terminator_term_off_matches_mitsuba(gpu_context, failure_dir, monkeypatch):
-    reference = load_reference("smooth_sphere")
-    # render_batches with the term off: its Renderer given the override
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", SCENES)
+def test_without_our_terms_matches_mitsuba(gpu_context, failure_dir, monkeypatch, scene):
+    reference = load_reference(scene)
+    # render_batches with our terms off: its Renderer given the overrides
     monkeypatch.setattr(references, "Renderer", partial(Renderer, shader_overrides=MITSUBA_SHADING_NORMALS))
     render = render_batches(
-        "smooth_sphere", SIZE, batches=BATCHES, spp=SPP, seed=SEED, max_depth=reference.metadata["max_depth"]
+        scene, SIZE, batches=BATCHES, spp=SPP, seed=SCENES[scene], max_depth=reference.metadata["max_depth"]
     )
     assert render.nonfinite_samples == 0
     expected = reference.estimate.downsampled(reference.metadata["width"] // SIZE)
     assert_same_expectation(
-        "smooth_sphere_term_off_vs_mitsuba",
+        f"{scene}_without_our_terms_vs_mitsuba",
         render.estimate,
         expected,
         expected.mean,
@@ -118,6 +133,7 @@ def smallest_normal_agreement() -> float:
     return float(np.einsum("tcj,tj->tc", shape.world_normals, face).min())
 
 
+@pytest.mark.slow
 def test_terminator_term_fades_the_smooth_sphere_as_its_flat_version():
     # inside the inscribed sphere (an 80-triangle icosphere's is 0.79 of its radius): no silhouette
     inside = upper_sphere_pixels(0.75)
@@ -128,3 +144,44 @@ def test_terminator_term_fades_the_smooth_sphere_as_its_flat_version():
     assert (without_term > bound).sum() >= 10  # measured 22: the steps the term removes
     assert (with_term <= without_term + RADIANCE_ATOL).all()
     assert with_term.sum() >= DARKENING_MIN * without_term.sum()
+
+
+def plane_pixels(scene) -> np.ndarray:
+    """The pixels whose centre ray meets the normal-mapped plane (z = 0, |x|, |y| < HALF_SIZE)."""
+    camera = scene.camera
+    right, up, forward = camera.image_plane(SIZE, SIZE)
+    ndc = (np.arange(SIZE) + 0.5) / SIZE * 2.0 - 1.0
+    x, y = np.meshgrid(ndc, ndc)
+    directions = forward + x[..., None] * right - y[..., None] * up
+    t = -camera.position[2] / directions[..., 2]
+    hit = np.asarray(camera.position) + t[..., None] * directions
+    return (t > 0) & (np.abs(hit[..., :2]) < HALF_SIZE).all(axis=-1)
+
+
+@pytest.mark.slow
+def test_bumps_under_a_grazing_light_leak_nothing_and_see_no_black_directions():
+    """The bumps tilt 28 degrees, further than the light's 10: a light that far behind the plane is
+    above many bumps' shading horizon, and must still light nothing in front (pbrt's side rule);
+    a view that grazes the plane (5 degrees) under the sky alone sees no black point on it (a
+    mapped normal that hides the viewer falls back to the geometric one)."""
+    behind = normal_mapped_plane()
+    behind.environment = None
+    (light,) = behind.lights
+    behind.remove_light(light)
+    elevation = np.radians(LIGHT_ELEVATION_DEGREES)
+    behind.add_light(DirectionalLight((-np.cos(elevation), 0.0, np.sin(elevation)), LIGHT_IRRADIANCE))
+    grazing = normal_mapped_plane()
+    grazing.remove_light(*grazing.lights)
+    grazing.environment = Environment(radiance=SKY_RADIANCE, visible=False)
+    view = np.radians(5.0)
+    grazing.camera = Camera.looking_at((0.0, -3.0 * np.cos(view), 3.0 * np.sin(view)), (0, 0, 0), vfov_degrees=20.0)
+    images = {}
+    for name, scene in (("behind", behind), ("grazing", grazing)):
+        renderer = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=DIRECT_DEPTH)
+        renderer.render(16)
+        assert renderer.nonfinite_samples == 0
+        images[name] = renderer.image()
+    assert (images["behind"] == 0.0).all()
+    seen = plane_pixels(grazing)
+    assert seen.sum() > SIZE  # the plane fills a band of the picture
+    assert (images["grazing"][seen] > 0.0).all()

@@ -130,7 +130,8 @@ class Principled(Material):
     def mitsuba_bsdf(self, tangent_handedness: float = 1.0) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
         GPU forms after filtering, which bilinear filtering leaves the same). A normal map becomes
-        Mitsuba's `normalmap` wrapper (normal_map_texels): `tangent_handedness` is the w of the
+        Mitsuba's `normalmap` wrapper (normal_map_texels) without its terminator term (compare with
+        ours off: gpu/shading_normals.py MITSUBA_SHADING_NORMALS): `tangent_handedness` is the w of the
         triangles' tangents, which the material does not know. MASK and BLEND wrap the whole in
         Mitsuba's `mask` (mitsuba_opacity). Sidedness is not exported: a single-sided surface renders
         alike from its front (`twosided` differs only from behind); emission is mitsuba_emitter's."""
@@ -151,7 +152,14 @@ class Principled(Material):
         normal = self.normal_texture
         if normal is not None:
             texels = normal_map_texels(normal.linear_texels[..., :3], self.normal_scale, tangent_handedness)
-            bsdf = {"type": "normalmap", "normalmap": normal.mitsuba_bitmap(texels), "bsdf": bsdf}
+            # Mitsuba's terminator term for bumps (Estevez et al. 2019, on by default since 3.7.1) is
+            # not ours (Chiang et al. 2019): both off, the references test what they share
+            bsdf = {
+                "type": "normalmap",
+                "normalmap": normal.mitsuba_bitmap(texels),
+                "use_shadowing_function": False,
+                "bsdf": bsdf,
+            }
         if self.alpha_mode != "OPAQUE":
             bsdf = {"type": "mask", "opacity": self.mitsuba_opacity(), "bsdf": bsdf}
         return bsdf
