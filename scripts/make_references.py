@@ -67,8 +67,8 @@ REFERENCES = {
     "point_spot_directional": ReferenceSettings(max_depth=5, spp=256, passes=16),
     # scenes that break path tracers (issue 18): mostly indirect light, a caustic, glossy seen in glossy
     "door_ajar": ReferenceSettings(max_depth=10, spp=4096, passes=16),
-    "caustic": ReferenceSettings(max_depth=8, spp=8192, passes=16),
-    "glossy_through_glossy": ReferenceSettings(max_depth=8, spp=8192, passes=16),
+    "caustic": ReferenceSettings(max_depth=8, spp=4096, passes=16),
+    "glossy_through_glossy": ReferenceSettings(max_depth=8, spp=4096, passes=16),
 }
 
 
