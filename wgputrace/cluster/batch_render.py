@@ -42,7 +42,7 @@ class ClusterRender:
 
     image: np.ndarray
     batches: list[Batch]
-    workers: list[WorkerIdentity]
+    workers: list[WorkerIdentity]  # those that rendered a batch, in the order of their first
     build_seconds: list[float]  # each worker's Renderer build (BVH, buffers, pipeline)
     wall_seconds: float
     lost_workers: int
@@ -77,11 +77,12 @@ def render_batches(
         pool = WorkerPool(
             ray, Placement.for_cluster(ray, workers), lambda actor: actor.prepare.remote(scene_ref, settings)
         )
-        merged, timings = OrderedSum(), []
+        merged, timings, contributors = OrderedSum(), [], {}
         try:
             results = pool.run(work, lambda actor, batch: actor.render_batch.remote(batch))
             for batch, outcome, worker in results:
                 timings.append(_merge(merged, batch, outcome))
+                contributors.setdefault(worker, None)
                 if progress is not None:
                     samples = sum(timing.spp for timing in timings) * width * height
                     elapsed = time.perf_counter() - start
@@ -89,7 +90,7 @@ def render_batches(
             return ClusterRender(
                 merged.image(),
                 work,
-                pool.identities(),
+                list(contributors),
                 pool.setups(),
                 time.perf_counter() - start,
                 pool.lost,

@@ -20,12 +20,12 @@ class ClusterUnreachable(ConnectionError):
 class WorkerFailed(RuntimeError):
     """A worker's code raised (the scene failed to load or build there, the device refused it): the
     same error on any worker, so it ends the job rather than being retried. The message is one line
-    naming the worker and the error; `worker_traceback` is the worker's traceback, and the Ray
-    error it came in is the exception's __cause__."""
+    naming the worker and the error; `worker_traceback` is the worker's traceback as Ray relayed
+    it (the Ray error is also the exception's __cause__)."""
 
-    def __init__(self, message: str, error: BaseException | None, worker_traceback: str) -> None:
+    def __init__(self, message: str, ray_error: BaseException) -> None:
         super().__init__(message)
-        self.error, self.worker_traceback = error, worker_traceback
+        self.worker_traceback = str(ray_error)
 
 
 class NoWorkersLeft(RuntimeError):

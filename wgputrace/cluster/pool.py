@@ -16,6 +16,7 @@ with the worker's traceback, instead of being retried.
 from __future__ import annotations
 
 import itertools
+import re
 import time
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
@@ -34,6 +35,16 @@ IN_FLIGHT = 2
 START_TIMEOUT_SECONDS = 300.0
 # how often the driver looks at workers still starting while it waits for results
 _POLL_SECONDS = 1.0
+# the colours Ray puts into the tracebacks it relays
+_TERMINAL_COLOURS = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def _last_line(traceback_text: str) -> str:
+    """The exception line that ends a traceback ("SceneLoadError: file.py:2: ..."), without the
+    module path Python puts before the exception's name."""
+    lines = [line.strip() for line in _TERMINAL_COLOURS.sub("", traceback_text).splitlines() if line.strip()]
+    kind, colon, message = lines[-1].partition(": ")
+    return f"{kind.rpartition('.')[2]}{colon}{message}"
 
 
 @dataclass(frozen=True)
@@ -91,10 +102,6 @@ class WorkerPool:
         """Workers started and not lost (ready or still preparing)."""
         return len(self._workers)
 
-    def identities(self) -> list[WorkerIdentity]:
-        """The workers that are ready."""
-        return [worker.identity for worker in self._workers.values() if worker.ready]
-
     def setups(self) -> list[Any]:
         """What prepare() returned on each worker that is ready."""
         return [worker.prepared for worker in self._workers.values() if worker.ready]
@@ -116,22 +123,17 @@ class WorkerPool:
                 f"all workers are lost and the {self.placement.count} replacements are used up (last: {why})"
             )
 
-    def _worker_failed(self, error: Exception) -> WorkerFailed:
-        """The job's end: the worker's code raised `error` (a RayTaskError)."""
-        cause = getattr(error, "cause", None)
-        where = f"worker {getattr(error, 'pid', '?')} on {getattr(error, 'ip', '?')}"
-        what = f"{type(cause).__name__}: {cause}" if cause is not None else str(error).splitlines()[0]
-        return WorkerFailed(f"{where}: {' '.join(what.split())}", cause, str(error))
-
-    def _answer(self, ref: Any) -> tuple[bool, Any]:
+    def _answer(self, ref: Any, worker: _Worker) -> tuple[bool, Any]:
         """(True, the value) of a finished call; (False, why) if its worker died; WorkerFailed if
-        the worker's code raised."""
+        the worker's code raised (Ray brings that as a RayTaskError, or, where the exception does
+        not pickle, an UnserializableException holding the worker's traceback as text)."""
         try:
             return True, self.ray.get(ref)
         except self.ray.exceptions.RayActorError as lost:
             return False, str(lost).splitlines()[0]
-        except self.ray.exceptions.RayTaskError as error:
-            raise self._worker_failed(error) from error
+        except self.ray.exceptions.RayError as error:
+            where = worker.identity if isinstance(worker.identity, WorkerIdentity) else "a worker"
+            raise WorkerFailed(f"{where}: {_last_line(str(error))}", error) from error
 
     def _check_starts(self) -> None:
         """Lose the workers that have not finished preparing within START_TIMEOUT_SECONDS."""
@@ -160,7 +162,7 @@ class WorkerPool:
                 if ref in in_flight:
                     worker, task = in_flight.pop(ref)
                     worker.in_flight -= 1
-                    answered, value = self._answer(ref)
+                    answered, value = self._answer(ref, worker)
                     if answered:
                         yield task, value, worker.identity
                         continue
@@ -175,7 +177,7 @@ class WorkerPool:
     def _ready(self, worker: _Worker) -> None:
         """A worker's prepare() answered: it takes tasks from now on, or is lost if it died."""
         for name in ("identity", "prepared"):
-            answered, value = self._answer(getattr(worker, name))
+            answered, value = self._answer(getattr(worker, name), worker)
             if not answered:
                 del self._workers[worker.key]
                 self._lose(worker, value)

@@ -1,0 +1,138 @@
+"""Rendering on the session's two-node cluster (conftest.py): the same bits for one and two workers,
+and for three with one of them killed mid-run; the picture wgputrace.render converges to; and clear
+errors, bounded in time, for a bad address, a scene that fails on the workers and an image larger
+than the workers' device allows.
+
+The functions named _in_namespace_* run inside the cluster's namespace (cluster.call)."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import numpy as np
+import pytest
+
+import wgputrace as wt
+from wgputrace.cluster import ClusterUnreachable, WorkerFailed, render_batches, render_frames
+from wgputrace.cluster.batches import split_samples
+from wgputrace.cluster.merge import OrderedSum
+from wgputrace.cluster.worker import RenderSettings, RenderWorker
+from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores
+from wgputrace.testing.stats import sidak, z_limit
+
+pytestmark = [pytest.mark.gpu, pytest.mark.slow]
+
+SIZE = 32
+SPP = 12
+BATCHES = 6
+SEED = 3
+# the z-test against wgputrace.render: a family of BLOCKS^2 x CHANNELS tests at this level
+SIGNIFICANCE = 1e-3
+# wgputrace.render's seed there: none of the cluster's batch seeds
+INDEPENDENT_SEED = 1000
+# larger than lavapipe's 2 GiB max-buffer-size allows (its random states alone need 6.4 GB)
+TOO_LARGE = 20_000
+
+
+def _in_namespace_render(address: str, workers: int, kill_a_worker: bool = False) -> dict:
+    """Render the Cornell box on `workers` workers; with `kill_a_worker`, the worker that finishes
+    the first batch is killed (SIGKILL, by its pid) while its next batch is queued on it."""
+    killed = []
+
+    def kill_first(progress):
+        if kill_a_worker and not killed:
+            os.kill(progress.last_worker.pid, signal.SIGKILL)
+            killed.append(progress.last_worker.pid)
+
+    result = render_batches(
+        wt.default_scene(),
+        SPP,
+        SIZE,
+        SIZE,
+        seed=SEED,
+        address=address,
+        batches=BATCHES,
+        workers=workers,
+        progress=kill_first,
+    )
+    return {
+        "image": result.image,
+        "workers": [worker.pid for worker in result.workers],
+        "lost": result.lost_workers,
+        "resubmitted": result.resubmitted_batches,
+        "killed": killed,
+    }
+
+
+@pytest.fixture(scope="module")
+def expected() -> np.ndarray:
+    """The batches rendered one after the other in this process, merged in order."""
+    worker = RenderWorker()
+    worker.prepare(wt.default_scene(), RenderSettings(SIZE, SIZE, SEED))
+    merged = OrderedSum()
+    for batch in split_samples(SPP, SEED, BATCHES):
+        merged.add(worker.render_batch(batch).image)
+    return merged.image()
+
+
+@pytest.fixture(scope="module")
+def two_workers(cluster) -> dict:
+    return cluster.call(_in_namespace_render, cluster.address, 2)
+
+
+def test_one_worker_gives_the_batches_merged_in_order(cluster, expected):
+    assert np.array_equal(cluster.call(_in_namespace_render, cluster.address, 1)["image"], expected)
+
+
+def test_two_workers_give_the_same_bits(two_workers, expected):
+    assert np.array_equal(two_workers["image"], expected)
+
+
+def test_three_workers_one_killed_mid_run_give_the_same_bits(cluster, expected):
+    run = cluster.call(_in_namespace_render, cluster.address, 3, kill_a_worker=True)
+    assert run["lost"] == 1 and run["resubmitted"] >= 1, run
+    assert len(set(run["workers"])) >= 2 and run["killed"][0] in run["workers"]  # killed after its first batch
+    assert np.array_equal(run["image"], expected)
+
+
+def test_the_cluster_converges_to_wgputrace_render(two_workers):
+    reference = wt.render(wt.default_scene(), spp=SPP, width=SIZE, height=SIZE, seed=INDEPENDENT_SEED)
+    scores = block_z_scores(two_workers["image"], reference)
+    limit = z_limit(sidak(SIGNIFICANCE, BLOCKS * BLOCKS * CHANNELS))
+    assert np.abs(scores).max() < limit, f"block z-scores {np.round(scores, 1).tolist()} beyond {limit:.2f}"
+
+
+def _in_namespace_error(call: str, address: str, path: str = "") -> tuple[str, str]:
+    """The error's type and message."""
+    try:
+        if call == "frames":
+            render_frames(path, range(0, 2), path + ".{frame}.npy", 1, 8, 8, address=address, workers=1)
+        else:
+            render_batches(
+                wt.default_scene(), 1, *(2 * [TOO_LARGE if call == "too large" else 8]), address=address, workers=1
+            )
+    except Exception as error:
+        return type(error).__name__, str(error)
+    return "", "no error"
+
+
+@pytest.mark.parametrize("address", ["127.0.0.1:1", "192.0.2.1:6379"])
+def test_an_unreachable_address_is_named(cluster, address):
+    kind, message = cluster.call(_in_namespace_error, "render", address, timeout=30)
+    assert kind == ClusterUnreachable.__name__
+    assert message.startswith(f"Ray cluster at {address}: cannot connect")
+
+
+def test_a_scene_failing_on_the_workers_surfaces_its_message(cluster, tmp_path):
+    animation = tmp_path / "animation.py"
+    animation.write_text("def scene(frame):\n    raise RuntimeError(f'no frame {frame} here')\n")
+    kind, message = cluster.call(_in_namespace_error, "frames", cluster.address, str(animation), timeout=60)
+    assert kind == WorkerFailed.__name__
+    assert message.startswith("worker ") and f"): SceneLoadError: {animation}:2: RuntimeError: no frame " in message
+
+
+def test_an_image_beyond_the_device_is_refused_by_the_worker(cluster):
+    kind, message = cluster.call(_in_namespace_error, "too large", cluster.address, timeout=60)
+    assert kind == WorkerFailed.__name__
+    assert f"DeviceLimitError: a {TOO_LARGE:,}x{TOO_LARGE:,} image" in message
