@@ -23,3 +23,9 @@ fn surface_emission(material_index: u32, triangle_index: u32, triangle: Triangle
 fn surface_light_density(triangle_index: u32) -> f32 {
     return triangle_light_densities[triangle_index];
 }
+
+// Whether triangles of material `material_index` emit from their back (the side
+// cross(v1 - v0, v2 - v0) points away from) as from their front: all but single-sided surfaces.
+fn surface_emits_both_sides(material_index: u32) -> bool {
+    return material_textures[material_index].double_sided != 0u;
+}

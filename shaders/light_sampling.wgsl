@@ -59,10 +59,22 @@ fn pdf_light(p: vec3<f32>, triangle_index: u32, triangle: Triangle, distance_squ
     return per_area * distance_squared / cos_light;
 }
 
-fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightSample {
+// The light table's word of a light drawn by power: slot u_select.x, kept below its threshold,
+// else its alias. Light paths (light_emission.wgsl) choose their light by the same draw.
+fn choose_light(u_select: vec2<f32>) -> u32 {
     let slot = min(u32(u_select.x * f32(frame.light_count)), frame.light_count - 1u);
     let entry = lights[slot];
-    let index = select(lights[entry.alias_index].triangle, entry.triangle, u_select.y < entry.threshold);
+    return select(lights[entry.alias_index].triangle, entry.triangle, u_select.y < entry.threshold);
+}
+
+// Uniform on the triangle: sqrt warps the first coordinate so area is preserved.
+fn uniform_triangle_point(triangle: Triangle, u: vec2<f32>) -> vec3<f32> {
+    let s = sqrt(u.x);
+    return triangle.v0 * (1.0 - s) + triangle.v1 * (s * (1.0 - u.y)) + triangle.v2 * (s * u.y);
+}
+
+fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightSample {
+    let index = choose_light(u_select);
     if is_light_source(index) {
         return sample_light_source(index, p, u_point);
     }
@@ -78,9 +90,7 @@ fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightS
         // where the sampled direction meets the triangle's plane
         position = p + direction * (dot(triangle.v0 - p, normal) / dot(direction, normal));
     } else {
-        // uniform on the triangle: sqrt warps the first coordinate so area is preserved
-        let s = sqrt(u_point.x);
-        position = triangle.v0 * (1.0 - s) + triangle.v1 * (s * (1.0 - u_point.y)) + triangle.v2 * (s * u_point.y);
+        position = uniform_triangle_point(triangle, u_point);
     }
     let to_light = position - p;
     let distance_squared = dot(to_light, to_light);

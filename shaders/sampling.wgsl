@@ -27,11 +27,20 @@ fn to_world(frame: ShadingFrame, v: vec3<f32>) -> vec3<f32> {
     return v.x * frame.tangent + v.y * frame.bitangent + v.z * frame.normal;
 }
 
-// Cosine-weighted direction on the +z hemisphere: a uniform disk point lifted to the hemisphere.
-fn sample_cosine_hemisphere(u: vec2<f32>) -> vec3<f32> {
+// Uniform point on the unit disk: the radius's square uniform, phi uniform.
+fn sample_uniform_disk(u: vec2<f32>) -> vec2<f32> {
     let r = sqrt(u.x);
     let phi = TWO_PI * u.y;
-    return vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
+    return vec2<f32>(r * cos(phi), r * sin(phi));
+}
+
+fn pdf_uniform_disk() -> f32 {
+    return INV_PI;
+}
+
+// Cosine-weighted direction on the +z hemisphere: a uniform disk point lifted to the hemisphere.
+fn sample_cosine_hemisphere(u: vec2<f32>) -> vec3<f32> {
+    return vec3<f32>(sample_uniform_disk(u), sqrt(max(0.0, 1.0 - u.x)));
 }
 
 fn pdf_cosine_hemisphere(cos_theta: f32) -> f32 {
@@ -48,4 +57,18 @@ fn sample_uniform_sphere(u: vec2<f32>) -> vec3<f32> {
 
 fn pdf_uniform_sphere() -> f32 {
     return 0.25 * INV_PI;
+}
+
+// Uniform direction in the cone of directions within an angle theta_max of +z, given as
+// 1 - cos(theta_max): cos theta uniform in [cos theta_max, 1], written through 1 - cos theta = u
+// (1 - cos theta_max) so that the sine of a narrow cone (the sun's) keeps its digits.
+fn sample_uniform_cone(u: vec2<f32>, one_minus_cos_max: f32) -> vec3<f32> {
+    let one_minus_cos = u.x * one_minus_cos_max;
+    let sin_theta = sqrt(max(0.0, one_minus_cos * (2.0 - one_minus_cos)));
+    let phi = TWO_PI * u.y;
+    return vec3<f32>(sin_theta * cos(phi), sin_theta * sin(phi), 1.0 - one_minus_cos);
+}
+
+fn pdf_uniform_cone(one_minus_cos_max: f32) -> f32 {
+    return 1.0 / (TWO_PI * one_minus_cos_max);
 }

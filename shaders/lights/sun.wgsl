@@ -1,6 +1,7 @@
 // The sun: a distant disc of uniform radiance, sampled uniformly in its cone; sample beside pdf.
 //! include "light_sample.wgsl"
 //! include "sampling.wgsl"
+//! include "emission_sample.wgsl"
 
 // Whether `direction` (towards the sky) lies in the sun's disc. Compared through the squared sine
 // of its angle to the axis, which f32 keeps to 7 digits where the cosine of a 0.27 degree angle
@@ -11,20 +12,21 @@ fn sun_contains(light: LightSource, direction: vec3<f32>) -> bool {
 }
 
 fn sun_pdf(light: LightSource, direction: vec3<f32>) -> f32 {
-    return select(0.0, 1.0 / (TWO_PI * light.cone), sun_contains(light, direction));
+    return select(0.0, pdf_uniform_cone(light.cone), sun_contains(light, direction));
 }
 
 fn sun_escaped_radiance(light: LightSource, direction: vec3<f32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), light.emission, sun_contains(light, direction));
 }
 
-// Uniform in the cone around -light.direction: cos theta uniform in [1 - cone, 1], written through
-// 1 - cos theta = u cone so that the sine keeps its digits.
+// Uniform in the cone around -light.direction.
 fn sun_sample(light: LightSource, p: vec3<f32>, u: vec2<f32>) -> LightSample {
-    let one_minus_cos = u.x * light.cone;
-    let sin_theta = sqrt(max(0.0, one_minus_cos * (2.0 - one_minus_cos)));
-    let phi = TWO_PI * u.y;
-    let local = vec3<f32>(sin_theta * cos(phi), sin_theta * sin(phi), 1.0 - one_minus_cos);
-    let direction = to_world(shading_frame(-light.direction), local);
-    return LightSample(p, -direction, light.emission, 0u, 1.0 / (TWO_PI * light.cone), direction, true, false);
+    let direction = to_world(shading_frame(-light.direction), sample_uniform_cone(u, light.cone));
+    return LightSample(p, -direction, light.emission, 0u, pdf_uniform_cone(light.cone), direction, true, false);
+}
+
+// Light paths from the sun: a direction of its cone as sun_sample draws it, from the scene's disc.
+fn sun_emission_sample(light: LightSource, disk: SceneDisk, u_position: vec2<f32>, u_direction: vec2<f32>) -> EmissionSample {
+    let towards = sun_sample(light, disk.center, u_direction);
+    return distant_emission_sample(disk, u_position, -towards.direction, light.emission, towards.pdf, false);
 }

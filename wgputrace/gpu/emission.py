@@ -1,4 +1,5 @@
-"""The emission hook of light_sampling.wgsl: `surface_emission` and `surface_light_density`, the light
+"""The emission hook of light_sampling.wgsl: `surface_emission`, `surface_light_density` and
+`surface_emits_both_sides` (which sides light paths leave: light_emission.wgsl), the light
 materials emit through their MATERIAL_TEXTURES record (Principled's emission and emission texture),
 beside the emitting kinds' own (material_emitted, gpu/material_dispatch.py).
 
@@ -25,5 +26,6 @@ def emission_hook(emissive: bool) -> str:
             "fn surface_emission(material_index: u32, triangle_index: u32, triangle: Triangle, p: vec3<f32>, "
             "direction: vec3<f32>) -> vec3<f32> { return vec3<f32>(0.0); }",
             "fn surface_light_density(triangle_index: u32) -> f32 { return 0.0; }",
+            "fn surface_emits_both_sides(material_index: u32) -> bool { return true; }",
         ]
     return "\n".join(lines) + "\n"

@@ -171,9 +171,12 @@ LIGHTING = GpuStruct(
         ("environment_probability", "f32"),
         ("source_count", "u32"),
         ("environment_size", "vec2<u32>"),
+        ("scene_center", "vec3<f32>"),
+        ("scene_radius", "f32"),
     ),
     "environment_radiance: a constant environment's radiance, a map's intensity; rotation: (cos, sin) "
-    "of the turn about +y; size: the map's width and height.",
+    "of the turn about +y; size: the map's width and height; scene_center, scene_radius: the scene's "
+    "bounding sphere where distant lights need it (their power crosses it, light paths start on it).",
 )
 
 # Per-corner attributes of a triangle, in the triangles' (BVH) order, bound only for scenes that

@@ -369,11 +369,16 @@ class SceneMirror:
         """Lights whose power depends on the scene's size: distant ones and the environment."""
         return self.scene.environment is not None or any(light.distant for light in self.scene.lights)
 
-    def scene_radius(self) -> float:
-        """The radius of the scene's bounding sphere (half its box's diagonal), which the power of
-        distant lights and the environment is measured through."""
+    def scene_bounding_sphere(self) -> tuple[np.ndarray, float]:
+        """The centre and radius of the scene's bounding sphere (around its box: half the box's
+        diagonal), which the power of distant lights and the environment is measured through and
+        light paths from them start on (shaders/emission_sample.wgsl)."""
         corners = np.concatenate([self.triangles[corner] for corner in ("v0", "v1", "v2")]).astype(np.float64)
-        return 0.5 * float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
+        low, high = corners.min(axis=0), corners.max(axis=0)
+        return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
+
+    def scene_radius(self) -> float:
+        return self.scene_bounding_sphere()[1]
 
     def _rebuild(self) -> dict[str, np.ndarray]:
         arrays = self.scene.arrays()
@@ -503,7 +508,7 @@ class SceneMirror:
         """The light table in scene order pointing at BVH positions, the light sources' records, the
         lighting parameters and, for a new map, its texels and tables; the changed rows of each."""
         lights, environment = self.scene.lights, self.scene.environment
-        radius = self.scene_radius() if self._has_distant_lights() else 0.0
+        center, radius = self.scene_bounding_sphere() if self._has_distant_lights() else (np.zeros(3), 0.0)
         environment_changed = environment is not self._environment or (
             environment is not None and environment.generation != self._environment_generation
         )
@@ -536,6 +541,7 @@ class SceneMirror:
         self.sources = sources
         lighting = LIGHTING.zeros(1)
         lighting["source_count"] = len(lights)
+        lighting["scene_center"], lighting["scene_radius"] = center, radius
         if holds is not None:
             fill_environment(lighting[0], environment)
             lighting["environment_probability"] = table.environment_probability

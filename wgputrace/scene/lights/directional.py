@@ -26,7 +26,11 @@ class DirectionalLight(Light):
     name: str = ""
 
     kind = 1
-    shader = LightShader("lights/directional.wgsl", sample="directional_light_sample(light, p)")
+    shader = LightShader(
+        "lights/directional.wgsl",
+        sample="directional_light_sample(light, p)",
+        emission_sample="directional_emission_sample(light, disk, u_position)",
+    )
     delta = True
     distant = True
 

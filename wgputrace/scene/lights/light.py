@@ -10,6 +10,7 @@ descriptor, and like pbrt-v4's `Light` it answers what the light sampler and the
 | parameters and their checks               | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)  |
 | its GPU record                            | `fill_record`            | render/scene_sync.py's light source records      |
 | its sampling code (and what escaped rays see) | `shader`             | gpu/light_dispatch.py: generated dispatch        |
+| where its light paths start               | `shader.emission_sample` | light_emission.wgsl (bidirectional paths)        |
 | a delta light (only light sampling finds it)? | `delta`              | path_tracer.wgsl: weight 1, under every integrator |
 | infinitely far (shadow rays to infinity)? | `distant`                | light_sampling.wgsl, the power estimate          |
 | its share of the light sampler            | `weight`                 | render/lights.py's alias table                   |
@@ -52,12 +53,19 @@ class LightShader:
     `sample` sees `light` (its LightSource record), `p` (the receiving point) and `u` (vec2) and
     returns a LightSample; a distant light that is not a delta (the sun) also gives what a ray
     escaping along `direction` sees of it, `escaped_radiance` (vec3) and `escaped_pdf` (the density
-    per steradian with which `sample` draws `direction`, before the light's selection probability)."""
+    per steradian with which `sample` draws `direction`, before the light's selection probability).
+    Light paths (shaders/light_emission.wgsl): `emission_sample` sees `light`, `disk` (the scene's
+    SceneDisk), `u_position` and `u_direction` (vec2) and returns an EmissionSample, its densities
+    before the selection probability; a light at a finite distance also gives `emission_pdf`, its
+    EmissionPdf for sending `direction` (unit, leaving it). Distant lights' densities are those of
+    their mixture (emission_sample.wgsl DistantEmission), made from `escaped_radiance` and `escaped_pdf`."""
 
     file: str
     sample: str
     escaped_radiance: str | None = None
     escaped_pdf: str | None = None
+    emission_sample: str = ""
+    emission_pdf: str | None = None
 
 
 def luminance(rgb) -> float:
@@ -69,6 +77,10 @@ def _check_kind(cls: type[Light], where: str) -> None:
         raise TypeError(f"{where}: shader must be a LightShader, got {cls.shader!r}")
     if cls.distant and not cls.delta and cls.shader.escaped_radiance is None:
         raise TypeError(f"{where}: a distant light that is not a delta must say what escaped rays see of it")
+    if not cls.shader.emission_sample:
+        raise TypeError(f"{where}: its shader must give emission_sample, where light paths start")
+    if not cls.distant and cls.shader.emission_pdf is None:
+        raise TypeError(f"{where}: a light at a finite distance must give emission_pdf beside emission_sample")
 
 
 LIGHT_KINDS = KindRegistry("light", _check_kind)

@@ -26,7 +26,12 @@ class PointLight(Light):
     name: str = ""
 
     kind = 3
-    shader = LightShader("lights/point.wgsl", sample="point_light_sample(light, p)")
+    shader = LightShader(
+        "lights/point.wgsl",
+        sample="point_light_sample(light, p)",
+        emission_sample="point_emission_sample(light, u_direction)",
+        emission_pdf="point_emission_pdf(light, direction)",
+    )
     delta = True
 
     def checked_parameters(self) -> dict[str, object]:

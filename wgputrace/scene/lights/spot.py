@@ -13,7 +13,8 @@ The intensity is full within beam_width of the axis and falls linearly in ANGLE 
 cutoff_angle (Mitsuba's `spot`; glTF's KHR_lights_punctual falls off differently: the loader maps
 its cone angles onto these). A delta light: reached by light sampling only (weight 1 under every
 integrator). GPU record: position, direction, emission = color x intensity, the cosines of both
-angles, the cutoff angle and 1 / (cutoff - beam width). WGSL: shaders/lights/spot.wgsl.
+angles, the cutoff angle, 1 / (cutoff - beam width) and cone = 1 - cos(cutoff) (in float64 on the
+host, for narrow cones: light paths leave uniformly within it). WGSL: shaders/lights/spot.wgsl.
 Mitsuba 3: `spot` with `intensity`, `cutoff_angle`, `beam_width` (degrees) and `to_world` looking
 from position along direction.
 """
@@ -45,7 +46,12 @@ class SpotLight(Light):
     name: str = ""
 
     kind = 4
-    shader = LightShader("lights/spot.wgsl", sample="spot_light_sample(light, p)")
+    shader = LightShader(
+        "lights/spot.wgsl",
+        sample="spot_light_sample(light, p)",
+        emission_sample="spot_emission_sample(light, u_direction)",
+        emission_pdf="spot_emission_pdf(light, direction)",
+    )
     delta = True
 
     def checked_parameters(self) -> dict[str, object]:
@@ -85,6 +91,7 @@ class SpotLight(Light):
         record["emission"] = scaled(self.color, self.intensity)
         record["cos_outer"], record["cos_inner"] = math.cos(cutoff), math.cos(beam)
         record["angle_outer"] = cutoff
+        record["cone"] = 2.0 * math.sin(cutoff / 2.0) ** 2  # 1 - cos(cutoff), without cancellation
         record["inverse_transition"] = (
             min(1.0 / (cutoff - beam), MAX_INVERSE_TRANSITION) if cutoff > beam else MAX_INVERSE_TRANSITION
         )

@@ -40,6 +40,7 @@ class Sun(Light):
         sample="sun_sample(light, p, u)",
         escaped_radiance="sun_escaped_radiance(light, direction)",
         escaped_pdf="sun_pdf(light, direction)",
+        emission_sample="sun_emission_sample(light, disk, u_position, u_direction)",
     )
     distant = True
 
