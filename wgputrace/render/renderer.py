@@ -19,6 +19,7 @@ import wgpu
 
 from ..denoise import denoise
 from ..gpu.alpha import GENERATED_ALPHA, alpha_hook
+from ..gpu.bdpt import BDPT_MAX_DEPTH, GENERATED_BDPT, bdpt_hook
 from ..gpu.bindings import (
     BAND_GROUP,
     RAY_COUNT_GROUP,
@@ -35,6 +36,7 @@ from ..gpu.generated import (
     BVH_STACK_SIZE,
     GENERATED_TRAVERSAL_STACK,
     INTEGRATORS,
+    PATH_TRACER_INTEGRATORS,
     traversal_stack,
     traversal_stack_size,
 )
@@ -42,11 +44,13 @@ from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
 from ..gpu.light_dispatch import (
     GENERATED_ESCAPED_LIGHT,
+    GENERATED_LIGHT_EMISSION,
     GENERATED_LIGHTS,
     NO_LIGHTS,
     LightFeatures,
     escaped_light_hook,
     light_dispatch,
+    light_emission_dispatch,
 )
 from ..gpu.material_dispatch import ALL_KINDS, GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from ..gpu.path_guides import GENERATED_PATH_GUIDES, path_guides_hook
@@ -65,6 +69,7 @@ from .rng_seed import pixel_rng_states
 from .scene_buffers import SceneRecords
 from .scene_sync import CORNER_ATTRIBUTES, LIGHTS, MATERIALS, NODES, TEXTURE_ATLAS, TRIANGLES, SceneMirror
 from .sobol import pixel_sobol_states
+from .splats import refused_splats, splat_sums, zeroed_splats
 from .texture_buffers import TextureBuffers
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
@@ -174,9 +179,14 @@ def path_tracer_kernel(
     `see_through` (textured scenes only) compiles into every ray's triangle test the alpha modes and
     single-sided surfaces (gpu/alpha.py), which slow that test; `emissive_surfaces` (textured scenes
     only) the light that materials emit through their texture records (gpu/emission.py). `sampler`
-    chooses what stands behind sample_1d and sample_2d (gpu/sampler.py)."""
+    chooses what stands behind sample_1d and sample_2d (gpu/sampler.py). The "bdpt" integrator is
+    its own kernel (shaders/bdpt.wgsl), which also binds the splat sums in the pixels group and has
+    no band-of-rows entry point."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
+    bidirectional = integrator == "bdpt"
+    if bidirectional and rows:
+        raise ValueError("the bdpt integrator renders whole images only: it has no band-of-rows kernel for the viewer")
     check_sampler(sampler)
     overrides = overrides or {}
     kinds = shaded_kinds(material_kinds)
@@ -199,20 +209,27 @@ def path_tracer_kernel(
     )
     if key not in _kernels:
         variant = SceneVariant(acceleration, stack_size, lights, smooth, textured, see_through, emissive_surfaces)
-        groups = (scene_group(acceleration), pixels_group(guides), *((BAND_GROUP,) if rows else ()))
+        groups = (scene_group(acceleration), pixels_group(guides, bidirectional), *((BAND_GROUP,) if rows else ()))
         groups += ((RAY_COUNT_GROUP,) if count_rays else ()) + variant.groups()
+        generated = {
+            **variant.generated(),
+            GENERATED_MATERIALS: material_dispatch(kinds),
+            GENERATED_RAY_COUNT: ray_count_hook(count_rays),
+            GENERATED_PATH_GUIDES: path_guides_hook(guides, kinds),
+            GENERATED_SAMPLER: sampler_hook(sampler),
+        }
+        if bidirectional:
+            generated |= {GENERATED_LIGHT_EMISSION: light_emission_dispatch(lights), GENERATED_BDPT: bdpt_hook(lights)}
+            entry, constants = "bdpt.wgsl", dict(overrides)
+        else:
+            entry = "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl"
+            constants = {"INTEGRATOR": PATH_TRACER_INTEGRATORS.index(integrator), **overrides}
         _kernels[key] = ComputeKernel(
             context,
-            "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl",
+            entry,
             groups,
-            generated={
-                **variant.generated(),
-                GENERATED_MATERIALS: material_dispatch(kinds),
-                GENERATED_RAY_COUNT: ray_count_hook(count_rays),
-                GENERATED_PATH_GUIDES: path_guides_hook(guides, kinds),
-                GENERATED_SAMPLER: sampler_hook(sampler),
-            },
-            constants={"INTEGRATOR": INTEGRATORS.index(integrator), **overrides},
+            generated=generated,
+            constants=constants,
             label=f"path tracer ({acceleration}, {integrator}{', rows' if rows else ''}"
             f"{', counting rays' if count_rays else ''}{', guides' if guides else ''}"
             f"{', ' + lights.description if lights.any else ''}{', smooth shading' if smooth else ''}{', textured' if textured else ''}{', see-through' if see_through else ''}"
@@ -262,6 +279,8 @@ class Renderer:
             raise ValueError(
                 f"max_depth must be from 1 to {_UNLIMITED_DEPTH_GPU - 1:,} (or -1 for no limit), got {max_depth}"
             )
+        if integrator == "bdpt" and not 1 <= max_depth <= BDPT_MAX_DEPTH:
+            raise ValueError(f"integrator 'bdpt' takes max_depth from 1 to {BDPT_MAX_DEPTH}, got {max_depth}")
         self.context = gpu()
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before anything is allocated and before the BVH build, which takes seconds for millions of triangles
@@ -319,6 +338,12 @@ class Renderer:
             self.context, "accumulation", ACCUMULATED_PIXEL.zeros(pixels), read_back=True
         )
         self._guide_sums = self._new_guide_sums() if guides else None
+        # light tracing's splats, only for the bidirectional path tracer
+        self._splats = (
+            storage_buffer(self.context, "splats", zeroed_splats(pixels), read_back=True)
+            if integrator == "bdpt"
+            else None
+        )
         # COPY_SRC: what was uploaded can be read back and checked against the host records
         storage = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST | wgpu.BufferUsage.COPY_SRC
         limit = "max-storage-buffer-binding-size"
@@ -378,7 +403,7 @@ class Renderer:
     def gpu_image_bytes(self) -> dict[str, int]:
         """Bytes allocated on the GPU for the image, by buffer: they grow with the pixels, not the
         scene (the frame uniform is a fixed 80 bytes)."""
-        buffers = (self._frame.buffer, self._rng, self._rng_at_seed, self._accumulation, self._guide_sums)
+        buffers = (self._frame.buffer, self._rng, self._rng_at_seed, self._accumulation, self._guide_sums, self._splats)
         return {buffer.label: buffer.size for buffer in buffers if buffer is not None}
 
     @property
@@ -504,6 +529,8 @@ class Renderer:
         resources = {"rng_states": self._rng, "accumulation": self._accumulation}
         if self._guide_sums is not None:
             resources["guide_sums"] = self._guide_sums
+        if self._splats is not None:
+            resources["splats"] = self._splats
         return resources
 
     def _new_guide_sums(self) -> wgpu.GPUBuffer:
@@ -542,6 +569,8 @@ class Renderer:
         encoder.clear_buffer(self._accumulation)
         if self._guide_sums is not None:
             encoder.clear_buffer(self._guide_sums)
+        if self._splats is not None:
+            encoder.clear_buffer(self._splats)
         encoder.copy_buffer_to_buffer(self._rng_at_seed, 0, self._rng, 0, self._rng.size)
         self.context.submit(encoder, "restarting accumulation")
         self._replicate = 0
@@ -698,15 +727,23 @@ class Renderer:
         behind glass: make the Renderer with guides=True). Needs the `denoise` extra (raises
         DenoiserMissing without it). Dropped samples never reach the denoiser (the mean counts them
         as zero), and denoise refuses any non-finite or negative pixel with a ValueError naming it."""
-        image = self._mean(self._accumulated()).reshape(self.height, self.width, 3)
+        image = self._mean(self._accumulated(), self._splat_sums()).reshape(self.height, self.width, 3)
         if not denoised:
             return image
         return denoise(image, **(self.guides() if self._guides else {}))
 
-    def _mean(self, sums: np.ndarray) -> np.ndarray:
-        """float32 (n, 3): the means of n Kahan sums (ACCUMULATED_PIXEL records) over the samples so far."""
-        total = sums["sum"][:, :3].astype(np.float64) - sums["compensation"][:, :3]
+    def _mean(self, sums: np.ndarray, splats: np.ndarray | float = 0.0) -> np.ndarray:
+        """float32 (n, 3): the means of n Kahan sums (ACCUMULATED_PIXEL records) over the samples so
+        far, with light tracing's `splats` (float64 (n, 3) sums) added to them first."""
+        total = sums["sum"][:, :3].astype(np.float64) - sums["compensation"][:, :3] + splats
         return (total / max(self.stats.samples_per_pixel, 1)).astype(np.float32)
+
+    def _splat_words(self) -> np.ndarray:
+        return read_buffer(self.context, self._splats, np.uint32, self._splats.size // 4)
+
+    def _splat_sums(self) -> np.ndarray | float:
+        """Light tracing's sums per pixel, float64 (n, 3), or 0 where nothing splats."""
+        return 0.0 if self._splats is None else splat_sums(self._splat_words())
 
     def guides(self) -> dict[str, np.ndarray]:
         """The denoiser's guides, means over the same samples as `image()` (a sample it dropped adds
@@ -727,8 +764,10 @@ class Renderer:
 
     @property
     def nonfinite_samples(self) -> int:
-        """How many samples were NaN or infinite (each was dropped and counted as zero)."""
-        return self._dropped_sample_counts()[0]
+        """How many samples were NaN or infinite (each was dropped and counted as zero); under bdpt
+        also light tracing's splats dropped for a non-finite or out-of-range value."""
+        refused = 0 if self._splats is None else refused_splats(self._splat_words())
+        return self._dropped_sample_counts()[0] + refused
 
     @property
     def cut_short_samples(self) -> int:
@@ -752,6 +791,8 @@ class Renderer:
         independent sampler's streams continue, the Sobol sampler starts every pixel's sequence
         again under a new scramble (continuing it would stratify the new samples against the old)."""
         write_buffer(self.context, self._accumulation, 0, ACCUMULATED_PIXEL.zeros(self.width * self.height))
+        if self._splats is not None:
+            write_buffer(self.context, self._splats, 0, zeroed_splats(self.width * self.height))
         if self.sampler == "sobol":
             self._replicate += 1
             write_buffer(self.context, self._rng, 0, self._sampler_states(self._replicate))

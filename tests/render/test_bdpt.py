@@ -1,0 +1,125 @@
+"""Bidirectional path tracing (shaders/bdpt.wgsl) against the path tracer and against itself.
+
+pbrt's debugging method: each strategy (s, t) alone, unweighted (the BDPT_ONLY_S/T overrides),
+estimates the paths of s + t - 1 edges that it can sample; on a box of diffuse surfaces every
+strategy can sample every path, so each must converge to what the path tracer's MIS finds for paths
+of exactly that many edges (its image at max_depth k minus its image at k - 1). Per block and
+channel, Welch's t-test, Sidak's share of FAMILY_SIGNIFICANCE over every block, channel and
+strategy. Then: the splat buffer's fixed point sums bit for bit alike whatever the order (the same
+seed gives the same image twice) and progressively (16 + 16 samples = 32), and max_depth beyond
+what the kernel keeps is refused.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+import pytest
+
+from wgputrace import Diffuse, Emitter, Renderer, Scene
+from wgputrace.gpu.bdpt import BDPT_MAX_DEPTH
+from wgputrace.render.renderer import UNLIMITED_DEPTH
+from wgputrace.scene import cornell_box
+from wgputrace.testing.image_statistics import Estimate
+from wgputrace.testing.references import assert_same_expectation
+from wgputrace.testing.stats import sidak
+
+pytestmark = pytest.mark.gpu
+
+SIZE = 16
+BLOCKS = (4, SIZE)
+SEED = 18
+BATCHES = 8
+SPP = 16
+FAMILY_SIGNIFICANCE = 1e-3
+# (s, t) of every strategy for paths of 2 and 3 edges (s = 1, t = 1 is left out, as in the kernel)
+STRATEGIES = ((0, 3), (1, 2), (2, 1), (0, 4), (1, 3), (2, 2), (3, 1))
+BLOCK_TESTS = sum((SIZE // block) ** 2 for block in BLOCKS) * 3
+PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, BLOCK_TESTS * len(STRATEGIES))
+
+
+def diffuse_box() -> Scene:
+    """The Cornell box with its glass and glossy surfaces made white diffuse: every vertex connects."""
+    box = cornell_box()
+    white = Diffuse("white", color=(0.74, 0.74, 0.73))
+    for shape in box.shapes:
+        if not isinstance(shape.material, (Diffuse, Emitter)):
+            shape.material = white
+    return box
+
+
+def batches(max_depth: int, integrator: str, overrides: dict | None = None, spp: int = SPP) -> np.ndarray:
+    renderer = Renderer(
+        diffuse_box(), SIZE, SIZE, seed=SEED, max_depth=max_depth, integrator=integrator, shader_overrides=overrides
+    )
+    images = []
+    for _ in range(BATCHES):
+        renderer.render(spp)
+        images.append(renderer.image())
+        renderer.reset()
+    assert renderer.nonfinite_samples == 0
+    return np.stack(images)
+
+
+@cache
+def paths_of_exactly(edges: int) -> Estimate:
+    """The path tracer's estimate of the paths of exactly `edges` edges."""
+    longer, shorter = Estimate.from_batches(batches(edges, "mis")), Estimate.from_batches(batches(edges - 1, "mis"))
+    return Estimate(longer.mean - shorter.mean, longer.variance + shorter.variance, float(BATCHES - 1))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("strategy", STRATEGIES, ids=[f"s{s}_t{t}" for s, t in STRATEGIES])
+def test_each_strategy_alone_converges_to_the_paths_it_samples(gpu_context, failure_dir, strategy):
+    s, t = strategy
+    edges = s + t - 1
+    alone = Estimate.from_batches(batches(edges, "bdpt", {"BDPT_ONLY_S": s, "BDPT_ONLY_T": t}))
+    expected = paths_of_exactly(edges)
+    assert alone.mean.mean() > 0.01, f"strategy {strategy} found no light"
+    assert_same_expectation(
+        f"bdpt_s{s}_t{t}",
+        alone,
+        expected,
+        expected.mean,
+        0.0,
+        failure_dir,
+        blocks=BLOCKS,
+        per_test_significance=PER_TEST_SIGNIFICANCE,
+    )
+
+
+def test_same_seed_same_image_and_progressive(gpu_context):
+    def rendered(*counts: int) -> np.ndarray:
+        renderer = Renderer(diffuse_box(), SIZE, SIZE, seed=SEED, max_depth=4, integrator="bdpt")
+        for count in counts:
+            renderer.render(count)
+        return renderer.image()
+
+    once = rendered(4)
+    assert np.array_equal(once, rendered(4))
+    assert np.array_equal(rendered(2, 2), once)
+
+
+def test_light_tracing_splats_reach_the_image(gpu_context):
+    """Light tracing alone (s = 2, t = 1) lights the box: its splats are what image() shows."""
+    renderer = Renderer(
+        diffuse_box(),
+        SIZE,
+        SIZE,
+        seed=SEED,
+        max_depth=2,
+        integrator="bdpt",
+        shader_overrides={"BDPT_ONLY_S": 2, "BDPT_ONLY_T": 1},
+    )
+    renderer.render(2)
+    image = renderer.image()
+    assert np.isfinite(image).all() and image.mean() > 0.01
+    renderer.reset()
+    assert np.all(renderer.image() == 0.0)
+
+
+@pytest.mark.parametrize("max_depth", [UNLIMITED_DEPTH, BDPT_MAX_DEPTH + 1])
+def test_depth_beyond_the_kept_light_vertices_is_refused(gpu_context, max_depth):
+    with pytest.raises(ValueError, match=f"integrator 'bdpt' takes max_depth from 1 to {BDPT_MAX_DEPTH}"):
+        Renderer(diffuse_box(), SIZE, SIZE, max_depth=max_depth, integrator="bdpt")
