@@ -86,14 +86,16 @@ fn triangle_emission_sample(index: u32, u_position: vec2<f32>, u_direction: vec2
 
 // The densities triangle_emission_sample has for light triangle `triangle_index` sending `direction`
 // (unit, away from the surface): the light table's weight per unit area over the total (the
-// selection probability over the area), and the cosine-weighted density of the side it leaves.
+// selection probability over the area; 0 in a scene without lights, whose black emitters a camera
+// path may still hit), and the cosine-weighted density of the side it leaves.
 fn emission_pdf_triangle(triangle_index: u32, triangle: Triangle, direction: vec3<f32>) -> EmissionPdf {
     let cos_front = dot(light_triangle_front(triangle), direction);
     var pdf_direction = pdf_cosine_hemisphere(cos_front);
     if surface_emits_both_sides(triangle.material) {
         pdf_direction = 0.5 * pdf_cosine_hemisphere(abs(cos_front));
     }
-    return EmissionPdf(light_density(triangle_index, triangle) / frame.light_weight_total, pdf_direction);
+    let total = frame.light_weight_total;
+    return EmissionPdf(select(0.0, light_density(triangle_index, triangle) / total, total > 0.0), pdf_direction);
 }
 
 // The densities of a light path from the distant lights travelling along `direction` (unit, into

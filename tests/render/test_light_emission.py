@@ -383,7 +383,7 @@ def test_textured_emitters_and_an_environment_map_emit_their_power(gpu_context, 
     np.testing.assert_allclose(rows["pdf_again"][:, 1], rows["pdf_direction"], rtol=PDF_RTOL)
 
 
-# ---- degenerate input: a zero-area light triangle, no light at all
+# ---- degenerate input: a zero-area light triangle, no light at all (the table's total weight 0)
 
 DEGENERATE_KERNEL = """
 //! include "light_emission.wgsl"
@@ -407,7 +407,7 @@ def test_degenerate_triangles_and_no_lights_give_finite_samples(gpu_context, rng
     lights = LIGHT.zeros(2)
     lights["triangle"], lights["alias_index"], lights["threshold"] = [0, 1], [0, 1], 1.0
     frame = FRAME.zeros(1)
-    frame["light_count"], frame["light_weight_total"] = light_count, 1.0
+    frame["light_count"], frame["light_weight_total"] = light_count, float(light_count)
     out = run_kernel(
         gpu_context,
         '//! include "finite.wgsl"\n' + DEGENERATE_KERNEL,
