@@ -1,5 +1,5 @@
-"""Rendering on the session's two-node cluster (conftest.py): the same bits for one and two workers,
-and for three with one of them killed mid-run; the picture wgputrace.render converges to; and clear
+"""Rendering on the session's two-node cluster (conftest.py): the same bits for one worker, for two
+(through `wgputrace render --ray`), and for three with one of them killed mid-run; the picture wgputrace.render converges to; and clear
 errors, bounded in time, for a bad address, a scene that fails on the workers and an image larger
 than the workers' device allows.
 
@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import os
 import signal
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -76,16 +78,29 @@ def expected() -> np.ndarray:
     return merged.image()
 
 
+def _in_namespace_command_line(address: str, output: str) -> tuple[int, str, str]:
+    """`wgputrace render --ray` of the same render, in a process of its own."""
+    command = ["render", "--ray", address, "--batches", str(BATCHES), "--spp", str(SPP), "--workers", "2"]
+    command += ["--size", f"{SIZE}x{SIZE}", "--seed", str(SEED), "-o", output]
+    done = subprocess.run([sys.executable, "-m", "wgputrace", *command], capture_output=True, text=True, timeout=120)
+    return done.returncode, done.stdout, done.stderr
+
+
 @pytest.fixture(scope="module")
-def two_workers(cluster) -> dict:
-    return cluster.call(_in_namespace_render, cluster.address, 2)
+def two_workers(cluster, tmp_path_factory) -> dict:
+    """The render on two workers, by `wgputrace render --ray` in a process of its own."""
+    output = tmp_path_factory.mktemp("cluster") / "cluster.npy"
+    status, printed, errors = cluster.call(_in_namespace_command_line, cluster.address, str(output), timeout=150)
+    assert status == 0, errors
+    return {"image": np.load(output), "printed": printed}
 
 
 def test_one_worker_gives_the_batches_merged_in_order(cluster, expected):
     assert np.array_equal(cluster.call(_in_namespace_render, cluster.address, 1)["image"], expected)
 
 
-def test_two_workers_give_the_same_bits(two_workers, expected):
+def test_two_workers_give_the_same_bits_through_the_command_line(two_workers, expected):
+    assert f"{SPP} spp at {SIZE}x{SIZE} in {BATCHES} batches" in two_workers["printed"]
     assert np.array_equal(two_workers["image"], expected)
 
 
