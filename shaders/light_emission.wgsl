@@ -45,6 +45,10 @@ fn sample_emission(u_select: vec2<f32>, u_position: vec2<f32>, u_direction: vec2
     if sample.distant && !sample.delta_direction {
         let mixture = distant_emission(-sample.direction);
         let pdf = distant_emission_pdf(mixture, scene_disk());
+        // a direction on a map cell's border may round into a cell of density 0: it carries nothing
+        if !(pdf.direction > 0.0) {
+            return no_emission_sample();
+        }
         sample.radiance = mixture.radiance;
         sample.pdf_position = pdf.position;
         sample.pdf_direction = pdf.direction;
