@@ -24,6 +24,7 @@ source k as LIGHT_SOURCE_FLAG | k; the environment as ENVIRONMENT_LIGHT.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..scene.lights import light_class, light_classes
@@ -111,21 +112,27 @@ def light_dispatch(features: LightFeatures = NO_LIGHTS) -> str:
             "        return with_probability(environment_light_sample(p, u), lighting.environment_probability);",
             "    }",
         ]
-    if classes:
-        lines += [
-            "    let light = light_sources[entry & ~LIGHT_SOURCE_FLAG];",
-            "    switch light.kind {",
-            *(
-                f"        case LIGHT_{cls.kind_name}: {{ return with_probability({cls.shader.sample}, light.probability); }}"
-                for cls in classes
-            ),
-            "        default: { return no_light_sample(); }",
-            "    }",
-        ]
-    else:
-        lines.append("    return no_light_sample();")
+    lines += _source_switch(
+        classes,
+        lambda cls: f"return with_probability({cls.shader.sample}, light.probability);",
+        "return no_light_sample();",
+    )
     lines.append("}")
     return "\n".join(lines) + "\n"
+
+
+def _source_switch(classes: list, case: Callable[[type], str], default: str) -> list[str]:
+    """The body that reads light table word `entry`'s light source record as `light` and runs
+    `case(cls)` for its kind among `classes` (`default` for any other, or where there is none)."""
+    if not classes:
+        return [f"    {default}"]
+    return [
+        "    let light = light_sources[entry & ~LIGHT_SOURCE_FLAG];",
+        "    switch light.kind {",
+        *(f"        case LIGHT_{cls.kind_name}: {{ {case(cls)} }}" for cls in classes),
+        f"        default: {{ {default} }}",
+        "    }",
+    ]
 
 
 def escaped_light_hook(features: LightFeatures = NO_LIGHTS) -> str:
@@ -236,20 +243,11 @@ def light_emission_dispatch(features: LightFeatures = NO_LIGHTS) -> str:
             "        return with_emission_probability(sample, lighting.environment_probability, entry);",
             "    }",
         ]
-    if classes:
-        lines += [
-            "    let light = light_sources[entry & ~LIGHT_SOURCE_FLAG];",
-            "    switch light.kind {",
-            *(
-                f"        case LIGHT_{cls.kind_name}: {{ return with_emission_probability({cls.shader.emission_sample}, "
-                "light.probability, entry); }"
-                for cls in classes
-            ),
-            "        default: { return no_emission_sample(); }",
-            "    }",
-        ]
-    else:
-        lines.append("    return no_emission_sample();")
+    lines += _source_switch(
+        classes,
+        lambda cls: f"return with_emission_probability({cls.shader.emission_sample}, light.probability, entry);",
+        "return no_emission_sample();",
+    )
     lines += [
         "}",
         "fn light_source_emission_pdf(entry: u32, direction: vec3<f32>) -> EmissionPdf {",
@@ -260,21 +258,14 @@ def light_emission_dispatch(features: LightFeatures = NO_LIGHTS) -> str:
             "        return distant_lights_emission_pdf(direction);",
             "    }",
         ]
-    if classes:
-        lines += [
-            "    let light = light_sources[entry & ~LIGHT_SOURCE_FLAG];",
-            "    switch light.kind {",
-            *(
-                f"        case LIGHT_{cls.kind_name}: {{ return distant_lights_emission_pdf(direction); }}"
-                if cls.distant
-                else f"        case LIGHT_{cls.kind_name}: {{ let pdf = {cls.shader.emission_pdf}; "
-                "return EmissionPdf(pdf.position * light.probability, pdf.direction); }"
-                for cls in classes
-            ),
-            "        default: { return EmissionPdf(0.0, 0.0); }",
-            "    }",
-        ]
-    else:
-        lines.append("    return EmissionPdf(0.0, 0.0);")
+    lines += _source_switch(
+        classes,
+        lambda cls: (
+            "return distant_lights_emission_pdf(direction);"
+            if cls.distant
+            else f"let pdf = {cls.shader.emission_pdf}; return EmissionPdf(pdf.position * light.probability, pdf.direction);"
+        ),
+        "return EmissionPdf(0.0, 0.0);",
+    )
     lines.append("}")
     return "\n".join(lines) + "\n"
