@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import json
 import sys
 import time
@@ -265,6 +266,45 @@ def convergence_targets(result: dict) -> list[Target]:
     return rows
 
 
+def cluster_targets(result: dict) -> list[Target]:
+    jobs, model = result["jobs"], result["model"]
+    rows = [
+        Target(
+            "cluster",
+            f"wall, 1 / 2 workers ({result['batches']} batches of {result['batch_spp']} spp, {result['width']}x{result['height']}, starts included)",
+            f"{jobs['1']['wall_seconds']:.2f} / {jobs['2']['wall_seconds']:.2f} s",
+        ),
+        Target(
+            "cluster",
+            f"overhead per batch at {model['image']}: worker / driver",
+            f"{model['worker_overhead_seconds'] * 1e3:.1f} / {model['driver_seconds_per_batch'] * 1e3:.2f} ms",
+        ),
+    ]
+    for row in model["rows"].values():
+        spp = row["batch_spp_for_overhead_under_target"]
+        rows.append(
+            Target(
+                "cluster",
+                f"batch keeping overhead < {model['overhead_target']:.0%}, {row['kind']}, {row['workers']} workers (model)",
+                "none up to 65536 spp" if spp is None else f"{spp} spp ({row['batch_seconds_then']:.2f} s)",
+            )
+        )
+    return rows
+
+
+def cluster_unavailable() -> str | None:
+    """Why the cluster benchmark cannot run here (no Ray, no network namespace), or None."""
+    if importlib.util.find_spec("ray") is None:
+        return 'Ray is missing: pip install "wgputrace[ray]"'
+    from wgputrace.cluster.sandbox import NamespaceUnavailable, namespace_command
+
+    try:
+        namespace_command()
+    except NamespaceUnavailable as why:
+        return str(why)
+    return None
+
+
 def denoiser_missing() -> str | None:
     """Why the denoising benchmark cannot run here, or None."""
     return None if denoiser_available() else f"Intel Open Image Denoise is missing: {INSTALL_HINT}"
@@ -426,6 +466,13 @@ BENCHMARKS = (
         convergence_targets,
     ),
     Benchmark("soak", ("--minutes", "1", "--cycles", "1000"), (), soak_targets, in_default_run=False),
+    Benchmark(
+        "cluster",
+        ("--size", "64x64", "--batch-spp", "2", "--batches", "4", "--repeats", "1"),
+        ("--size", "512x512", "--batch-spp", "256"),
+        cluster_targets,
+        skip_reason=cluster_unavailable,
+    ),
 )
 
 

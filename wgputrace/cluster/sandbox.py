@@ -256,13 +256,15 @@ def _serve(nodes: int, cpus: int, gpus: int) -> None:
         _wait_for_nodes(nodes, deadline)
         _send(replies, "ready")
         while True:
-            request = _receive(requests)
-            if request[0] == "stop":
-                break
-            _, function, args, kwargs = request
             try:
+                request = _receive(requests)
+                if request[0] == "stop":
+                    break
+                _, function, args, kwargs = request
                 _send(replies, ("ok", function(*args, **kwargs), ""))
-            except Exception as error:
+            except EOFError:  # the caller is gone
+                break
+            except Exception as error:  # the call's, or its request's that did not unpickle here
                 _send(replies, ("error", _picklable(error), traceback.format_exc()))
     except Exception:
         _send(replies, traceback.format_exc())
