@@ -23,7 +23,7 @@ EXACT_RTOL = 1e-5
 # Family-wise two-sided significance level of the z-tests below (3 tests x 3 channels), split by
 # Sidak's correction; fixed seeds make them deterministic.
 SIGNIFICANCE = 1e-3
-Z_TESTS = 9
+Z_TESTS = 10
 Z_LIMIT = NormalDist().inv_cdf(1 - (1 - (1 - SIGNIFICANCE) ** (1 / Z_TESTS)) / 2)
 
 
@@ -51,7 +51,7 @@ def test_diffuse_sphere_in_emitter_reflects_albedo_times_radiance_exactly(gpu_co
     assert np.all(direct == 0)
 
 
-@pytest.mark.parametrize("integrator", ["nee", "mis"])
+@pytest.mark.parametrize("integrator", ["nee", "mis", "bdpt"])
 def test_light_sampling_in_emitter_converges_to_albedo_times_radiance(gpu_context, failure_dir, integrator):
     """With next-event estimation the same sphere is noisy (light samples hit the enclosure's
     triangles at varying distances and cosines) but unbiased: the image mean is z-tested against

@@ -58,12 +58,15 @@ DIFFUSE = Diffuse("diffuse", color=(1, 1, 1))
 GLOSSY = [Glossy(f"glossy {r}", color=(1, 1, 1), roughness=r) for r in (0.01, 0.1, 0.5, 1.0)]
 # BSDF sampling alone tests the samples' weights; MIS (the default) adds light samples weighted
 # by bsdf_pdf, the enclosure being the light (glossy below GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS,
-# path_tracer.wgsl, samples no lights: MIS is BSDF sampling there). Diffuse keeps A = 1 at every
-# angle, so one suffices.
+# path_tracer.wgsl, samples no lights: MIS is BSDF sampling there); bidirectional path tracing
+# adds light paths from the enclosure, connected and traced to the camera. Diffuse keeps A = 1 at
+# every angle, so one suffices.
 INTEGRATORS = ("bsdf", "mis")
 REFLECTION_CASES = [(DIFFUSE, 0.5, i) for i in INTEGRATORS] + [
     (m, c, i) for m in GLOSSY for c in INCIDENT_COSINES for i in INTEGRATORS
 ]
+# bidirectional path tracing on a diffuse and a glossy plane (a few seconds each)
+REFLECTION_CASES += [(DIFFUSE, 0.5, "bdpt"), (GLOSSY[1], 0.5, "bdpt")]
 # Glass in a tilted cube: a ray that entered through one face meets the side faces beyond the
 # critical angle and leaves through the opposite one, so paths stay short. (In a faceted sphere,
 # rays can circle by total internal reflection with the facets tilting them at random; Russian

@@ -24,7 +24,7 @@ pytestmark = pytest.mark.gpu
 
 SEED = 15
 FAMILY_SIGNIFICANCE = 1e-3
-INTEGRATORS = ("bsdf", "nee", "mis")
+INTEGRATORS = ("bsdf", "nee", "mis", "bdpt")
 ALBEDO = 0.5
 BATCHES = 8
 # f32 shading against float64 closed forms: a few roundings per sample, never averaged away
@@ -97,7 +97,7 @@ def test_plane_under_a_sun_has_radiance_albedo_irradiance_cos_over_pi(gpu_contex
     # the disc (uniform radiance) lies wholly above the horizon: its L cos integrates to E cos(theta)
     scene = Scene([facing((0, 1, 0), 4.0)], looking_at_it((0, 1, 0), 3.0, 30.0))
     scene.add_light(sun())
-    images = batches(scene, 16, {"bsdf": 64, "nee": 4, "mis": 4}[integrator], integrator)
+    images = batches(scene, 16, {"bsdf": 64, "nee": 4, "mis": 4, "bdpt": 4}[integrator], integrator)
     expected = ALBEDO * SUN_IRRADIANCE * math.cos(math.radians(SUN_ZENITH_DEGREES)) / math.pi
     assert_expectation(f"sun on a plane, {integrator}", images, expected, 16, RTOL * expected)
 
@@ -200,7 +200,7 @@ def test_one_bright_texel_lights_the_side_facing_its_documented_direction(gpu_co
     def render_facing(normal: np.ndarray) -> np.ndarray:
         scene = Scene([facing(normal)], looking_at_it(normal, 3.0, 5.0))
         scene.environment = environment
-        return batches(scene, 8, {"bsdf": 32, "nee": 8, "mis": 8}[integrator], integrator)
+        return batches(scene, 8, {"bsdf": 32, "nee": 8, "mis": 8, "bdpt": 8}[integrator], integrator)
 
     tolerance = abs(expected - coarse) + RTOL * expected
     assert_expectation(f"plane facing the texel, {integrator}", render_facing(toward), expected, 8, tolerance)
