@@ -2,7 +2,7 @@
 workers, and what those overheads give at 8, 64 and 512 GPUs.
 
     python -m bench.cluster
-    python -m bench.cluster --size 128x128 --batch-spp 4 --batches 8 --repeats 3
+    python -m bench.cluster --size 128x128 --batch-spp 4 --batches 16 --repeats 3
 
 Everything runs inside a network namespace of its own (wgputrace.cluster.sandbox: two Ray nodes of
 one CPU each on 127.0.0.1, so two workers run on two nodes), like tests/cluster: this needs root or
@@ -312,7 +312,7 @@ def main(argv: list[str] | None = None) -> int:
 
     parser = argument_parser(__doc__, size=(128, 128), repeats=3)
     parser.add_argument("--batch-spp", type=int, default=4, help="samples per pixel in a batch (default 4)")
-    parser.add_argument("--batches", type=int, default=8, help="batches of a job (default 8)")
+    parser.add_argument("--batches", type=int, default=16, help="batches of a job (default 16)")
     args = parse(parser, argv, "batch_spp", "batches")
     run = Run()
     width, height = args.size

@@ -158,7 +158,8 @@ def _denoised(renderer: Renderer) -> _Denoised:
 def _check_cluster_options(args: argparse.Namespace) -> None:
     """Refuse what a render on a cluster does not do, and cluster options without --ray."""
     if args.ray is None:
-        given = [option for option, value in (("--batches", args.batches), ("--workers", args.workers)) if value]
+        cluster_only = (("--batches", args.batches), ("--workers", args.workers), ("--tile", args.tile))
+        given = [option for option, value in cluster_only if value]
         if given:
             raise ValueError(f"{' and '.join(given)}: only with --ray ADDRESS (a Ray cluster to render on)")
         return

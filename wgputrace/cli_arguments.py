@@ -231,7 +231,8 @@ def frame_pattern(text: str) -> str:
 def add_cluster_arguments(
     parser: argparse.ArgumentParser, *, batches: bool, default_address: str | None = None
 ) -> None:
-    """--ray ADDRESS and --workers N (and for one image, --batches N): rendering on a Ray cluster."""
+    """--ray ADDRESS and --workers N (and for one image, --batches N and --tile SIDE): rendering on a
+    Ray cluster."""
     parser.add_argument(
         "--ray",
         type=ray_address,
@@ -251,6 +252,13 @@ def add_cluster_arguments(
             metavar="N",
             help="split the samples into N batches (default: about 8 spp each); the image does not depend on "
             "how many workers render them",
+        )
+        parser.add_argument(
+            "--tile",
+            type=positive_int,
+            metavar="SIDE",
+            help="cut the image into tiles of at most SIDE x SIDE pixels, for an image larger than a worker's "
+            "device allows (its error names the largest square it can render)",
         )
 
 

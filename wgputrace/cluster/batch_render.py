@@ -1,5 +1,6 @@
-"""One image rendered across a Ray cluster: its samples cut into batches (batches.py), each batch
-rendered by whichever worker is free (pool.py), the batch images merged in batch order in float64
+"""One image rendered across a Ray cluster: its samples cut into batches (batches.py), and the image
+into tiles where it is larger than a device allows (tiles.py), each batch of each tile rendered by
+whichever worker is free (pool.py), the batch images merged per tile in batch order in float64
 (merge.py). The image is the same, bit for bit, for any number of workers and any order of
 completion, and a render in one batch is `wgputrace.render`'s image.
 
@@ -15,20 +16,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..gpu.generated import PATH_TRACER_INTEGRATORS
 from ..scene import Scene
 from .batches import Batch, split_samples
 from .connection import connected
-from .merge import OrderedSum
+from .merge import TiledSum
 from .pool import Placement, WorkerPool
 from .progress import ClusterProgress
+from .tiles import Tile
 from .worker import BatchOutcome, RenderSettings, WorkerIdentity
 
 
 @dataclass(frozen=True)
 class BatchTiming:
-    """Seconds spent on one batch: the worker's rendering and read-back, the driver's merge."""
+    """Seconds spent on one batch (of one tile): the worker's rendering and read-back, the driver's merge."""
 
     index: int
+    tile: int
     spp: int
     render_seconds: float
     readback_seconds: float
@@ -42,6 +46,7 @@ class ClusterRender:
 
     image: np.ndarray
     batches: list[Batch]
+    tiles: list[Tile]
     workers: list[WorkerIdentity]  # those that rendered a batch, in the order of their first
     build_seconds: list[float]  # each worker's Renderer build (BVH, buffers, pipeline)
     wall_seconds: float
@@ -62,51 +67,63 @@ def render_batches(
     address: str | None = None,
     batches: int | None = None,
     workers: int | None = None,
+    tile: int | None = None,
     progress: Callable[[ClusterProgress], None] | None = None,
     **options,
 ) -> ClusterRender:
     """Render `scene` on the Ray cluster at `address` (connection.connected says which) in
     `batches` batches (None: batches.default_batch_count) on at most `workers` workers (None: one
-    per GPU the cluster has, else one per CPU). `options` are the Renderer's other keyword
-    arguments (accel, integrator). `progress` is called after every batch merged."""
+    per GPU the cluster has, else one per CPU); `tile`: the side of the square tiles the image is
+    cut into, for an image larger than a worker's device allows (its DeviceLimitError names the
+    largest square it can render). `options` are the Renderer's other keyword arguments (accel,
+    integrator). `progress` is called after every batch (of a tile) merged."""
+    if tile is not None and options.get("integrator", "mis") not in PATH_TRACER_INTEGRATORS:
+        raise ValueError(
+            f"tiles need a path tracer integrator ({', '.join(PATH_TRACER_INTEGRATORS)}): "
+            f"{options['integrator']} splats light paths onto the whole image"
+        )
     work = split_samples(spp, seed, batches)
-    settings = RenderSettings(width, height, seed, max_depth, options)
+    settings = RenderSettings(width, height, seed, max_depth, options, tile)
+    tiles = settings.tiles()
+    tasks = [(batch, piece) for batch in work for piece in tiles]
     with connected(address) as ray:
         start = time.perf_counter()
         scene_ref = ray.put(scene)
         pool = WorkerPool(
             ray, Placement.for_cluster(ray, workers), lambda actor: actor.prepare.remote(scene_ref, settings)
         )
-        merged, timings, contributors = OrderedSum(), [], {}
+        merged, timings, contributors = TiledSum(width, height, tiles), [], {}
+        samples = 0
         try:
-            results = pool.run(work, lambda actor, batch: actor.render_batch.remote(batch))
-            for batch, outcome, worker in results:
-                timings.append(_merge(merged, batch, outcome))
+            results = pool.run(tasks, lambda actor, task: actor.render_batch.remote(*task))
+            for (batch, piece), outcome, worker in results:
+                timings.append(_merge(merged, batch, piece, outcome))
                 contributors.setdefault(worker, None)
+                samples += batch.spp * piece.width * piece.height
                 if progress is not None:
-                    samples = sum(timing.spp for timing in timings) * width * height
                     elapsed = time.perf_counter() - start
-                    progress(ClusterProgress(len(timings), len(work), samples, elapsed, pool.live, worker))
+                    progress(ClusterProgress(len(timings), len(tasks), samples, elapsed, pool.live, worker))
             return ClusterRender(
                 merged.image(),
                 work,
+                tiles,
                 list(contributors),
                 pool.setups(),
                 time.perf_counter() - start,
                 pool.lost,
                 pool.resubmitted,
                 merged.dropped,
-                sorted(timings, key=lambda timing: timing.index),
+                sorted(timings, key=lambda timing: (timing.index, timing.tile)),
             )
         finally:
             pool.close()
 
 
-def _merge(merged: OrderedSum, batch: Batch, outcome: BatchOutcome) -> BatchTiming:
+def _merge(merged: TiledSum, batch: Batch, tile: Tile, outcome: BatchOutcome) -> BatchTiming:
     start = time.perf_counter()
-    merged.add(outcome.image)
+    merged.add(tile, outcome.image)
     seconds = time.perf_counter() - start
-    return BatchTiming(batch.index, batch.spp, outcome.render_seconds, outcome.readback_seconds, seconds)
+    return BatchTiming(batch.index, tile.index, batch.spp, outcome.render_seconds, outcome.readback_seconds, seconds)
 
 
 def render(
@@ -120,6 +137,7 @@ def render(
     address: str | None = None,
     batches: int | None = None,
     workers: int | None = None,
+    tile: int | None = None,
     **options,
 ) -> np.ndarray:
     """What `wgputrace.render` returns (the mean of `spp` samples per pixel, float32 (H, W, 3)),
@@ -134,5 +152,6 @@ def render(
         address=address,
         batches=batches,
         workers=workers,
+        tile=tile,
         **options,
     ).image

@@ -53,6 +53,7 @@ def render_on_cluster(args: argparse.Namespace, scene) -> None:
             address=args.ray,
             batches=args.batches,
             workers=args.workers,
+            tile=args.tile,
             progress=progress,
             **options,
         )
@@ -67,16 +68,18 @@ def render_on_cluster(args: argparse.Namespace, scene) -> None:
         "max_depth": args.max_depth,
         "accel": args.accel,
         "render_seconds": f"{result.wall_seconds:.3f}",
-        "cluster": f"{len(result.batches)} batches on {len(result.workers)} workers of the Ray cluster at {args.ray}",
+        "cluster": f"{len(result.batches)} batches of {len(result.tiles)} tiles on {len(result.workers)} workers "
+        f"of the Ray cluster at {args.ray}",
     }
     metadata = {NAMESPACE + key: str(value) for key, value in values.items()}
     path = save_image(args.output, result.image, exposure=args.exposure, metadata=metadata)
     samples = spp * width * height
     adapters = sorted({worker.adapter for worker in result.workers})
     print(f"cluster          {args.ray}: {len(result.workers)} workers on {', '.join(adapters)}")
+    tiles = f" of {len(result.tiles)} tiles" if len(result.tiles) > 1 else ""
     print(
-        f"render           {spp} spp at {width}x{height} in {len(result.batches)} batches, {result.wall_seconds:.2f} s, "
-        f"{samples / result.wall_seconds / 1e6:.3f} M samples/s"
+        f"render           {spp} spp at {width}x{height} in {len(result.batches)} batches{tiles}, "
+        f"{result.wall_seconds:.2f} s, {samples / result.wall_seconds / 1e6:.3f} M samples/s"
     )
     if result.lost_workers:
         print(

@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .tiles import Tile
+
 
 @dataclass(frozen=True)
 class BatchImage:
@@ -57,3 +59,30 @@ class OrderedSum:
         if self.total is None:
             raise ValueError("no batch merged yet")
         return (self.total / max(self.samples, 1)).astype(np.float32)
+
+
+@dataclass
+class TiledSum:
+    """An OrderedSum per tile of a `width` x `height` image, and the image they make together."""
+
+    width: int
+    height: int
+    tiles: list[Tile]
+    sums: dict[int, OrderedSum] = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.sums = {tile.index: OrderedSum() for tile in self.tiles}
+
+    def add(self, tile: Tile, batch: BatchImage) -> None:
+        self.sums[tile.index].add(batch)
+
+    @property
+    def dropped(self) -> int:
+        return sum(merged.dropped for merged in self.sums.values())
+
+    def image(self) -> np.ndarray:
+        """float32 (height, width, 3): every tile's mean in its place."""
+        image = np.empty((self.height, self.width, 3), np.float32)
+        for tile in self.tiles:
+            image[tile.y : tile.y + tile.height, tile.x : tile.x + tile.width] = self.sums[tile.index].image()
+        return image

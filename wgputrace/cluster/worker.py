@@ -21,6 +21,7 @@ from ..render.rng_seed import pixel_rng_states
 from ..scene import Scene
 from .batches import Batch
 from .merge import BatchImage
+from .tiles import Tile, TileCamera, split_image
 
 # Where a worker renders on the CPU (lavapipe), one thread each: Ray gives every worker a CPU of
 # its own, and lavapipe's default of one thread per core would have the workers fight over them.
@@ -29,17 +30,24 @@ LAVAPIPE_THREADS = "LP_NUM_THREADS"
 
 @dataclass(frozen=True)
 class RenderSettings:
-    """What every batch or frame of a job shares: the image, the seed, the path depth and the
-    Renderer's other keyword arguments (accel, integrator, ...)."""
+    """What every batch or frame of a job shares: the image, the seed, the path depth, the
+    Renderer's other keyword arguments (accel, integrator, ...) and the side of its tiles (None:
+    the image is one tile)."""
 
     width: int
     height: int
     seed: int = 1
     max_depth: int = 9
     options: dict = field(default_factory=dict)
+    tile_side: int | None = None
 
-    def renderer(self, scene: Scene) -> Renderer:
-        return Renderer(scene, self.width, self.height, seed=self.seed, max_depth=self.max_depth, **self.options)
+    def tiles(self) -> list[Tile]:
+        return split_image(self.width, self.height, self.tile_side)
+
+    def renderer(self, scene: Scene, shape: tuple[int, int] | None = None) -> Renderer:
+        """A Renderer of the whole image, or of a tile of `shape` (width, height)."""
+        width, height = shape or (self.width, self.height)
+        return Renderer(scene, width, height, seed=self.seed, max_depth=self.max_depth, **self.options)
 
 
 @dataclass(frozen=True)
@@ -84,12 +92,16 @@ def start_batch(renderer: Renderer, seed: int) -> None:
 
 
 class RenderWorker:
-    """One worker's renderer and the calls the driver makes on it."""
+    """One worker's renderers (one per tile shape; one in all for an untiled image) and the calls
+    the driver makes on it."""
 
     def __init__(self, on_cpu: bool = False) -> None:
         if on_cpu:
             os.environ[LAVAPIPE_THREADS] = "1"  # read when the device is made, on first use
-        self.renderer: Renderer | None = None
+        self.renderers: dict[tuple[int, int], Renderer] = {}
+        self.scene: Scene | None = None
+        self.camera = None
+        self.settings: RenderSettings | None = None
 
     def identity(self) -> WorkerIdentity:
         from ..gpu.device import gpu
@@ -97,16 +109,28 @@ class RenderWorker:
         return WorkerIdentity(os.getpid(), socket.gethostname(), gpu().adapter_name)
 
     def prepare(self, scene: Scene, settings: RenderSettings) -> float:
-        """Build the Renderer every batch of the job uses (BVH, buffers, pipeline); its seconds."""
+        """Build the Renderer the job's batches use (BVH, buffers, pipeline; of the first tile's
+        shape where the image is tiled, the others' on first use); its seconds."""
         start = time.perf_counter()
-        self.renderer = settings.renderer(scene)
+        self.scene, self.camera, self.settings = scene, scene.camera, settings
+        self._renderer(settings.tiles()[0])
         return time.perf_counter() - start
 
-    def render_batch(self, batch: Batch) -> BatchOutcome:
-        renderer = self.renderer
-        if renderer is None:
+    def _renderer(self, tile: Tile) -> Renderer:
+        if tile.shape not in self.renderers:
+            self.renderers[tile.shape] = self.settings.renderer(self.scene, tile.shape)
+        return self.renderers[tile.shape]
+
+    def render_batch(self, batch: Batch, tile: Tile | None = None) -> BatchOutcome:
+        """`batch` of the whole image, or of `tile` of it."""
+        if self.settings is None:
             raise RuntimeError("render_batch before prepare: the worker has no scene")
-        start_batch(renderer, batch.seed)
+        if tile is None:
+            tile = self.settings.tiles()[0]
+        renderer = self._renderer(tile)
+        if self.settings.tile_side is not None:
+            renderer.set_camera(TileCamera.of(self.camera, self.settings.width, self.settings.height, tile))
+        start_batch(renderer, tile.seed(batch.seed))
         start = time.perf_counter()
         renderer.render(batch.spp)
         rendered = time.perf_counter()
