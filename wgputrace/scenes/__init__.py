@@ -16,8 +16,8 @@ from .door_ajar import door_ajar
 from .environment_lit import constant_env, env_one_texel, env_sun_spheres
 from .glass import glass_grazing
 from .glossy import glossy_spheres
-from .normal_mapped import normal_mapped_plane
 from .glossy_through_glossy import glossy_through_glossy
+from .normal_mapped import normal_mapped_plane
 from .principled import principled_spheres
 from .punctual import point_spot_directional
 from .slivers import slivers
