@@ -10,6 +10,7 @@ import wgputrace as wt
 from wgputrace.cluster.batches import split_samples
 from wgputrace.cluster.merge import OrderedSum
 from wgputrace.cluster.worker import RenderSettings, RenderWorker
+from wgputrace.gpu.sampler import SAMPLERS
 
 pytestmark = pytest.mark.gpu
 
@@ -24,11 +25,15 @@ def worker():
     return worker
 
 
-def test_every_batch_is_a_fresh_renderer_at_its_seed(worker):
+@pytest.mark.parametrize("sampler", SAMPLERS)
+def test_every_batch_is_a_fresh_renderer_at_its_seed(sampler):
     scene = wt.default_scene()
-    for batch in split_samples(6, SEED, 3):
+    worker = RenderWorker()
+    worker.prepare(scene, RenderSettings(SIZE, SIZE, SEED, options={"sampler": sampler}))
+    # in reverse: what a batch gives must not depend on the batches the worker rendered before it
+    for batch in reversed(split_samples(6, SEED, 3)):
         outcome = worker.render_batch(batch)
-        expected = wt.render(scene, spp=batch.spp, width=SIZE, height=SIZE, seed=batch.seed)
+        expected = wt.render(scene, spp=batch.spp, width=SIZE, height=SIZE, seed=batch.seed, sampler=sampler)
         assert outcome.image.samples == batch.spp
         assert np.array_equal(outcome.image.mean, expected), f"batch {batch.index}"
 

@@ -14,10 +14,13 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ..gpu.buffers import write_buffer
 from ..loaders.python_scene import scene_from_source
 from ..render import Renderer
 from ..render.rng_seed import pixel_rng_states
+from ..render.sobol import pixel_sobol_states
 from ..scene import Scene
 from .batches import Batch
 from .merge import BatchImage
@@ -83,12 +86,22 @@ class FrameOutcome:
     render_seconds: float
 
 
+def sampler_states(renderer: Renderer, seed: int) -> np.ndarray:
+    """Every pixel's sampler state in a fresh Renderer like `renderer` seeded with `seed`: the
+    independent sampler's xoshiro128** state, or the Sobol sampler's seed before any sample (its
+    first scramble: a restart goes back to it, a reset moves on)."""
+    pixels = renderer.width * renderer.height
+    if renderer.sampler == "sobol":
+        return pixel_sobol_states(seed, pixels)
+    return pixel_rng_states(seed, pixels)
+
+
 def start_batch(renderer: Renderer, seed: int) -> None:
-    """Put `renderer` where a fresh Renderer of its scene seeded with `seed` starts: every pixel's
-    random state at that seed, no samples."""
-    states = pixel_rng_states(seed, renderer.width * renderer.height)
-    write_buffer(renderer.context, renderer.resources["rng_states"], 0, states)
-    renderer.reset()
+    """Put `renderer` where a fresh Renderer of its scene seeded with `seed` starts: no samples,
+    every pixel's sampler state at that seed. restart() clears the sums and takes the states back to
+    the renderer's own seed; the new seed's states are then written over them."""
+    renderer.restart()
+    write_buffer(renderer.context, renderer.resources["rng_states"], 0, sampler_states(renderer, seed))
 
 
 class RenderWorker:
