@@ -141,7 +141,7 @@ def test_terminator_term_fades_the_smooth_sphere_as_its_flat_version():
     bound = TERM_GAIN_MAX / smallest_normal_agreement() * flat + RADIANCE_ATOL
     with_term, without_term = direct_light(True, True)[inside], direct_light(True, False)[inside]
     assert (with_term <= bound).all(), f"{(with_term > bound).sum()} pixels brighter than the flat facets allow"
-    assert (without_term > bound).sum() >= 10  # measured 22: the steps the term removes
+    assert (without_term > bound).sum() >= 10  # measured 23 of 354: the steps the term removes
     assert (with_term <= without_term + RADIANCE_ATOL).all()
     assert with_term.sum() >= DARKENING_MIN * without_term.sum()
 
