@@ -11,5 +11,5 @@ fn mapped_normal(shading: vec3<f32>, material: Material, material_index: u32, tr
     let corners = corner_tangents[triangle_index];
     let b = triangle_barycentric(triangle, p);
     let tangent = (1.0 - b.x - b.y) * corners.tangent0 + b.x * corners.tangent1 + b.y * corners.tangent2;
-    return normal_mapped(shading, tangent, texel, material.normal_scale, geometric, towards_viewer);
+    return normal_mapped(shading, tangent, texel, material_textures[material_index].normal_scale, geometric, towards_viewer);
 }

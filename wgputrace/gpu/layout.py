@@ -108,10 +108,8 @@ MATERIAL = GpuStruct(
         ("alpha", "f32"),
         ("ior", "f32"),
         ("metallic", "f32"),
-        ("normal_scale", "f32"),
     ),
-    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; normal_scale: "
-    "Principled's normal map strength (read only where it has one).",
+    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind.",
 )
 FRAME = GpuStruct(
     "Frame",
@@ -232,11 +230,13 @@ MATERIAL_TEXTURES = GpuStruct(
         ("double_sided", "u32"),
         ("emission", "u32"),
         ("emitted", "vec3<f32>"),
+        ("normal_scale", "f32"),
     ),
     "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's); "
     "alpha_mode as scene/materials/principled.py ALPHA_MODES numbers them, its cutoff, and 0 for a "
     "single-sided surface (shaders/alpha.wgsl); the radiance it emits (x the emission texture's: "
-    "shaders/emission.wgsl).",
+    "shaders/emission.wgsl); the normal texture's strength (shaders/normal_texture.wgsl), in the "
+    "padding after `emitted`.",
 )
 
 ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

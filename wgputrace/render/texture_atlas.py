@@ -34,8 +34,8 @@ from ..scene.lights.light import LUMINANCE_WEIGHTS
 from ..scene.materials.principled import ALPHA_MODES
 from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb
 
-# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl, emission.wgsl read them)
-_PARAMETER_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided", "emitted")
+# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl, emission.wgsl, normal_texture.wgsl read them)
+_PARAMETER_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided", "emitted", "normal_scale")
 # the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
 TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name not in _PARAMETER_FIELDS)
 
@@ -106,6 +106,7 @@ def material_texture_records(materials: list[Material], textures: list[Texture])
         record["alpha_cutoff"] = getattr(material, "alpha_cutoff", 0.5)
         record["double_sided"] = getattr(material, "double_sided", True)
         record["emitted"] = surface_radiance(material)
+        record["normal_scale"] = getattr(material, "normal_scale", 1.0)
     return records
 
 

@@ -23,7 +23,7 @@ need, the same on both sides.
 A Disney diffuse lobe with retro-reflection, weighted by 1 - metallic, plus GGX reflection whose
 Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic Schlick(base_color). Sampling
 picks the diffuse lobe with probability (1 - metallic) / (2 - metallic), else a visible GGX normal.
-GPU record: color = base_color, alpha = roughness, ior = eta, metallic, normal_scale. Textures and alpha are in
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic. Textures, alpha and normal_scale are in
 the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
 reads these fields (shaders/textures.wgsl resolve_material), so the BSDF code sees constants.
 Alpha modes and sidedness act in the traversal's triangle test (shaders/alpha.wgsl), for every ray;
@@ -125,7 +125,6 @@ class Principled(Material):
     def fill_record(self, record) -> None:
         record["color"], record["alpha"] = self.base_color, self.roughness
         record["ior"], record["metallic"] = self.eta, self.metallic
-        record["normal_scale"] = self.normal_scale
 
     def mitsuba_bsdf(self, tangent_handedness: float = 1.0) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
