@@ -109,9 +109,10 @@ MATERIAL = GpuStruct(
         ("ior", "f32"),
         ("metallic", "f32"),
         ("normal_scale", "f32"),
+        ("spec_trans", "f32"),
     ),
     "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; normal_scale: "
-    "Principled's normal map strength (read only where it has one).",
+    "Principled's normal map strength (read only where it has one); spec_trans: Principled's transmission.",
 )
 FRAME = GpuStruct(
     "Frame",
