@@ -1,6 +1,8 @@
 """Writes tests/shaders/data/principled_mitsuba.npz: Mitsuba 3's `principled` BSDF evaluated (eval,
 which includes cos theta_o, and pdf) at random directions for a few parameter sets, the independent
 implementation tests/shaders/test_principled.py compares shaders/materials/principled.wgsl with.
+Without transmission both directions lie above the surface (ours is two-sided there, Mitsuba's
+black below); with it, anywhere on the sphere (inside, reflection and refraction included).
 
 Run with a Python that has Mitsuba 3 (tested with 3.9.1, variant llvm_ad_rgb):
     python scripts/make_principled_fixture.py
@@ -17,15 +19,19 @@ import numpy as np
 FIXTURE = Path(__file__).resolve().parent.parent / "tests" / "shaders" / "data" / "principled_mitsuba.npz"
 SEED = 20261201
 DIRECTIONS = 64
-# base_color, metallic, roughness, eta: the corners of the range, and eta below 1 (Schlick on the
-# refracted side)
+# base_color, metallic, roughness, eta, spec_trans: the corners of the range, eta below 1 (Schlick
+# on the refracted side), transmission partial and whole
 PARAMETERS = (
-    ((0.9, 0.5, 0.2), 0.0, 0.5, 1.5),
-    ((0.3, 0.6, 0.9), 0.5, 0.2, 1.33),
-    ((1.0, 1.0, 1.0), 1.0, 0.05, 1.5),
-    ((0.8, 0.8, 0.8), 0.25, 1.0, 2.4),
-    ((0.2, 0.9, 0.4), 0.75, 0.7, 0.8),
-    ((0.0, 0.0, 0.0), 0.0, 0.0, 1.5),
+    ((0.9, 0.5, 0.2), 0.0, 0.5, 1.5, 0.0),
+    ((0.3, 0.6, 0.9), 0.5, 0.2, 1.33, 0.0),
+    ((1.0, 1.0, 1.0), 1.0, 0.05, 1.5, 0.0),
+    ((0.8, 0.8, 0.8), 0.25, 1.0, 2.4, 0.0),
+    ((0.2, 0.9, 0.4), 0.75, 0.7, 0.8, 0.0),
+    ((0.0, 0.0, 0.0), 0.0, 0.0, 1.5, 0.0),
+    ((0.9, 0.5, 0.2), 0.0, 0.3, 1.5, 0.5),
+    ((0.6, 0.8, 1.0), 0.0, 0.1, 1.5, 1.0),
+    ((1.0, 1.0, 1.0), 0.3, 0.8, 1.33, 0.7),
+    ((0.5, 0.5, 0.5), 0.5, 0.5, 0.8, 1.0),
 )
 
 
@@ -37,17 +43,24 @@ def upper_hemisphere(rng: np.random.Generator, count: int) -> np.ndarray:
     return np.stack([s * np.cos(phi), s * np.sin(phi), z], axis=1).astype(np.float32)
 
 
+def sphere(rng: np.random.Generator, count: int) -> np.ndarray:
+    """Directions with |cos theta| in [0.01, 1], each below the surface with probability 1/2."""
+    directions = upper_hemisphere(rng, count)
+    directions[rng.random(count) < 0.5, 2] *= -1.0
+    return directions
+
+
 def main() -> None:
     mi.set_variant("llvm_ad_rgb")
     rng = np.random.default_rng(SEED)
-    wi = upper_hemisphere(rng, DIRECTIONS)
-    wo = upper_hemisphere(rng, DIRECTIONS)
-    si = dr.zeros(mi.SurfaceInteraction3f)
-    si.wi = mi.Vector3f(wi.T)
-    si.sh_frame = mi.Frame3f(mi.Vector3f(0.0, 0.0, 1.0))
     context = mi.BSDFContext()
-    evals, pdfs = [], []
-    for base_color, metallic, roughness, eta in PARAMETERS:
+    wis, wos, evals, pdfs = [], [], [], []
+    for base_color, metallic, roughness, eta, spec_trans in PARAMETERS:
+        draw = sphere if spec_trans > 0 else upper_hemisphere
+        wi, wo = draw(rng, DIRECTIONS), draw(rng, DIRECTIONS)
+        si = dr.zeros(mi.SurfaceInteraction3f)
+        si.wi = mi.Vector3f(wi.T)
+        si.sh_frame = mi.Frame3f(mi.Vector3f(0.0, 0.0, 1.0))
         bsdf = mi.load_dict(
             {
                 "type": "principled",
@@ -55,8 +68,12 @@ def main() -> None:
                 "metallic": metallic,
                 "roughness": roughness,
                 "eta": eta,
+                # Mitsuba switches its transmission lobe on by the key's presence
+                **({"spec_trans": spec_trans} if spec_trans > 0 else {}),
             }
         )
+        wis.append(wi)
+        wos.append(wo)
         evals.append(np.array(bsdf.eval(context, si, mi.Vector3f(wo.T))).T)
         pdfs.append(np.array(bsdf.pdf(context, si, mi.Vector3f(wo.T))))
     FIXTURE.parent.mkdir(parents=True, exist_ok=True)
@@ -66,8 +83,9 @@ def main() -> None:
         metallic=np.array([p[1] for p in PARAMETERS], np.float32),
         roughness=np.array([p[2] for p in PARAMETERS], np.float32),
         eta=np.array([p[3] for p in PARAMETERS], np.float32),
-        wi=wi,
-        wo=wo,
+        spec_trans=np.array([p[4] for p in PARAMETERS], np.float32),
+        wi=np.array(wis),
+        wo=np.array(wos),
         eval=np.array(evals, np.float32),
         pdf=np.array(pdfs, np.float32),
         mitsuba_version=mi.__version__,

@@ -52,6 +52,7 @@ REFERENCES = {
     "glass_grazing": ReferenceSettings(max_depth=12, spp=256, passes=16),
     "glossy_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
     "principled_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
+    "principled_transmission": ReferenceSettings(max_depth=10, spp=256, passes=16),
     "textured_quads": ReferenceSettings(max_depth=6, spp=256, passes=16),
     "textured_asset": ReferenceSettings(max_depth=6, spp=256, passes=16),
     "alpha_cutout": ReferenceSettings(max_depth=6, spp=256, passes=16),

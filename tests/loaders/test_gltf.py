@@ -10,7 +10,7 @@ import struct
 import numpy as np
 import pytest
 
-from wgputrace import Diffuse, Emitter, Glass, Glossy, SceneLoadError, SceneLoadWarning, load_scene
+from wgputrace import Diffuse, Emitter, Glossy, Principled, SceneLoadError, SceneLoadWarning, load_scene
 from wgputrace.testing.gltf_files import BOX, BOX_INDICES, MATERIALS, gltf_document, write_glb, write_gltf
 
 
@@ -32,7 +32,8 @@ def test_materials_transforms_and_camera(tmp_path, writer):
     scene = load_scene(writer(tmp_path / ("boxes.glb" if writer is write_glb else "boxes.gltf"), document, blob))
     m = [shape.material for shape in scene.shapes]
     assert isinstance(m[0], Diffuse) and m[0].color == (1.0, 0.0, 0.0)
-    assert isinstance(m[1], Glass) and m[1].ior == 1.33 and m[1].color == pytest.approx((0.9, 0.9, 1.0))
+    assert isinstance(m[1], Principled) and (m[1].spec_trans, m[1].eta, m[1].metallic) == (1.0, 1.33, 0.0)
+    assert m[1].base_color == pytest.approx((0.9, 0.9, 1.0)) and m[1].roughness == 1.0  # glTF's default
     assert isinstance(m[2], Emitter) and (m[2].color, m[2].emittance) == ((1.0, 0.5, 0.25), 8.0)
     assert isinstance(m[3], Glossy) and m[3].roughness == 0.25  # metallicFactor defaults to 1; alpha = 0.5^2
     assert isinstance(m[4], Diffuse) and m[4].color == (0.8, 0.8, 0.8)
@@ -81,7 +82,7 @@ def corrupt(document: dict, change) -> dict:
         (lambda d: d["bufferViews"][0].update(byteLength=10**9), r"bufferViews\[0\]: bytes 0..1000000000 lie beyond"),
         (
             lambda d: d["materials"][1]["extensions"]["KHR_materials_ior"].update(ior=0),
-            r"materials\[1\]: .*ior must be",
+            r"materials\[1\]: .*eta must be",
         ),
         (lambda d: d["materials"][0]["pbrMetallicRoughness"].update(baseColorFactor=[1, -1, 0, 1]), "color must be"),
         (lambda d: d["materials"][3]["pbrMetallicRoughness"].update(roughnessFactor="rough"), "must be float"),

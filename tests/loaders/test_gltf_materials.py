@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from wgputrace import Emitter, Glass, Principled, SceneLoadError, SceneLoadWarning, load_scene, render
+from wgputrace import Emitter, Principled, SceneLoadError, SceneLoadWarning, load_scene, render
 from wgputrace.testing.gltf_files import (
     SQUARE_UVS,
     TEXTURED_MATERIAL,
@@ -100,13 +100,19 @@ def test_an_untextured_material_keeps_its_mapping_and_shape_no_uvs(tmp_path):
     assert shape.uvs is None  # the file's TEXCOORD_0 is not uploaded for a material without textures
 
 
-def test_textured_transmission_is_glass_with_a_warning(tmp_path):
+def test_transmission_is_principled_spec_trans_its_texture_ignored_with_a_warning(tmp_path):
     material = copy.deepcopy(TEXTURED_MATERIAL)
-    material["extensions"]["KHR_materials_transmission"] = {"transmissionFactor": 1.0}
-    del material["emissiveFactor"]  # an emissive one would be an Emitter, as without textures
-    with pytest.warns(SceneLoadWarning, match=r"materials\[0\]: transmissionFactor 1.0 makes it Glass"):
+    material["extensions"]["KHR_materials_transmission"] = {
+        "transmissionFactor": 0.7,
+        "transmissionTexture": {"index": 0},
+    }
+    with pytest.warns(
+        SceneLoadWarning, match=r"materials\[0\]\.extensions\.KHR_materials_transmission\.transmissionTexture"
+    ):
         shape = load_scene(write_glb(tmp_path / "glass.glb", *textured_square(material=material))).shapes[0]
-    assert isinstance(shape.material, Glass) and shape.material.ior == 1.4
+    assert isinstance(shape.material, Principled)
+    assert (shape.material.spec_trans, shape.material.eta) == (pytest.approx(0.7), 1.4)
+    assert shape.material.base_color_texture is not None  # textures kept
 
 
 def test_one_image_is_one_texture_for_uses_alike(tmp_path):

@@ -41,6 +41,7 @@ SCENES = {
     "textured_quads": 20261202,
     "alpha_cutout": 20261203,
     "textured_asset": 20261204,
+    "principled_transmission": 20261209,
     "alpha_blend": 20261206,
 }
 SIZE = 64

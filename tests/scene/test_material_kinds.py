@@ -21,6 +21,7 @@ from wgputrace.reference.mitsuba_scene import bsdf_dict, emitter_dict
 from wgputrace.render.lights import emitted_radiance, emitting
 from wgputrace.render.scene_buffers import material_records
 from wgputrace.scene import Diffuse, Emitter, Glass, Glossy, Material, material_class, material_classes
+from wgputrace.scene.materials.principled import Principled
 
 # A kind id no material module uses.
 FREE_KIND = 250
@@ -101,9 +102,10 @@ def test_integrator_flags_come_from_the_classes():
     # a delta lobe never meets a light sample; glossy decides by roughness; an emitter has no BSDF
     assert (Glass.light_sampling(), Diffuse.light_sampling()) == ("false", "true")
     assert f"case MATERIAL_GLOSSY: {{ return {Glossy.samples_lights}; }}" in code
-    two_sided = "MATERIAL_DIFFUSE, MATERIAL_GLOSSY, MATERIAL_PRINCIPLED"  # not glass
+    two_sided = "MATERIAL_DIFFUSE, MATERIAL_GLOSSY"  # not glass; principled unless it transmits
     reflecting = "MATERIAL_DIFFUSE, MATERIAL_GLASS, MATERIAL_GLOSSY, MATERIAL_PRINCIPLED"
     assert f"case {two_sided}: {{ return true; }}" in code
+    assert f"case MATERIAL_PRINCIPLED: {{ return {Principled.two_sided_wgsl}; }}" in code
     assert f"case {reflecting}: {{ return true; }}" in code
 
 

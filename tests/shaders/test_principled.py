@@ -1,8 +1,10 @@
 """The principled material (scene/materials/principled.py, shaders/materials/principled.wgsl) on
 the GPU: its eval and pdf against Mitsuba 3's `principled` at random directions (a fixture written
-by scripts/make_principled_fixture.py), chi-square tests of its sampling against its pdf over the
-parameter range, a white furnace (what it keeps is at most 1 and equals the integral of its eval),
-and finite samples at the extremes of every parameter and at grazing angles.
+by scripts/make_principled_fixture.py; with transmission, from inside and outside, reflected and
+refracted), chi-square tests of its sampling against its pdf over the parameter range (with
+transmission on a grid of both hemispheres, crowding around the mirror and the refracted
+direction), white furnaces (the integral of its eval; Mitsuba's own furnace), and finite samples
+at the extremes of every parameter and at grazing angles.
 
 What the white furnace can ask: Mitsuba's principled adds its Disney diffuse lobe, weighted by
 1 - metallic and not by what the specular layer leaves, to the dielectric specular lobe, and the
@@ -28,7 +30,10 @@ from wgputrace.scene import MaterialError
 from wgputrace.scene.materials.principled import eta_from_specular
 from wgputrace.testing.bsdf_grid import (
     EVAL,
+    GRID_CELLS,
     PDF,
+    Axis,
+    HemisphereGrid,
     evaluate_bsdf,
     incident_directions,
     integrate_bsdf,
@@ -58,7 +63,15 @@ ROUGHNESS = (0.05, 0.3, 1.0)
 METALLIC = (0.0, 0.5, 1.0)
 # down to grazing, and from below the surface: a two-sided material mirrors wi there
 INCIDENT_COSINES = (0.9, 0.2, 0.01, -0.5)
-SAMPLING_CASES = [(r, m, c) for r in ROUGHNESS for m in METALLIC for c in INCIDENT_COSINES]
+# with transmission below is inside: from there light reflects (totally beyond the critical angle,
+# cos 0.75 at eta 1.5) or refracts out
+SPEC_TRANS = (0.5, 1.0)
+SPEC_TRANS_METALLIC = 0.25
+SPEC_TRANS_COSINES = (0.9, 0.2, -0.5, -0.9)
+# (roughness, metallic, spec_trans, cos theta_i)
+SAMPLING_CASES = [(r, m, 0.0, c) for r in ROUGHNESS for m in METALLIC for c in INCIDENT_COSINES] + [
+    (r, SPEC_TRANS_METALLIC, t, c) for r in ROUGHNESS for t in SPEC_TRANS for c in SPEC_TRANS_COSINES
+]
 FURNACE_CASES = [(r, m) for r in (0.05, 0.5, 1.0) for m in (0.0, 0.5, 1.0)]
 FURNACE_COSINE = 0.5
 LEVEL = sidak(SIGNIFICANCE, len(SAMPLING_CASES) + len(FURNACE_CASES))
@@ -67,8 +80,14 @@ LEVEL = sidak(SIGNIFICANCE, len(SAMPLING_CASES) + len(FURNACE_CASES))
 INTEGRATION_FRACTION = 0.1
 
 
-def white(roughness: float, metallic: float) -> Principled:
-    return Principled(f"principled r{roughness:g} m{metallic:g}", (1, 1, 1), metallic, roughness)
+def white(roughness: float, metallic: float, spec_trans: float = 0.0) -> Principled:
+    return Principled(
+        f"principled r{roughness:g} m{metallic:g} t{spec_trans:g}",
+        (1, 1, 1),
+        metallic,
+        roughness,
+        spec_trans=spec_trans,
+    )
 
 
 def ggx_grid(material: Principled, wi: np.ndarray):
@@ -76,6 +95,26 @@ def ggx_grid(material: Principled, wi: np.ndarray):
     mirror direction); its diffuse lobe is smooth over any grid."""
     alpha = max(0.001, material.roughness**2)
     return lobe_grid(Glossy("grid", roughness=alpha), wi)
+
+
+def refraction_grid(material: Principled, wi: np.ndarray) -> HemisphereGrid:
+    """Cells on the side opposite wi crowding around the smooth refraction of wi (uniform past
+    the critical angle), at the lobe's scale widened by the relative index of refraction."""
+    alpha = max(0.001, material.roughness**2)
+    eta = material.eta if wi[2] > 0 else 1.0 / material.eta
+    sin_i = float(np.hypot(wi[0], wi[1]))
+    phi_r = float(np.arctan2(-wi[1], -wi[0]))
+    rows = GRID_CELLS[0]
+    sin_t = sin_i / eta
+    if sin_t >= 1.0:
+        return HemisphereGrid(-np.sign(wi[2]), Axis(0.0, 1.0), phi_r, np.full(rows, np.inf))
+    cos_t = np.sqrt(1.0 - sin_t**2)
+    spread = 2.0 * alpha * max(eta, 1.0 / eta)
+    cos_theta = Axis(0.0, 1.0, cos_t, spread * (sin_t + alpha))
+    edges = cos_theta.edges(rows)
+    c = 0.5 * (edges[:-1] + edges[1:])
+    phi_width = spread * (c + cos_t) / np.sqrt(1.0 - c**2)
+    return HemisphereGrid(-np.sign(wi[2]), cos_theta, phi_r, np.where(phi_width < np.pi, phi_width, np.inf))
 
 
 def quadrature_budget(integrals: np.ndarray) -> np.ndarray:
@@ -86,38 +125,54 @@ def test_eval_and_pdf_match_mitsuba(gpu_context):
     fixture = np.load(FIXTURE)
     materials = [
         Principled(
-            f"m{i}", tuple(fixture["base_color"][i]), *(float(fixture[k][i]) for k in ("metallic", "roughness", "eta"))
+            f"m{i}",
+            tuple(fixture["base_color"][i]),
+            *(float(fixture[k][i]) for k in ("metallic", "roughness", "eta")),
+            spec_trans=float(fixture["spec_trans"][i]),
         )
         for i in range(len(fixture["metallic"]))
     ]
-    pairs = len(materials) * len(fixture["wi"])
-    records = material_records(materials)[np.repeat(np.arange(len(materials)), len(fixture["wi"]))]
-    wi, wo = (np.tile(fixture[k], (len(materials), 1)) for k in ("wi", "wo"))
-    out = evaluate_bsdf(gpu_context, records, wi, wo, np.arange(pairs))
+    cases, directions = fixture["wi"].shape[:2]
+    # one case per pair: evaluate_bsdf takes wi per case
+    records = material_records(materials)[np.repeat(np.arange(cases), directions)]
+    out = evaluate_bsdf(
+        gpu_context, records, fixture["wi"].reshape(-1, 3), fixture["wo"].reshape(-1, 3), np.arange(cases * directions)
+    )
     np.testing.assert_allclose(out[:, :3], fixture["eval"].reshape(-1, 3), rtol=MITSUBA_RTOL, atol=MITSUBA_ATOL)
     np.testing.assert_allclose(out[:, PDF], fixture["pdf"].reshape(-1), rtol=MITSUBA_RTOL, atol=MITSUBA_ATOL)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", SAMPLING_CASES, ids=[f"r{r:g} m{m:g} cos{c:g}" for r, m, c in SAMPLING_CASES])
+@pytest.mark.parametrize(
+    "case", SAMPLING_CASES, ids=[f"r{r:g} m{m:g} t{t:g} cos{c:g}" for r, m, t, c in SAMPLING_CASES]
+)
 def test_sampling_follows_pdf(gpu_context, case):
-    roughness, metallic, cos_theta = case
+    roughness, metallic, spec_trans, cos_theta = case
     rng = np.random.default_rng((SEED, SAMPLING_CASES.index(case)))
-    material = white(roughness, metallic)
+    material = white(roughness, metallic, spec_trans)
     wi = incident_directions(rng, np.array([cos_theta]))
     records = material_records([material])
-    grid = ggx_grid(material, wi[0])
-    integrals = integrate_bsdf(gpu_context, records, wi, [grid], PDF, quadrature_budget)
-    probability = integrals.value[0].ravel()
+    # wi's side (reflection), and the other side where the material transmits
+    reflected = ggx_grid(material, wi[0])
+    grids = [reflected] + ([refraction_grid(material, wi[0])] if spec_trans > 0 else [])
+    integrals = integrate_bsdf(
+        gpu_context, records[[0] * len(grids)], wi[[0] * len(grids)], grids, PDF, quadrature_budget
+    )
+    probability = integrals.value.ravel()
     budget = quadrature_budget(probability)
-    assert np.all(integrals.error[0].ravel() <= budget), "refine the grid (bsdf_grid.MAX_REFINEMENTS) first"
+    assert np.all(integrals.error.ravel() <= budget), "refine the grid (bsdf_grid.MAX_REFINEMENTS) first"
     samples = sample_bsdf(gpu_context, records, wi, rng.random((1, SAMPLES, 3), dtype=np.float32))[0]
     valid = samples[:, 3] > 0.0
-    crossed = np.sign(samples[valid, 2]) != np.sign(wi[0, 2])
-    assert not crossed.any(), f"{crossed.sum()} samples leave the two-sided surface on the side opposite wi"
+    crossed = np.sign(samples[:, 2]) != np.sign(wi[0, 2])
+    if spec_trans == 0:
+        assert not (valid & crossed).any(), (
+            f"{(valid & crossed).sum()} samples leave the two-sided surface on the side opposite wi"
+        )
     mass = probability.sum()
     assert mass <= 1.0 + budget.sum(), f"pdf integrates to {mass:.6f} > 1"
-    observed = grid.histogram(samples[valid, :3]).ravel()
+    observed = np.concatenate(
+        [grid.histogram(samples[valid & (crossed == (grid is not reflected)), :3]).ravel() for grid in grids]
+    )
     result = chi_square(observed, valid.sum() * probability / mass)
     assert result.p_value >= LEVEL, (
         f"{material.name} at wi {wi[0]}: chi-square {result.statistic:.1f}, {result.dof} dof, p = {result.p_value:.3g}"
@@ -157,7 +212,6 @@ def test_white_furnace_is_mitsubas(gpu_context):
         (index, tuple(float(axis[i]) for axis, i in zip(axes, index, strict=True)))
         for index in np.ndindex(fixture["mean"].shape)
     ]
-    grid = [(index, point) for index, point in grid if point[2] == 0.0]
     rng = np.random.default_rng((SEED, 1))
     materials = [
         Principled(f"white r{r:g} m{m:g} t{t:g}", (1, 1, 1), m, r, float(fixture["eta"]), spec_trans=t)
@@ -193,8 +247,10 @@ def test_white_furnace_is_mitsubas(gpu_context):
 def test_no_nan_at_the_extremes_and_grazing(gpu_context):
     rng = np.random.default_rng(SEED)
     materials = [
-        Principled(f"x{i}", (c, c, c), m, r)
-        for i, (c, m, r) in enumerate((c, m, r) for c in (0.0, 1.0) for m in (0.0, 1.0) for r in (0.0, 1.0))
+        Principled(f"x{i}", (c, c, c), m, r, spec_trans=t)
+        for i, (c, m, r, t) in enumerate(
+            (c, m, r, t) for c in (0.0, 1.0) for m in (0.0, 1.0) for r in (0.0, 1.0) for t in (0.0, 1.0)
+        )
     ]
     cosines = np.array([1.0, 1e-3, 1e-6, 1e-7, -1e-6, -0.5], np.float32)
     wi = incident_directions(rng, np.tile(cosines, len(materials)))
@@ -202,14 +258,15 @@ def test_no_nan_at_the_extremes_and_grazing(gpu_context):
     records = material_records(materials)[np.repeat(np.arange(len(materials)), len(cosines))]
     samples = sample_bsdf(gpu_context, records, wi, rng.random((len(wi), 4096, 3), dtype=np.float32))
     assert np.isfinite(samples).all()
-    wo = incident_directions(rng, np.tile(np.array([1.0, 1e-3, 1e-7, 0.0, 0.5], np.float32), len(wi)))
-    out = evaluate_bsdf(gpu_context, records, wi, wo, np.repeat(case, 5))
+    outgoing = np.array([1.0, 1e-3, 1e-7, 0.0, 0.5, -1e-3, -1.0], np.float32)
+    wo = incident_directions(rng, np.tile(outgoing, len(wi)))
+    out = evaluate_bsdf(gpu_context, records, wi, wo, np.repeat(case, len(outgoing)))
     assert np.isfinite(out).all() and (out >= 0.0).all()
 
 
 def test_parameters_are_checked_and_exported():
-    with pytest.raises(MaterialError, match="spec_trans must be 0"):
-        Principled("p", spec_trans=0.5)
+    with pytest.raises(MaterialError, match="spec_trans must be in"):
+        Principled("p", spec_trans=1.5)
     with pytest.raises(MaterialError, match="metallic must be in"):
         Principled("p", metallic=1.5)
     material = Principled("p", (0.1, 0.2, 0.3), metallic=0.5, roughness=0.25, eta=1.4)
@@ -220,4 +277,6 @@ def test_parameters_are_checked_and_exported():
         "roughness": 0.25,
         "eta": 1.4,
     }
+    # transmission: Mitsuba's lobe is on by the key's presence; not wrapped in `twosided` (its inside)
+    assert Principled("p", spec_trans=0.25).mitsuba_bsdf()["spec_trans"] == 0.25
     assert eta_from_specular(0.5) == pytest.approx(1.5, rel=1e-12)

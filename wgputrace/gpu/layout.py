@@ -108,8 +108,10 @@ MATERIAL = GpuStruct(
         ("alpha", "f32"),
         ("ior", "f32"),
         ("metallic", "f32"),
+        ("spec_trans", "f32"),
     ),
-    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind.",
+    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans: "
+    "Principled's transmission.",
 )
 FRAME = GpuStruct(
     "Frame",

@@ -81,7 +81,7 @@ def material_dispatch(kinds: Iterable[int] = ALL_KINDS) -> str:
         ),
         *_function(
             "material_is_two_sided(material: Material) -> bool",
-            {cls: "true" if cls.two_sided else "false" for cls in shaded},
+            {cls: cls.two_sided_wgsl or ("true" if cls.two_sided else "false") for cls in shaded},
             "false",
         ),
         *_function(

@@ -2,8 +2,9 @@
 textures decoded (images embedded in a .glb's buffer views, base64 data URIs, or files beside the
 .gltf).
 
-A material with any texture, or with alphaMode MASK or BLEND, becomes a Principled (Mitsuba 3's
-`principled`, which glTF's metallic-roughness model was built after), every texture read:
+A material with any texture, with alphaMode MASK or BLEND, or with transmission, becomes a
+Principled (Mitsuba 3's `principled`, which glTF's metallic-roughness model was built after),
+every texture read:
 
 | glTF field                                                   | Principled parameter |
 |--------------------------------------------------------------|----------------------|
@@ -15,6 +16,7 @@ A material with any texture, or with alphaMode MASK or BLEND, becomes a Principl
 | `emissiveFactor`, `emissiveTexture` (sRGB)                   | emission, emission_texture |
 | `KHR_materials_emissive_strength.emissiveStrength`            | emission_strength |
 | `KHR_materials_ior.ior` (default 1.5)                         | eta |
+| `KHR_materials_transmission.transmissionFactor` (default 0)   | spec_trans (rough dielectric transmission, glTF's roughness) |
 | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
 
 An emissive texture thus lights its triangles in proportion to the texture, never the whole mesh
@@ -22,20 +24,19 @@ as a uniform lamp. A texture's `sampler` gives its wrap modes (wrapS/wrapT: 1049
 clamp, 33648 mirror; default repeat); `KHR_texture_transform` its offset, rotation and scale.
 Ignored: `occlusionTexture` (the path tracer computes occlusion itself), the samplers' filters
 (textures are sampled bilinearly), a `texCoord` other than 0 (TEXCOORD_0 is read, with a
-SceneLoadWarning), `KHR_materials_transmission` below 0.5 (Principled's spec_trans is 0 only).
+SceneLoadWarning), `KHR_materials_transmission.transmissionTexture` (spec_trans takes no texture:
+the factor alone, with a SceneLoadWarning).
 
 Any other material keeps the mapping it had before textures (the first rule that applies):
 
 | glTF material                                                          | wgputrace material |
 |------------------------------------------------------------------------|--------------------|
 | `emissiveFactor` x `KHR_materials_emissive_strength.emissiveStrength` > 0 | Emitter: color = emissiveFactor, emittance = emissiveStrength (default 1) |
-| `KHR_materials_transmission.transmissionFactor` >= 0.5                 | Glass: color = baseColorFactor rgb, ior = `KHR_materials_ior.ior` (default 1.5) |
 | `pbrMetallicRoughness.metallicFactor` (default 1) >= 0.5               | Glossy: color = baseColorFactor rgb, roughness = roughnessFactor^2 (glTF's roughness is perceptual; GGX alpha is its square) |
 | anything else                                                          | Diffuse: color = baseColorFactor rgb |
 | a primitive without a material                                         | Diffuse: grey 0.8 (not glTF's default, which is a rough metal) |
 
-A textured material with `KHR_materials_transmission.transmissionFactor` >= 0.5 is Glass as
-before, its textures dropped with a SceneLoadWarning. Images with a KHR_texture_basisu (KTX2) or
+Images with a KHR_texture_basisu (KTX2) or
 EXT_texture_webp source only are refused by name; an image that is missing, unreadable, corrupt,
 or 0 or over 65,536 pixels a side is a SceneLoadError naming the file, the JSON path and the
 problem.
@@ -48,7 +49,7 @@ import binascii
 import urllib.parse
 import warnings
 
-from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Principled, SceneError
+from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principled, SceneError
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
 from .textures import ImageError, decode_image
@@ -112,13 +113,20 @@ class GltfMaterials:
 
         strength = extension("KHR_materials_emissive_strength", "emissiveStrength", 1.0)
         transmission = extension("KHR_materials_transmission", "transmissionFactor", 0.0)
+        if "transmissionTexture" in extensions.get("KHR_materials_transmission", {}):
+            warnings.warn(
+                f"{reader.path}: {where}.extensions.KHR_materials_transmission.transmissionTexture: "
+                f"spec_trans takes no texture; transmissionFactor {transmission} is used alone",
+                SceneLoadWarning,
+                stacklevel=6,
+            )
         ior = extension("KHR_materials_ior", "ior", DEFAULT_IOR)
         alpha_mode = reader.get(entry, "alphaMode", str, where, "OPAQUE")
         if alpha_mode not in ALPHA_MODES:
             raise reader.fail(f"{where}.alphaMode", f"must be one of {ALPHA_MODES}, got {alpha_mode!r:.40}")
         slots = [(path, parameter, srgb) for path, parameter, srgb in TEXTURE_SLOTS if _info(entry, path) is not None]
         try:
-            if (slots or alpha_mode != "OPAQUE") and transmission < LOBE_THRESHOLD:
+            if slots or alpha_mode != "OPAQUE" or transmission > 0:
                 parameters = {parameter: self._texture(entry, path, srgb, where) for path, parameter, srgb in slots}
                 parameters |= self._set_values(entry, where, emissive, strength, alpha_mode)
                 return Principled(
@@ -128,19 +136,11 @@ class GltfMaterials:
                     metallic=metallic,
                     roughness=roughness,
                     eta=ior,
+                    spec_trans=transmission,
                     **parameters,
-                )
-            if slots:
-                warnings.warn(
-                    f"{reader.path}: {where}: transmissionFactor {transmission} makes it Glass, which takes "
-                    f"no textures: {', '.join(path for path, _, _ in slots)} ignored",
-                    SceneLoadWarning,
-                    stacklevel=6,
                 )
             if emissive.max() * strength > 0:
                 return Emitter(name, color=emissive.tolist(), emittance=strength)
-            if transmission >= LOBE_THRESHOLD:
-                return Glass(name, color=base[:3].tolist(), ior=ior)
             if metallic >= LOBE_THRESHOLD:
                 return Glossy(name, color=base[:3].tolist(), roughness=roughness * roughness)
             return Diffuse(name, color=base[:3].tolist())

@@ -104,11 +104,19 @@ def bsdf_dict(material: Material, tangents: np.ndarray | None = None) -> dict:
         bsdf = material.mitsuba_bsdf()
     else:
         bsdf = material.mitsuba_bsdf(tangent_handedness=uniform_handedness(material, tangents))
-    if not material.two_sided:
+    if not material.two_sided or transmits(bsdf):
         return bsdf
     if bsdf["type"] == "mask":  # Mitsuba's twosided refuses a BSDF that transmits: it goes inside
         return bsdf | {"bsdf": {"type": "twosided", "bsdf": bsdf["bsdf"]}}
     return {"type": "twosided", "bsdf": bsdf}
+
+
+def transmits(bsdf: dict) -> bool:
+    """Whether a BSDF dict (inside its wrappers) is a `principled` with transmission, whose back is
+    its inside: Mitsuba's `twosided` refuses it, and it needs none."""
+    while "bsdf" in bsdf:
+        bsdf = bsdf["bsdf"]
+    return bsdf["type"] == "principled" and bsdf.get("spec_trans", 0.0) > 0.0
 
 
 def uniform_handedness(material: Material, tangents: np.ndarray | None) -> float:

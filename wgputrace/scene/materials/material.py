@@ -132,6 +132,8 @@ class Material(Kind):
     samples_lights: ClassVar[str | None] = None
     # the BSDF is the same seen from below (Mitsuba's `twosided`): bsdf.wgsl mirrors wi to +z first
     two_sided: ClassVar[bool] = True
+    # a WGSL condition on the record that decides two-sidedness per material instead (Principled's)
+    two_sided_wgsl: ClassVar[str | None] = None
     # WGSL vec3<f32> over `material`: the radiance it emits; None: it emits nothing
     emission_wgsl: ClassVar[str | None] = None
 

@@ -1,5 +1,5 @@
 """Principled: Mitsuba 3's `principled` BSDF for the parameters glTF's metallic-roughness materials
-need, the same on both sides.
+need (transmission included).
 
 | parameter  | type          | default | meaning                                                          |
 |------------|---------------|---------|------------------------------------------------------------------|
@@ -7,7 +7,7 @@ need, the same on both sides.
 | metallic   | float [0, 1]  | 0       | blends a dielectric (0) into a Schlick conductor tinted by base_color (1) |
 | roughness  | float [0, 1]  | 0.5     | GGX alpha = roughness^2 (at least 0.001); also drives retro-reflection |
 | eta        | float > 0     | 1.5     | index of refraction of the specular layer (Mitsuba's `specular` s is eta_from_specular(s)) |
-| spec_trans | 0             | 0       | transmission: not supported yet, any other value is refused      |
+| spec_trans | float [0, 1]  | 0       | weight of rough dielectric transmission (glTF KHR_materials_transmission); above 0 the back side is the inside |
 | base_color_texture | Texture (sRGB) or None | None | RGB x base_color (glTF baseColorTexture); its alpha x alpha |
 | metallic_roughness_texture | Texture (linear) or None | None | G x roughness, B x metallic (glTF metallicRoughnessTexture) |
 | normal_texture | Texture (linear) or None | None | tangent-space normal map (glTF normalTexture; shaders/normal_map.wgsl) |
@@ -20,15 +20,20 @@ need, the same on both sides.
 | emission_texture | Texture (sRGB) or None | None | RGB x emission (glTF emissiveTexture) |
 | emission_strength | float >= 0 | 1    | x emission (KHR_materials_emissive_strength)                     |
 
-A Disney diffuse lobe with retro-reflection, weighted by 1 - metallic, plus GGX reflection whose
-Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic Schlick(base_color). Sampling
-picks the diffuse lobe with probability (1 - metallic) / (2 - metallic), else a visible GGX normal.
-GPU record: color = base_color, alpha = roughness, ior = eta, metallic. Textures, alpha and normal_scale are in
+A Disney diffuse lobe with retro-reflection, weighted by (1 - metallic)(1 - spec_trans), plus GGX
+reflection whose Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic
+Schlick(base_color), plus rough dielectric transmission weighted by (1 - metallic) spec_trans and
+tinted sqrt(base_color). Sampling picks the diffuse lobe with probability (1 - metallic)(1 -
+spec_trans) / (2 - metallic - (1 - metallic) spec_trans), else a visible GGX normal that reflects
+or refracts as its Fresnel and the weights say. Without transmission the material is the same on
+both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans. Textures, alpha and normal_scale are in
 the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
 reads these fields (shaders/textures.wgsl resolve_material), so the BSDF code sees constants.
 Alpha modes and sidedness act in the traversal's triangle test (shaders/alpha.wgsl), for every ray;
 only scenes with such a material compile that test (gpu/alpha.py).
-WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `twosided` `principled` with the same values.
+WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `principled` with the same values, in `twosided`
+without transmission.
 """
 
 from __future__ import annotations
@@ -82,12 +87,10 @@ class Principled(Material):
         pdf="principled_pdf(material, wi, wo)",
     )
 
+    # two-sided (Mitsuba's `twosided`) without transmission; with it the back is the inside
+    two_sided_wgsl = "material.spec_trans == 0.0"
+
     def checked_parameters(self) -> dict[str, object]:
-        if self.spec_trans != 0:
-            raise MaterialError(
-                f"material {self.name!r}: spec_trans must be 0 (transmission is not supported yet), got {self.spec_trans!r}",
-                "spec_trans",
-            )
         for parameter in ("base_color_texture", "metallic_roughness_texture", "normal_texture", "emission_texture"):
             value = getattr(self, parameter)
             if value is not None and not isinstance(value, Texture):
@@ -115,6 +118,7 @@ class Principled(Material):
             ),
             "base_color": check_color(self.name, "base_color", self.base_color, upper=1.0),
             "metallic": check_number(self.name, "metallic", self.metallic, low=0.0, high=1.0),
+            "spec_trans": check_number(self.name, "spec_trans", self.spec_trans, low=0.0, high=1.0),
             "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
             "eta": check_number(self.name, "eta", self.eta, low=0.0, high=IOR_MAX, low_inclusive=False),
             "normal_scale": check_number(
@@ -125,6 +129,7 @@ class Principled(Material):
     def fill_record(self, record) -> None:
         record["color"], record["alpha"] = self.base_color, self.roughness
         record["ior"], record["metallic"] = self.eta, self.metallic
+        record["spec_trans"] = self.spec_trans
 
     def mitsuba_bsdf(self, tangent_handedness: float = 1.0) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
@@ -141,6 +146,8 @@ class Principled(Material):
             "roughness": self.roughness,
             "eta": self.eta,
         }
+        if self.spec_trans > 0:  # Mitsuba switches its transmission lobe on by the key's presence
+            bsdf["spec_trans"] = self.spec_trans
         base, metallic_roughness = self.base_color_texture, self.metallic_roughness_texture
         if base is not None:
             bsdf["base_color"] = base.mitsuba_bitmap(base.linear_texels[..., :3] * self.base_color)
