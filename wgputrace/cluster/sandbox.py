@@ -264,7 +264,7 @@ def _serve(nodes: int, cpus: int, gpus: int) -> None:
                 _send(replies, ("ok", function(*args, **kwargs), ""))
             except EOFError:  # the caller is gone
                 break
-            except Exception as error:  # the call's, or its request's that did not unpickle here
+            except (Exception, SystemExit) as error:  # the call's (a benchmark's exit too), or its request's
                 _send(replies, ("error", _picklable(error), traceback.format_exc()))
     except Exception:
         _send(replies, traceback.format_exc())
@@ -273,7 +273,7 @@ def _serve(nodes: int, cpus: int, gpus: int) -> None:
         shutil.rmtree(temp, ignore_errors=True)
 
 
-def _picklable(error: Exception) -> Exception:
+def _picklable(error: BaseException) -> BaseException:
     """`error`, or a RuntimeError with its text where it does not pickle."""
     try:
         pickle.loads(pickle.dumps(error))
