@@ -250,7 +250,7 @@ def add_cluster_arguments(
             "--batches",
             type=positive_int,
             metavar="N",
-            help="split the samples into N batches (default: about 8 spp each); the image does not depend on "
+            help="split the samples into N batches (default 64, or one per sample where fewer); the image does not depend on "
             "how many workers render them",
         )
         parser.add_argument(

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgputrace.cluster.batches import DEFAULT_BATCH_SPP, batch_seed, split_samples
+from wgputrace.cluster.batches import DEFAULT_BATCHES, batch_seed, split_samples
 from wgputrace.cluster.merge import BatchImage, OrderedSum
 
 SHUFFLES = 5
@@ -22,10 +22,11 @@ def test_batches_cover_the_samples_with_distinct_seeds():
     assert batch_seed(8, 1) != batch_seed(7, 1)
 
 
-def test_default_batches_hold_the_default_spp():
-    batches = split_samples(spp=5 * DEFAULT_BATCH_SPP + 1, seed=1)
-    assert len(batches) == 6
-    assert sum(batch.spp for batch in batches) == 5 * DEFAULT_BATCH_SPP + 1
+@pytest.mark.parametrize(("spp", "count"), [(3, 3), (DEFAULT_BATCHES, DEFAULT_BATCHES), (1000, DEFAULT_BATCHES)])
+def test_the_default_batch_count_depends_on_the_samples_alone(spp, count):
+    batches = split_samples(spp, seed=1)
+    assert len(batches) == count
+    assert sum(batch.spp for batch in batches) == spp
 
 
 @pytest.mark.parametrize("batches", [0, 11])

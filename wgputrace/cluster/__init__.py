@@ -12,7 +12,7 @@ its batches run again elsewhere with the same result (pool.py).
 """
 
 from .batch_render import BatchTiming, ClusterRender, render, render_batches
-from .batches import DEFAULT_BATCH_SPP, Batch, batch_seed, split_samples
+from .batches import DEFAULT_BATCHES, Batch, batch_seed, split_samples
 from .connection import AUTO, CONNECT_TIMEOUT_SECONDS
 from .errors import INSTALL_HINT, ClusterUnreachable, NoWorkersLeft, RayMissing, WorkerFailed
 from .frames import FramesReport, frame_path, parse_frames, render_frames
@@ -21,7 +21,7 @@ from .progress import ClusterProgress
 __all__ = [
     "AUTO",
     "CONNECT_TIMEOUT_SECONDS",
-    "DEFAULT_BATCH_SPP",
+    "DEFAULT_BATCHES",
     "INSTALL_HINT",
     "Batch",
     "BatchTiming",

@@ -72,7 +72,7 @@ def render_batches(
     **options,
 ) -> ClusterRender:
     """Render `scene` on the Ray cluster at `address` (connection.connected says which) in
-    `batches` batches (None: batches.default_batch_count) on at most `workers` workers (None: one
+    `batches` batches (None: batches.DEFAULT_BATCHES, at most one per sample) on at most `workers` workers (None: one
     per GPU the cluster has, else one per CPU); `tile`: the side of the square tiles the image is
     cut into, for an image larger than a worker's device allows (its DeviceLimitError names the
     largest square it can render). `options` are the Renderer's other keyword arguments (accel,

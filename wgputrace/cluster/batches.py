@@ -1,8 +1,8 @@
 """Cutting a render into batches of samples over the whole image, and each batch's seed.
 
 A batch is (index, seed, spp). Its seed comes from the render's seed and the batch's index alone,
-and the batch count from the samples alone, never from the workers: so the batches, and each
-batch's image, are the same however many workers there are and wherever each batch runs. Batch 0
+and the batch count from the caller or the samples alone, never from the workers: so the batches,
+and each batch's image, are the same however many workers there are and wherever each runs. Batch 0
 keeps the render's own seed, so a render in one batch is `wgputrace.render`'s image bit for bit;
 the others' seeds go through numpy's SeedSequence (a hash of seed and index), so no two batches
 start their pixels' random streams close together.
@@ -10,16 +10,17 @@ start their pixels' random streams close together.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-# Samples per pixel in a batch when the caller does not say how many batches: bench/cluster.py
-# measured the fixed cost of a batch (scheduling, transfer of its image, merge) against its render
-# time; at 256x256 on lavapipe a batch of this many spp keeps that overhead under 5% (see
-# bench/README.md, cluster).
-DEFAULT_BATCH_SPP = 8
+# Batches when the caller does not say (fewer where there are fewer samples per pixel). Each batch
+# costs the same fixed time (read-back, the call, the driver's fetch and merge: bench/cluster.py
+# measured 57 ms at 512x512), so a fixed count keeps the job's overhead a share that shrinks as
+# its samples grow: at 512x512, 3.7% of 64 spp on one lavapipe thread, 5.9% of 65,536 spp at an
+# H100's speed (bench/README.md, "Rendering on a cluster"). It also caps the workers a job can
+# use: a larger cluster wants more batches (batches=, --batches).
+DEFAULT_BATCHES = 64
 _SEED_BITS = 0xFFFF_FFFF_FFFF_FFFF
 
 
@@ -40,17 +41,12 @@ def batch_seed(seed: int, index: int) -> int:
     return int(state[0])
 
 
-def default_batch_count(spp: int) -> int:
-    """Batches of about DEFAULT_BATCH_SPP samples per pixel each."""
-    return math.ceil(spp / DEFAULT_BATCH_SPP)
-
-
 def split_samples(spp: int, seed: int, batches: int | None = None) -> list[Batch]:
-    """`spp` samples per pixel in `batches` batches (default_batch_count when None) whose sizes
-    differ by at most one, the larger first."""
+    """`spp` samples per pixel in `batches` batches (None: DEFAULT_BATCHES, or one per sample where
+    there are fewer) whose sizes differ by at most one, the larger first."""
     if spp < 1:
         raise ValueError(f"spp must be at least 1, got {spp}")
-    count = default_batch_count(spp) if batches is None else batches
+    count = min(DEFAULT_BATCHES, spp) if batches is None else batches
     if not 1 <= count <= spp:
         raise ValueError(f"batches must be from 1 to spp ({spp}), got {count}")
     size, larger = divmod(spp, count)
