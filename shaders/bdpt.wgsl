@@ -8,6 +8,7 @@
 //! include "loop_budget.wgsl"
 //! include "bdpt/connect.wgsl"
 //! include "bdpt/splat.wgsl"
+//! include "bdpt/weight_sum_check.wgsl"
 // guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (gpu/path_guides.py)
 //! include "generated/path_guides.wgsl"
 // escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (gpu/light_dispatch.py)
@@ -42,6 +43,10 @@ override RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
 const ALL_STRATEGIES: u32 = 0xFFFFFFFFu;
 override BDPT_ONLY_S: u32 = ALL_STRATEGIES;
 override BDPT_ONLY_T: u32 = ALL_STRATEGIES;
+
+// Debugging (tests/render/test_bdpt_weights.py): each pixel sample accumulates what
+// check_weight_sums (bdpt/weight_sum_check.wgsl) finds instead of radiance.
+override BDPT_CHECK_WEIGHT_SUMS: bool = false;
 
 fn strategy_weight(s: u32, t: u32, weight: f32) -> f32 {
     if BDPT_ONLY_S == ALL_STRATEGIES {
@@ -217,6 +222,11 @@ fn render_pixel(xy: vec2<u32>) {
     let pixel = xy.y * frame.width + xy.x;
     sampler_begin(pixel);
     let camera = camera_ray(xy, sample_2d());
+    if BDPT_CHECK_WEIGHT_SUMS {
+        accumulation[pixel] = accumulate_sample(accumulation[pixel], check_weight_sums(camera));
+        sampler_end(pixel);
+        return;
+    }
     trace_light_subpath();
     let radiance = trace_camera_subpath(camera);
     if loop_budget_spent(frame.width) {

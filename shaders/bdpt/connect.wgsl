@@ -6,10 +6,6 @@
 //! include "bdpt/camera_importance.wgsl"
 //! include "light_emission.wgsl"
 
-// Point and spot lights' direction density in every weight: the uniform sphere's, whatever cone a
-// spot's light paths are drawn in (mis_weight.wgsl: a stand-in, used alike on both sides).
-const DELTA_POSITION_DIRECTION_PDF: f32 = 0.0795774715459477;
-
 // A vertex of the light subpath kept for connections: where it is, what the light subpath carries
 // there (throughput, MIS sums) and how many edges lead to it from the light.
 struct LightVertex {
@@ -40,7 +36,7 @@ fn light_occluded(x: SurfaceVertex, light: LightSample, direction: vec3<f32>) ->
 }
 
 // The MIS sums a light subpath starts with from `emitted` (mis_weight.wgsl's stand-in densities:
-// the distant lights' mixture, a directional light's scene disc, point and spot lights' sphere).
+// the distant lights' mixture, a directional light's scene disc).
 fn emission_mis_sums(emitted: EmissionSample, cos_light: f32) -> MisSums {
     if emitted.distant && emitted.delta_direction {
         return MisSums(mis(bdpt_distant_disk_area()), 0.0);
@@ -48,10 +44,7 @@ fn emission_mis_sums(emitted: EmissionSample, cos_light: f32) -> MisSums {
     if emitted.distant {
         return light_mis_sums(distant_emission(-emitted.direction).pdf, emitted.pdf_position * emitted.pdf_direction, 1.0, false);
     }
-    if emitted.delta_position {
-        return light_mis_sums(emitted.pdf_position, emitted.pdf_position * DELTA_POSITION_DIRECTION_PDF, 1.0, true);
-    }
-    return light_mis_sums(emitted.pdf_position, emitted.pdf_position * emitted.pdf_direction, cos_light, false);
+    return light_mis_sums(emitted.pdf_position, emitted.pdf_position * emitted.pdf_direction, cos_light, emitted.delta_position);
 }
 
 // The weight of emission that camera ray `direction` found at light triangle `triangle_index` (s = 0).
@@ -66,9 +59,34 @@ fn escaped_emission_weight(sums: MisSums, direction: vec3<f32>) -> f32 {
     return emission_hit_weight(sums, distant_emission(direction).pdf, pdf.position * pdf.direction);
 }
 
-// The next-event estimation weight of `light` reaching `x` along `direction` (unit, towards the
-// light) from `distance` (distant lights: unused), `cos_light` at the light; `s`: x's scattering.
-fn next_event_mis(x: SurfaceVertex, sums: MisSums, light: LightSample, direction: vec3<f32>, distance: f32, cos_light: f32, s: Scattering) -> f32 {
+// One light sample for next-event estimation from `x`, as the path tracer draws it, with the light
+// table word of the light it chose (sample_light leaves a light source's out of LightSample), the
+// unit `direction` towards it, its `distance` (distant lights: FLOAT_MAX) and the cosine there.
+struct NextEventSample {
+    light: LightSample,
+    word: u32,
+    direction: vec3<f32>,
+    distance: f32,
+    cos_light: f32,
+}
+
+fn sample_next_event(x: SurfaceVertex) -> NextEventSample {
+    let u_select = sample_2d();
+    let light = sample_light(x.position, u_select, sample_2d());
+    var direction = light.direction;
+    var distance = FLOAT_MAX;
+    if !light.distant {
+        let to_light = light.position - x.position;
+        distance = length(to_light);
+        direction = to_light * inverseSqrt(dot(to_light, to_light));
+    }
+    return NextEventSample(light, choose_light(u_select), direction, distance, abs(dot(light.normal, direction)));
+}
+
+// The next-event estimation weight of `sample` reaching `x`; `s`: x's scattering towards it.
+fn next_event_mis(x: SurfaceVertex, sums: MisSums, sample: NextEventSample, s: Scattering) -> f32 {
+    let light = sample.light;
+    let direction = sample.direction;
     let cos_x = abs(dot(x.geometric, direction));
     if light.distant && light.delta {
         return next_event_weight(sums, 0.0, 1.0, cos_x / bdpt_distant_disk_area(), s.reverse);
@@ -78,44 +96,48 @@ fn next_event_mis(x: SurfaceVertex, sums: MisSums, light: LightSample, direction
         let direct = distant_emission(direction).pdf;
         return next_event_weight(sums, s.forward, direct, pdf.position * pdf.direction * cos_x / direct, s.reverse);
     }
-    let distance_squared = distance * distance;
+    let distance_squared = sample.distance * sample.distance;
+    // a point or spot light: next-event estimation picks its point with its selection probability
+    // alone, a light path its direction with the density of the light's emission
+    let pdf = emission_pdf(sample.word, -direction);
     if light.delta {
-        return next_event_weight(sums, 0.0, 1.0, DELTA_POSITION_DIRECTION_PDF * cos_x / distance_squared, s.reverse);
+        return next_event_weight(sums, 0.0, 1.0, pdf.direction * cos_x / distance_squared, s.reverse);
     }
-    let pdf = emission_pdf_triangle(light.triangle, scene_triangle(light.triangle), -direction);
-    let direct = pdf.position * distance_squared / cos_light;
-    return next_event_weight(sums, s.forward, direct, pdf.position * pdf.direction * cos_x / (direct * cos_light), s.reverse);
+    let direct = pdf.position * distance_squared / sample.cos_light;
+    return next_event_weight(sums, s.forward, direct, pdf.position * pdf.direction * cos_x / (direct * sample.cos_light), s.reverse);
 }
 
 // Next-event estimation from camera vertex `x` (s = 1, t = `t`): one light sample as the path
 // tracer draws it, its shadow ray, weighted.
 fn next_event(x: SurfaceVertex, sums: MisSums, t: u32) -> vec3<f32> {
-    let light = sample_light(x.position, sample_2d(), sample_2d());
+    let sample = sample_next_event(x);
     // as in path_tracer.wgsl's direct_light: an environment sample's density may round to 0
-    if !(light.pdf > 0.0) {
+    if !(sample.light.pdf > 0.0) {
         return vec3<f32>(0.0);
     }
-    var direction = light.direction;
-    var distance = FLOAT_MAX;
-    if !light.distant {
-        let to_light = light.position - x.position;
-        distance = length(to_light);
-        direction = to_light / distance;
-    }
-    let cos_light = abs(dot(light.normal, direction));
     // NaN too: a point light at the receiving point has no direction
-    if !(cos_light > COS_MIN) {
+    if !(sample.cos_light > COS_MIN) {
         return vec3<f32>(0.0);
     }
-    let s = scattering(x, direction);
-    let weight = strategy_weight(1u, t, next_event_mis(x, sums, light, direction, distance, cos_light, s));
+    let s = scattering(x, sample.direction);
+    let weight = strategy_weight(1u, t, next_event_mis(x, sums, sample, s));
     if all(s.value == vec3<f32>(0.0)) || weight == 0.0 {
         return vec3<f32>(0.0);
     }
-    if light_occluded(x, light, direction) {
+    if light_occluded(x, sample.light, sample.direction) {
         return vec3<f32>(0.0);
     }
-    return s.value * light.radiance * (weight / light.pdf);
+    return s.value * sample.light.radiance * (weight / sample.light.pdf);
+}
+
+// The weight of joining camera vertex `x` (its subpath's `sums`, scattering `camera_side` towards
+// `y`) to light vertex `y` (scattering `light_side` back), `direction` from x to y.
+fn vertex_connection_mis(x: SurfaceVertex, sums: MisSums, y: LightVertex, camera_side: Scattering, light_side: Scattering, direction: vec3<f32>, distance_squared: f32) -> f32 {
+    let cos_x = abs(dot(x.geometric, direction));
+    let cos_y = abs(dot(y.vertex.geometric, direction));
+    let light_term = mis_subpath_term(y.sums, light_side.reverse, camera_side.forward * cos_y / distance_squared);
+    let camera_term = mis_subpath_term(sums, camera_side.reverse, light_side.forward * cos_x / distance_squared);
+    return connection_weight(light_term, camera_term);
 }
 
 // Camera vertex `x` (t vertices with the camera) joined to light vertex `y` (s = y.edges + 1).
@@ -128,11 +150,8 @@ fn connect_vertices(x: SurfaceVertex, sums: MisSums, t: u32, y: LightVertex) -> 
     if all(camera_side.value == vec3<f32>(0.0)) || all(light_side.value == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
-    let cos_x = abs(dot(x.geometric, direction));
-    let cos_y = abs(dot(y.vertex.geometric, direction));
-    let light_term = mis_subpath_term(y.sums, light_side.reverse, camera_side.forward * cos_y / distance_squared);
-    let camera_term = mis_subpath_term(sums, camera_side.reverse, light_side.forward * cos_x / distance_squared);
-    let weight = strategy_weight(y.edges + 1u, t, connection_weight(light_term, camera_term));
+    let mis_weight = vertex_connection_mis(x, sums, y, camera_side, light_side, direction, distance_squared);
+    let weight = strategy_weight(y.edges + 1u, t, mis_weight);
     if weight == 0.0 || segment_occluded(x, y.vertex, direction) {
         return vec3<f32>(0.0);
     }
@@ -143,6 +162,13 @@ fn connect_vertices(x: SurfaceVertex, sums: MisSums, t: u32, y: LightVertex) -> 
 struct Splat {
     pixel: u32,
     value: vec3<f32>,
+}
+
+// The weight of joining light vertex `y` (its subpath's `sums`, scattering `light_side` towards the
+// camera along `direction`) to the camera, whose ray through it has density `camera_pdf`.
+fn camera_connection_mis(y: SurfaceVertex, sums: MisSums, light_side: Scattering, camera_pdf: f32, direction: vec3<f32>, distance_squared: f32) -> f32 {
+    let cos_y = abs(dot(y.geometric, direction));
+    return connection_weight(mis_subpath_term(sums, light_side.reverse, camera_pdf * cos_y / distance_squared), 0.0);
 }
 
 // Light vertex `y` (s vertices with the light, carrying `throughput` and `sums`) joined to the
@@ -161,9 +187,7 @@ fn connect_to_camera(y: SurfaceVertex, throughput: vec3<f32>, sums: MisSums, s: 
         return none;
     }
     let camera_pdf = camera_ray_pdf(projection.cos_theta);
-    let cos_y = abs(dot(y.geometric, direction));
-    let light_term = mis_subpath_term(sums, light_side.reverse, camera_pdf * cos_y / distance_squared);
-    let weight = strategy_weight(s, 1u, connection_weight(light_term, 0.0));
+    let weight = strategy_weight(s, 1u, camera_connection_mis(y, sums, light_side, camera_pdf, direction, distance_squared));
     if weight == 0.0 {
         return none;
     }

@@ -11,7 +11,6 @@
 // weights summing to one per path (any partition of unity leaves the estimate unbiased):
 // - next-event estimation's density of a light triangle's point is its area density in the light
 //   table (emission_pdf_triangle's position) though sample_light draws by solid angle;
-// - point and spot lights' direction density is the uniform sphere's (light_delta_direction_pdf);
 // - the distant lights are one mixture (light_emission.wgsl) and a directional light's disc
 //   is the scene's (bdpt_distant_disk_area);
 // - Russian roulette is left out of every density;

@@ -34,13 +34,16 @@ fn triangle_normal(triangle: Triangle) -> vec3<f32> {
 // The vertex where `ray` hit `hit` (material resolved through its textures, shading normal as the
 // path tracer takes it, seen from the ray's origin).
 fn surface_vertex(ray: Ray, hit: Hit, triangle: Triangle, adjoint: bool) -> SurfaceVertex {
+    return vertex_at(ray.origin + hit.t * ray.direction, hit.triangle, triangle, -ray.direction, adjoint);
+}
+
+// The vertex at `p` on triangle `triangle_index` reached from `towards` (unit).
+fn vertex_at(p: vec3<f32>, triangle_index: u32, triangle: Triangle, towards: vec3<f32>, adjoint: bool) -> SurfaceVertex {
     let normal = triangle_normal(triangle);
-    let p = ray.origin + hit.t * ray.direction;
-    let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
-    let towards = -ray.direction;
-    let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards);
-    let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards);
-    return SurfaceVertex(p, normal, shading, towards, material, hit.triangle, adjoint);
+    let material = resolve_material(materials[triangle.material], triangle.material, triangle_index, triangle, p);
+    let interpolated = shading_normal(triangle_index, triangle, p, normal, towards);
+    let shading = mapped_normal(interpolated, material, triangle.material, triangle_index, triangle, p, normal, towards);
+    return SurfaceVertex(p, normal, shading, towards, material, triangle_index, adjoint);
 }
 
 // Whether a connection may end at the vertex: glass and near-mirrors scatter as deltas for the
