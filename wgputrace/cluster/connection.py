@@ -56,11 +56,12 @@ def check_reachable(address: str, timeout: float = CONNECT_TIMEOUT_SECONDS) -> N
 
 @contextmanager
 def connected(address: str | None, timeout: float = CONNECT_TIMEOUT_SECONDS) -> Iterator[ModuleType]:
-    """Ray, connected for the duration: to the Ray this process already joined (address None, when
-    there is one; else Ray's own default: RAY_ADDRESS or a new local instance), to the cluster on
-    this machine or a new local instance (AUTO), or to `address` ("host:port" of a head node, or
-    "ray://host:port" of a Ray Client server), checked within `timeout`. A connection made here is
-    closed on leaving; one the caller made stays open."""
+    """Ray, connected for the duration. A process holds one Ray connection: where the caller made
+    one (ray.init), it is used whatever `address` says, and stays open. Otherwise: None, Ray's own
+    default (RAY_ADDRESS, else a new local instance); AUTO, the cluster `ray start` runs on this
+    machine, else a new local instance; "host:port" of a head node or "ray://host:port" of a Ray
+    Client server, whose port must answer within `timeout`. A connection made here is closed on
+    leaving, and a local instance started here with it."""
     ray = require_ray()
     if ray.is_initialized():
         yield ray

@@ -21,7 +21,7 @@ from ..loaders.python_scene import scene_from_source
 from ..render import Renderer
 from ..render.rng_seed import pixel_rng_states
 from ..render.sobol import pixel_sobol_states
-from ..scene import Scene
+from ..scene import Camera, Scene
 from .batches import Batch
 from .merge import BatchImage
 from .tiles import Tile, TileCamera, split_image
@@ -81,7 +81,7 @@ class FrameOutcome:
     the scene and Renderer, and rendering."""
 
     frame: int
-    image: object
+    image: np.ndarray
     build_seconds: float
     render_seconds: float
 
@@ -113,7 +113,7 @@ class RenderWorker:
             os.environ[LAVAPIPE_THREADS] = "1"  # read when the device is made, on first use
         self.renderers: dict[tuple[int, int], Renderer] = {}
         self.scene: Scene | None = None
-        self.camera = None
+        self.camera: Camera | None = None  # the scene's own, which tiles cut
         self.settings: RenderSettings | None = None
 
     def identity(self) -> WorkerIdentity:
