@@ -17,6 +17,7 @@ in the caller, with the server's traceback as their __cause__.
 
 from __future__ import annotations
 
+import fcntl
 import os
 import pickle
 import secrets
@@ -47,6 +48,10 @@ HEAD_PORT = 6379
 _UNSHARE = ["unshare", "--net", "--pid", "--fork", "--kill-child", "--mount-proc"]
 _AS_USER = ["--map-root-user"]
 _HEADER = struct.Struct(">Q")
+# Linux's struct ifreq as the interface-flags ioctls read it: the name, the flags, padding to 40 bytes
+_IFREQ_FLAGS = "16sH22x"
+_LOOPBACK = b"lo"
+_SIOCGIFFLAGS, _SIOCSIFFLAGS, _IFF_UP = 0x8913, 0x8914, 0x1
 
 
 class NamespaceUnavailable(RuntimeError):
@@ -181,6 +186,15 @@ class NamespacedCluster:
 # -- inside the namespace ---------------------------------------------------------------------------
 
 
+def _loopback_up() -> None:
+    """Bring the namespace's loopback interface up (it starts down), as `ip link set lo up` would,
+    without needing iproute2: the SIOCGIFFLAGS and SIOCSIFFLAGS ioctls on a socket."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        request = struct.pack(_IFREQ_FLAGS, _LOOPBACK, 0)
+        _, flags = struct.unpack(_IFREQ_FLAGS, fcntl.ioctl(probe, _SIOCGIFFLAGS, request))
+        fcntl.ioctl(probe, _SIOCSIFFLAGS, struct.pack(_IFREQ_FLAGS, _LOOPBACK, flags | _IFF_UP))
+
+
 def _wait_for_port(port: int, deadline: float) -> None:
     while True:
         try:
@@ -245,7 +259,7 @@ def _serve(nodes: int, cpus: int, gpus: int) -> None:
     replies = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)  # what the calls print goes to stderr, not into the replies
     requests = sys.stdin.buffer.fileno()
-    subprocess.run(["ip", "link", "set", "lo", "up"], check=True, timeout=PROBE_TIMEOUT_SECONDS)
+    _loopback_up()
     # this cluster's own token, in the environment of its nodes, workers and driver alike
     os.environ.update(RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=secrets.token_hex(16))
     temp = Path(tempfile.mkdtemp(prefix="wgputrace-ray-"))
