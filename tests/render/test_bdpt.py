@@ -20,6 +20,9 @@ import pytest
 
 from wgputrace import Diffuse, Emitter, Renderer, Scene
 from wgputrace.gpu.bdpt import BDPT_MAX_DEPTH
+from wgputrace.gpu.device import DeviceLimitError
+from wgputrace.render import limits
+from wgputrace.render.limits import SPLAT_BUFFERS, check_image_size, host_bytes
 from wgputrace.render.renderer import UNLIMITED_DEPTH
 from wgputrace.scene import DegenerateTrianglesWarning, cornell_box
 from wgputrace.scenes import BUILTIN_SCENES, scene_by_name
@@ -139,3 +142,16 @@ def test_no_nan_or_infinity_on_any_builtin_scene(gpu_context, scene):
     renderer.render(4)
     assert renderer.nonfinite_samples == 0
     assert np.isfinite(renderer.image()).all()
+
+
+def test_the_splat_buffer_is_counted_before_allocating(gpu_context, monkeypatch):
+    """render/limits.py counts the splat sums as the renderer allocates them; a host with just
+    enough memory for the path tracer's image refuses the same image under bdpt, in one line."""
+    renderer = Renderer(diffuse_box(), SIZE, SIZE, integrator="bdpt")
+    assert renderer.gpu_image_bytes["splats"] == SIZE * SIZE * SPLAT_BUFFERS["splats"]
+    side = 1024
+    monkeypatch.setattr(limits, "available_host_memory", lambda: host_bytes(gpu_context, side * side))
+    check_image_size(gpu_context, side, side)
+    with pytest.raises(DeviceLimitError, match=r"available host memory .* under bdpt is \d") as error:
+        Renderer(diffuse_box(), side, side, integrator="bdpt")
+    assert "\n" not in str(error.value)

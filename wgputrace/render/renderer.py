@@ -284,7 +284,7 @@ class Renderer:
         self.context = gpu()
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before anything is allocated and before the BVH build, which takes seconds for millions of triangles
-        check_image_size(self.context, width, height, guides)
+        check_image_size(self.context, width, height, guides, splats=integrator == "bdpt")
         fit_environment(self.context, scene)
         check_scene_size(self.context, scene, accel)
         self._mirror = SceneMirror(scene, accel, atlas_side(self.context))
@@ -552,7 +552,7 @@ class Renderer:
         if enabled == self._guides:
             return
         if enabled:
-            check_image_size(self.context, self.width, self.height, guides=True)
+            check_image_size(self.context, self.width, self.height, guides=True, splats=self._splats is not None)
             self._guide_sums = self._new_guide_sums()
         else:
             self._guide_sums.destroy()
