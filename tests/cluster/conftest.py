@@ -1,8 +1,8 @@
-"""One Ray cluster per test session for the tests that need one: two nodes (a head and a second
-`ray start --address` node) on 127.0.0.1 inside a network namespace of its own
-(wgputrace.cluster.sandbox), started here and ended at the session's end. The tests run their
-bodies there through `cluster.call`; without Ray or a way to make a namespace they skip, saying
-which."""
+"""One Ray cluster for the tests here that need one: two nodes (a head and a second `ray start
+--address` node) on 127.0.0.1 inside a network namespace of its own (wgputrace.cluster.sandbox),
+started by the first of them and ended when tests/cluster is done, not held through the rest of the
+suite. The tests run their bodies there through `cluster.call`; without Ray or a way to make a
+namespace they skip, saying which."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ NODES = 2
 CPUS_PER_NODE = 2
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def cluster():
     pytest.importorskip("ray", reason='the ray extra is missing: pip install "wgputrace[ray]"')
     from wgputrace.cluster.sandbox import NamespacedCluster, NamespaceUnavailable, namespace_command
