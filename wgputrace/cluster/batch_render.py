@@ -126,32 +126,8 @@ def _merge(merged: TiledSum, batch: Batch, tile: Tile, outcome: BatchOutcome) ->
     return BatchTiming(batch.index, tile.index, batch.spp, outcome.render_seconds, outcome.readback_seconds, seconds)
 
 
-def render(
-    scene: Scene,
-    spp: int = 64,
-    width: int = 512,
-    height: int = 512,
-    *,
-    seed: int = 1,
-    max_depth: int = 9,
-    address: str | None = None,
-    batches: int | None = None,
-    workers: int | None = None,
-    tile: int | None = None,
-    **options,
-) -> np.ndarray:
+def render(scene: Scene, spp: int = 64, width: int = 512, height: int = 512, **options) -> np.ndarray:
     """What `wgputrace.render` returns (the mean of `spp` samples per pixel, float32 (H, W, 3)),
-    rendered on a Ray cluster; the arguments are render_batches'."""
-    return render_batches(
-        scene,
-        spp,
-        width,
-        height,
-        seed=seed,
-        max_depth=max_depth,
-        address=address,
-        batches=batches,
-        workers=workers,
-        tile=tile,
-        **options,
-    ).image
+    rendered on a Ray cluster; `options` are render_batches' keyword arguments (seed, max_depth,
+    address, batches, workers, tile, and the Renderer's accel, integrator, ...)."""
+    return render_batches(scene, spp, width, height, **options).image
