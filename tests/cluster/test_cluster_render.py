@@ -1,5 +1,5 @@
-"""Rendering on the session's two-node cluster (conftest.py): the same bits for one worker, for two
-(through `wgputrace render --ray`), and for three with one of them killed mid-run; the picture wgputrace.render converges to; and clear
+"""Rendering on the two-node cluster of conftest.py: the same bits for one worker (in tiles), for
+two (through `wgputrace render --ray`), and for three with one of them killed mid-run; the picture wgputrace.render converges to; and clear
 errors, bounded in time, for a bad address, a scene that fails on the workers and an image larger
 than the workers' device allows.
 
@@ -18,7 +18,7 @@ import pytest
 import wgputrace as wt
 from wgputrace.cluster import ClusterUnreachable, WorkerFailed, render_batches, render_frames
 from wgputrace.cluster.batches import split_samples
-from wgputrace.cluster.merge import OrderedSum
+from wgputrace.cluster.merge import TiledSum
 from wgputrace.cluster.worker import RenderSettings, RenderWorker
 from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores
 from wgputrace.testing.stats import sidak, z_limit
@@ -29,6 +29,7 @@ SIZE = 32
 SPP = 12
 BATCHES = 6
 SEED = 3
+TILE = 20  # 2 x 2 tiles of 16 x 16
 # the z-test against wgputrace.render: a family of BLOCKS^2 x CHANNELS tests at this level
 SIGNIFICANCE = 1e-3
 # wgputrace.render's seed there: none of the cluster's batch seeds
@@ -37,9 +38,10 @@ INDEPENDENT_SEED = 1000
 TOO_LARGE = 20_000
 
 
-def _in_namespace_render(address: str, workers: int, kill_a_worker: bool = False) -> dict:
-    """Render the Cornell box on `workers` workers; with `kill_a_worker`, the worker that finishes
-    the first batch is killed (SIGKILL, by its pid) while its next batch is queued on it."""
+def _in_namespace_render(address: str, workers: int, kill_a_worker: bool = False, tile: int | None = None) -> dict:
+    """Render the Cornell box on `workers` workers (in tiles of `tile`); with `kill_a_worker`, the
+    worker that finishes the first batch is killed (SIGKILL, by its pid) while its next batch is
+    queued on it."""
     killed = []
 
     def kill_first(progress):
@@ -56,6 +58,7 @@ def _in_namespace_render(address: str, workers: int, kill_a_worker: bool = False
         address=address,
         batches=BATCHES,
         workers=workers,
+        tile=tile,
         progress=kill_first,
     )
     return {
@@ -67,15 +70,21 @@ def _in_namespace_render(address: str, workers: int, kill_a_worker: bool = False
     }
 
 
+def _merged_here(tile: int | None) -> np.ndarray:
+    """The batches (of every tile) rendered one after the other in this process, merged in order."""
+    settings = RenderSettings(SIZE, SIZE, SEED, tile_side=tile)
+    worker = RenderWorker()
+    worker.prepare(wt.default_scene(), settings)
+    merged = TiledSum(SIZE, SIZE, settings.tiles())
+    for batch in split_samples(SPP, SEED, BATCHES):
+        for piece in settings.tiles():
+            merged.add(piece, worker.render_batch(batch, piece).image)
+    return merged.image()
+
+
 @pytest.fixture(scope="module")
 def expected() -> np.ndarray:
-    """The batches rendered one after the other in this process, merged in order."""
-    worker = RenderWorker()
-    worker.prepare(wt.default_scene(), RenderSettings(SIZE, SIZE, SEED))
-    merged = OrderedSum()
-    for batch in split_samples(SPP, SEED, BATCHES):
-        merged.add(worker.render_batch(batch).image)
-    return merged.image()
+    return _merged_here(None)
 
 
 def _in_namespace_command_line(address: str, output: str) -> tuple[int, str, str]:
@@ -95,8 +104,9 @@ def two_workers(cluster, tmp_path_factory) -> dict:
     return {"image": np.load(output), "printed": printed}
 
 
-def test_one_worker_gives_the_batches_merged_in_order(cluster, expected):
-    assert np.array_equal(cluster.call(_in_namespace_render, cluster.address, 1)["image"], expected)
+def test_one_worker_gives_the_batches_merged_in_order_tiles_too(cluster):
+    run = cluster.call(_in_namespace_render, cluster.address, 1, tile=TILE)
+    assert np.array_equal(run["image"], _merged_here(TILE))
 
 
 def test_two_workers_give_the_same_bits_through_the_command_line(two_workers, expected):
