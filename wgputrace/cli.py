@@ -7,7 +7,9 @@ Every error is one line on stderr, `--debug` adds its traceback. Exit status: 0 
 arguments, the scene, more than the device allows); 1 a failure while rendering or writing; 130 or
 143 stopped by SIGINT or SIGTERM. The first of those during a render stops it after the dispatch in
 flight and writes the samples done (denoised, with --denoise); a second aborts at once, writing
-nothing."""
+nothing. On a cluster (render --ray, render-frames) the first ends the workers at once: a render
+writes nothing, render-frames keeps the frames it wrote; a worker's failure is status 1, its
+message naming the worker (--debug adds the worker's traceback)."""
 
 from __future__ import annotations
 
