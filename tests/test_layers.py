@@ -24,7 +24,7 @@ LAYERS: tuple[frozenset[str], ...] = (
     frozenset({"scene", "bvh", "image_io", "denoise"}),  # pure numpy (denoise: and pyoidn)
     frozenset({"loaders", "scenes", "reference"}),  # scenes from files and names, and to Mitsuba
     frozenset({"gpu"}),  # the only layer that talks to wgpu's device
-    frozenset({"render", "provenance", ""}),
+    frozenset({"render", "provenance", "", "cluster"}),  # "": the package, which offers wt.cluster
     frozenset({"view"}),  # the viewer's GPU side
     frozenset({"cli_arguments"}),  # arguments the command line and the viewer share
     frozenset({"app", "cli", "__main__"}),

@@ -12,6 +12,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .gpu.generated import INTEGRATORS
 from .image_io import FORMATS as IMAGE_FORMATS
 from .loaders import FORMATS as SCENE_FORMATS
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE
@@ -142,9 +143,10 @@ def add_method_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
     parser.add_argument(
         "--integrator",
-        choices=("bsdf", "nee", "mis"),
+        choices=INTEGRATORS,
         default="mis",
-        help="direct light by BSDF sampling, light sampling, or both with MIS (default)",
+        help="direct light by BSDF sampling, light sampling, or both with MIS (default); bdpt: "
+        "bidirectional paths, every connection weighed by MIS",
     )
 
 

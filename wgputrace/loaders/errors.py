@@ -18,6 +18,11 @@ class SceneLoadError(ValueError):
         where = [str(part) for part in (self.path, line) if part is not None]
         super().__init__(": ".join([":".join(where), problem] if where else [problem]))
 
+    def __reduce__(self):
+        # rebuilt from the fields __init__ takes (not from the message), so that it crosses processes
+        # (Ray workers) as itself
+        return SceneLoadError, (self.path, self.problem, self.line)
+
 
 class SceneLoadWarning(UserWarning):
     """A loader repaired or skipped something: a missing material, inconsistently wound triangles."""
