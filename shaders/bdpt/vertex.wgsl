@@ -52,28 +52,54 @@ fn connectible(v: SurfaceVertex) -> bool {
     return material_samples_lights(v.material);
 }
 
+// The shading normal at `v` seen from `viewer` (unit). The path tracer chooses it from the side
+// towards the camera (shading_normals.wgsl's silhouette rule, normal_map.wgsl's rejection of a
+// mapped normal facing away): on a camera subpath that is `towards`, on a light subpath the
+// direction the path goes on in, known only once a connection or a sample chooses it. Every
+// density of sampling a direction is taken in the frame the sampling vertex would have had,
+// seen from where the path came from, so that both subpaths weigh a path alike.
+fn shading_seen_from(v: SurfaceVertex, viewer: vec3<f32>) -> vec3<f32> {
+    let triangle = scene_triangle(v.triangle_index);
+    let interpolated = shading_normal(v.triangle_index, triangle, v.position, v.geometric, viewer);
+    return mapped_normal(interpolated, v.material, triangle.material, v.triangle_index, triangle, v.position, v.geometric, viewer);
+}
+
 // |cos_s(wo)| |cos_g(wi)| / (|cos_g(wo)| |cos_s(wi)|) for wo = towards (the light's side) and
-// wi = direction: 1 without shading normals.
-fn adjoint_shading_correction(v: SurfaceVertex, direction: vec3<f32>) -> f32 {
-    let denominator = abs(dot(v.geometric, v.towards)) * abs(dot(v.shading, direction));
+// wi = direction, with shading normal `shading`: 1 without shading normals.
+fn adjoint_shading_correction(v: SurfaceVertex, shading: vec3<f32>, direction: vec3<f32>) -> f32 {
+    let denominator = abs(dot(v.geometric, v.towards)) * abs(dot(shading, direction));
     if !(denominator > 0.0) {
         return 0.0;
     }
-    return abs(dot(v.shading, v.towards)) * abs(dot(v.geometric, direction)) / denominator;
+    return abs(dot(shading, v.towards)) * abs(dot(v.geometric, direction)) / denominator;
 }
 
-// What shading_weight keeps for the path through `v` continuing along `direction`: the path
-// tracer's rule, with viewer and light in the roles the path gives them.
-fn vertex_shading_weight(v: SurfaceVertex, direction: vec3<f32>) -> f32 {
+// What shading_weight keeps for the path through `v` continuing along `direction`, shaded with
+// `shading`: the path tracer's rule, with viewer and light in the roles the path gives them.
+fn vertex_shading_weight(v: SurfaceVertex, shading: vec3<f32>, direction: vec3<f32>) -> f32 {
     if v.adjoint {
-        return shading_weight(v.shading, v.geometric, direction, v.towards) * adjoint_shading_correction(v, direction);
+        return shading_weight(shading, v.geometric, direction, v.towards) * adjoint_shading_correction(v, shading, direction);
     }
-    return shading_weight(v.shading, v.geometric, v.towards, direction);
+    return shading_weight(shading, v.geometric, v.towards, direction);
+}
+
+// f |cos_g(direction)| of the path through `v` towards `direction`, shaded with `shading` (the
+// normal seen from the camera's side).
+fn bsdf_value(v: SurfaceVertex, shading: vec3<f32>, direction: vec3<f32>) -> vec3<f32> {
+    let local = shading_frame(shading);
+    return bsdf_eval(v.material, to_local(local, v.towards), to_local(local, direction)) * vertex_shading_weight(v, shading, direction);
+}
+
+// The BSDF's density per steradian of sampling `to` at `v` for a path arriving from `from`, in the
+// frame of `shading` (the normal seen from `from`).
+fn direction_pdf(v: SurfaceVertex, shading: vec3<f32>, from_direction: vec3<f32>, to: vec3<f32>) -> f32 {
+    let local = shading_frame(shading);
+    return bsdf_pdf(v.material, to_local(local, from_direction), to_local(local, to));
 }
 
 // f |cos_g(direction)| of the path through `v` towards `direction` (unit), and the BSDF's densities
 // per steradian: `forward` of `direction` given `towards` (as this subpath would sample it),
-// `reverse` of `towards` given `direction`.
+// `reverse` of `towards` given `direction` (as the other subpath would).
 struct Scattering {
     value: vec3<f32>,
     forward: f32,
@@ -81,11 +107,9 @@ struct Scattering {
 }
 
 fn scattering(v: SurfaceVertex, direction: vec3<f32>) -> Scattering {
-    let local = shading_frame(v.shading);
-    let wi = to_local(local, v.towards);
-    let wo = to_local(local, direction);
-    let value = bsdf_eval(v.material, wi, wo) * vertex_shading_weight(v, direction);
-    return Scattering(value, bsdf_pdf(v.material, wi, wo), bsdf_pdf(v.material, wo, wi));
+    let seen_from_direction = shading_seen_from(v, direction);
+    let value = bsdf_value(v, select(v.shading, seen_from_direction, v.adjoint), direction);
+    return Scattering(value, direction_pdf(v, v.shading, v.towards, direction), direction_pdf(v, seen_from_direction, direction, v.towards));
 }
 
 // The subpath's next direction from `v`: `weight` multiplies the throughput (f |cos_g| over the
@@ -107,16 +131,21 @@ fn sample_scattering(v: SurfaceVertex) -> ScatteringSample {
     let u = sample_2d();
     let sample = bsdf_sample(v.material, wi, u, sample_1d());
     let direction = to_world(local, sample.direction);
-    let kept = vertex_shading_weight(v, direction);
-    if sample.pdf <= 0.0 || kept <= 0.0 {
+    let seen_from_direction = shading_seen_from(v, direction);
+    var weight = sample.weight * vertex_shading_weight(v, v.shading, direction);
+    // a light subpath's vertex is shaded as seen from the direction it sampled; a delta lobe has
+    // no value to evaluate in another frame and keeps its sampling frame's
+    if v.adjoint && !sample.is_delta && any(seen_from_direction != v.shading) {
+        weight = bsdf_value(v, seen_from_direction, direction) / sample.pdf;
+    }
+    if sample.pdf <= 0.0 || all(weight == vec3<f32>(0.0)) {
         return ScatteringSample(direction, vec3<f32>(0.0), 0.0, 0.0, 1.0, true);
     }
-    var weight = sample.weight * kept;
     if v.adjoint {
         weight /= sample.eta * sample.eta;
     }
     let delta = sample.is_delta || !connectible(v);
-    let reverse = select(bsdf_pdf(v.material, sample.direction, wi), sample.pdf, delta);
+    let reverse = select(direction_pdf(v, seen_from_direction, direction, v.towards), sample.pdf, delta);
     return ScatteringSample(direction, weight, sample.pdf, reverse, sample.eta, delta);
 }
 
