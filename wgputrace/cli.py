@@ -223,6 +223,7 @@ def _render(args: argparse.Namespace) -> int:
         max_depth=args.max_depth,
         accel=args.accel,
         integrator=args.integrator,
+        sampler=args.sampler,
         guides=args.denoise,
     )
     setup_seconds = time.perf_counter() - start

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .gpu.generated import INTEGRATORS
+from .gpu.sampler import DEFAULT_SAMPLER, SAMPLERS
 from .image_io import FORMATS as IMAGE_FORMATS
 from .loaders import FORMATS as SCENE_FORMATS
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE
@@ -139,7 +140,7 @@ def add_image_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int
 
 
 def add_method_arguments(parser: argparse.ArgumentParser) -> None:
-    """--accel and --integrator: how a headless render traces its paths."""
+    """--accel, --integrator and --sampler: how a headless render traces its paths."""
     parser.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
     parser.add_argument(
         "--integrator",
@@ -147,6 +148,12 @@ def add_method_arguments(parser: argparse.ArgumentParser) -> None:
         default="mis",
         help="direct light by BSDF sampling, light sampling, or both with MIS (default); bdpt: "
         "bidirectional paths, every connection weighed by MIS",
+    )
+    parser.add_argument(
+        "--sampler",
+        choices=SAMPLERS,
+        default=DEFAULT_SAMPLER,
+        help=f"the random numbers paths draw: Owen-scrambled Sobol points or independent ones (default {DEFAULT_SAMPLER})",
     )
 
 

@@ -15,7 +15,8 @@ Every value is a string; each key is written as `wgputrace:<key>`:
 | width, height     | image size in pixels                                                    |
 | spp               | samples per pixel the image holds (fewer than asked when stopped)       |
 | seed              | the Renderer's seed                                                     |
-| integrator        | mis, nee or bsdf                                                        |
+| integrator        | mis, nee, bsdf or bdpt                                                  |
+| sampler           | sobol or independent                                                    |
 | max_depth         | Mitsuba's max_depth (1: emitters seen directly only); -1 for no limit   |
 | accel             | bvh or flat                                                             |
 | adapter, backend  | the GPU adapter's name and its API (Vulkan, Metal, ...)                 |
@@ -66,6 +67,7 @@ KEYS = (
     "spp",
     "seed",
     "integrator",
+    "sampler",
     "max_depth",
     "accel",
     "adapter",
@@ -98,6 +100,7 @@ def render_metadata(
         "spp": renderer.stats.samples_per_pixel,
         "seed": renderer.seed,
         "integrator": renderer.integrator,
+        "sampler": renderer.sampler,
         "max_depth": renderer.max_depth,
         "accel": renderer.accel,
         "adapter": info["device"],

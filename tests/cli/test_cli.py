@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from wgputrace import load_image
+from wgputrace import Renderer, default_scene, load_image
 
 pytestmark = pytest.mark.gpu  # every command here opens the adapter
 
@@ -67,3 +67,15 @@ def test_debug_shows_the_traceback(run_cli):
     assert quiet.returncode == 2 and len(quiet.stderr.splitlines()) == 1
     loud = run_cli("--debug", "render", "nowhere")
     assert loud.returncode == 1 and "Traceback" in loud.stderr and "SceneLoadError" in loud.stderr
+
+
+@pytest.mark.parametrize(("integrator", "sampler"), [("mis", "independent"), ("bdpt", "sobol")])
+def test_integrator_and_sampler_reach_the_renderer(tmp_path, run_cli, integrator, sampler):
+    out = tmp_path / "a.npy"
+    args = ("render", "--spp", "2", "--size", "12x8", "--seed", "2", "--integrator", integrator, "--sampler", sampler)
+    assert run_cli(*args, "-o", str(out)).returncode == 0
+    expected = Renderer(default_scene(), 12, 8, seed=2, integrator=integrator, sampler=sampler)
+    expected.render(2)
+    np.testing.assert_array_equal(load_image(out), expected.image())
+    fields = dict(line.split(maxsplit=1) for line in run_cli("info", str(out)).stdout.splitlines())
+    assert (fields["integrator"], fields["sampler"]) == (integrator, sampler)

@@ -41,7 +41,7 @@ def render_on_cluster(args: argparse.Namespace, scene) -> None:
 
     width, height = args.size
     spp = args.spp
-    options = {"accel": args.accel, "integrator": args.integrator}
+    options = {"accel": args.accel, "integrator": args.integrator, "sampler": args.sampler}
     with progress_bar("batch") as progress:
         result = render_batches(
             scene,
@@ -65,6 +65,7 @@ def render_on_cluster(args: argparse.Namespace, scene) -> None:
         "spp": spp,
         "seed": args.seed,
         "integrator": args.integrator,
+        "sampler": args.sampler,
         "max_depth": args.max_depth,
         "accel": args.accel,
         "render_seconds": f"{result.wall_seconds:.3f}",
@@ -112,6 +113,7 @@ def render_frames_on_cluster(args: argparse.Namespace) -> None:
             progress=progress,
             accel=args.accel,
             integrator=args.integrator,
+            sampler=args.sampler,
         )
     if report.skipped:
         print(f"skipped          {len(report.skipped)} frames written before ({report.skipped[0]} ...)")
