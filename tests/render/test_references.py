@@ -56,12 +56,20 @@ REFERENCES_MAX_BYTES = 5 * 1024 * 1024
 SCALED_RTOL = 1e-5
 
 
+# Where mis finds much of the light only in rare paths (the caustic's light reaching the floor
+# through the glass, a small lamp after two glossy bounces), the blocks' means at these sample
+# counts are heavy-tailed: typical runs fall 20 to 40% short on some 8x8 blocks, which a t-test
+# reads as a difference. Larger blocks pool enough paths; at 32x32 a 3 to 5% error still shows.
+HEAVY_TAILED_BLOCKS = (32, SIZE)
+
+
 @dataclass(frozen=True)
 class Case:
     scene: str
     reference: str
     batches: int
     spp: int  # per batch
+    blocks: tuple[int, ...] = BLOCKS
 
 
 # Sample counts: this module with the other reference-related tests took 100 s (172 s of CPU) on
@@ -75,6 +83,10 @@ CASES = {
         Case("glossy_spheres", "glossy_spheres", batches=16, spp=32),
         Case("slivers", "slivers", batches=16, spp=16),
         Case("axis_boxes", "axis_boxes", batches=16, spp=24),
+        # scenes that break path tracers (issue 18): their light comes in rare, bright paths
+        Case("door_ajar", "door_ajar", batches=16, spp=16),
+        Case("caustic", "caustic", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
+        Case("glossy_through_glossy", "glossy_through_glossy", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
         # the same box scaled, camera included: the same image, tested against the same reference
         # and, sample for sample, against the unscaled box's first batches (same seed)
         Case("cornell_1e-4", "cornell", batches=8, spp=32),
@@ -119,7 +131,9 @@ def test_matches_mitsuba_reference(gpu_context, failure_dir, scene):
     ours = rendered(scene).estimate
     ref = reference(case.reference)
     expected = ref.estimate.downsampled(ref.metadata["width"] // SIZE)
-    same_expectation(f"{scene}_vs_mitsuba", ours, expected, expected.mean, STORAGE_RTOL, failure_dir)
+    same_expectation(
+        f"{scene}_vs_mitsuba", ours, expected, expected.mean, STORAGE_RTOL, failure_dir, blocks=case.blocks
+    )
 
 
 @pytest.mark.slow
