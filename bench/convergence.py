@@ -22,8 +22,8 @@ The reference is tests/references/<scene>.npz (128x128), or bench/references/<sc
 that exists: the Cornell box's there is 256x256, the issue's setting, made with
 
     /tmp/mvenv/bin/python -c "import sys; sys.path.insert(0, 'scripts'); import make_references as m; \\
-        from pathlib import Path; m.WIDTH = m.HEIGHT = 256; \\
-        m.make_reference('cornell', m.REFERENCES['cornell'], 'llvm_ad_rgb', Path('bench/references'))"
+        from pathlib import Path; m.WIDTH = m.HEIGHT = 256; settings = m.ReferenceSettings(9, 128, 16); \\
+        m.make_reference('cornell', settings, 'llvm_ad_rgb', Path('bench/references'))"
 
 Each scene renders at its reference's size; `--max-spp` is the last checkpoint at 128x128, and a
 larger image stops at as many paths (256x256: a quarter of the spp). The caustic scene is measured
