@@ -250,17 +250,6 @@ def convergence_targets(result: dict) -> list[Target]:
     for scene, entry in gains.items():
         for label, value in entry["sampler_efficiency_over_independent"].items():
             rows.append(Target("convergence", f"{scene}: efficiency {label} / independent sampler", shown(value)))
-    against = result["cornell_against_baseline"]
-    if against is not None:
-        rows.append(
-            Target(
-                "convergence",
-                f"Cornell box time, current / {against['baseline_revision']} (median of paired rounds: process CPU; wall)",
-                f"{against['ratio_process_cpu']:.3f}; {against['ratio_wall']:.3f}",
-                f"<= {against['target']:g}",
-                against["ratio_process_cpu"] <= against["target"],
-            )
-        )
     failed = result["validation_failed"]
     rows.append(Target("convergence", "strategies failing validation", ", ".join(failed) or "none", "none", not failed))
     return rows

@@ -34,12 +34,7 @@ Read off each curve, from a power law fitted to RMSE against time (checkpoints f
 on): the time to reach a fixed RMSE per scene (the largest of the strategies' fitted final RMSEs,
 so every curve reaches it inside its measured range) and the efficiency 1 / (MSE x seconds) at the
 fitted final point. Ratios compare with ours at the default integrator and sampler, and with
-Mitsuba's independent sampler.
-
-With `--baseline REV`, ours as shipped is also timed on the Cornell box against that revision (the
-issue: nothing that does not use the new code gets slower, within 3%), by bench/environment.py's
-paired rounds of one process per checkout, which first checks that both draw the same picture
-from the same seed; so it holds only while the default sampler draws what REV drew. Writes bench/results/convergence_<adapter>.csv (every checkpoint),
+Mitsuba's independent sampler. Writes bench/results/convergence_<adapter>.csv (every checkpoint),
 .json (settings, versions, validation, curves, the table) and .png (one panel per scene, and the
 efficiencies).
 """
@@ -82,7 +77,6 @@ from bench.common import (
     write_csv,
     write_result,
 )
-from bench.environment import cornell_against_baseline
 from wgputrace import Renderer, load_scene
 from wgputrace.scenes.caustic import caustic_mask
 from wgputrace.testing.image_statistics import Estimate
@@ -104,10 +98,6 @@ TARGETS = {
     "cornell_time_over_mitsuba": 1.0,
     "bdpt_efficiency_over_mis": {"door_ajar": 5.0, "caustic:caustic_pixels": 10.0},
 }
-# The Cornell box timed against --baseline: the issue's setting, enough samples per render that
-# start-up costs vanish.
-BASELINE_SIZE = 256
-BASELINE_SPP = 16
 VALIDATION_SPP = 16
 VALIDATION_SIGNIFICANCE = 1e-3  # family-wise, over scenes x strategies x channels
 CSV_COLUMNS = ("scene", "integrator", "run", "seed", "spp", "seconds", "cpu_seconds", "rmse", "relative_mse", "raw_mse")
@@ -475,9 +465,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--runs", type=int, default=1, help="renders per scene and strategy, errors averaged (default 1)"
     )
-    parser.add_argument("--baseline", help="also time the Cornell box against this git revision (paired rounds)")
-    parser.add_argument("--baseline-rounds", type=int, default=5, help="rounds of that comparison (default 5)")
-    args = parse(parser, argv, "runs", "baseline_rounds")
+    args = parse(parser, argv, "runs")
     run = Run()
     chosen = strategies(args)
     z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.scenes) * len(chosen) * len(CHANNELS))
@@ -512,9 +500,6 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             rows += new_rows
             scenes[name]["strategies"][strategy.label] = record
-    against_baseline = None
-    if args.baseline:
-        against_baseline = cornell_against_baseline(args.baseline, BASELINE_SIZE, BASELINE_SPP, args.baseline_rounds)
     all_curves = curves(rows)
     table = read_off(all_curves)
     result = {
@@ -542,7 +527,6 @@ def main(argv: list[str] | None = None) -> int:
         "curves": all_curves,
         "table": table,
         "gains": gains(table),
-        "cornell_against_baseline": against_baseline,
     }
     write_result("convergence", result, out=args.out, plot=plot, run=run)
     write_csv("convergence", rows, CSV_COLUMNS, args.out)
