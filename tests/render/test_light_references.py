@@ -51,11 +51,6 @@ CASES = [
     Case("constant_env", "bsdf", batches=8, spp=32),
     Case("env_one_texel", "mis", batches=8, spp=16),
     Case("point_spot_directional", "mis", batches=8, spp=32),
-    # bidirectional path tracing's light paths leave every light kind (light_emission.wgsl)
-    Case("env_sun_spheres", "bdpt", batches=8, spp=8),
-    Case("constant_env", "bdpt", batches=8, spp=8),
-    Case("env_one_texel", "bdpt", batches=8, spp=8),
-    Case("point_spot_directional", "bdpt", batches=8, spp=8),
 ]
 
 
