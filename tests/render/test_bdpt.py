@@ -28,7 +28,7 @@ from wgputrace.gpu.bdpt import BDPT_MAX_DEPTH
 from wgputrace.gpu.device import DeviceLimitError
 from wgputrace.render import limits
 from wgputrace.render.limits import SPLAT_BUFFERS, check_image_size, host_bytes
-from wgputrace.render.renderer import UNLIMITED_DEPTH
+from wgputrace.render.renderer import UNLIMITED_DEPTH, path_tracer_kernel
 from wgputrace.scene import DegenerateTrianglesWarning, cornell_box
 from wgputrace.scenes import scene_by_name
 from wgputrace.testing.image_statistics import Estimate
@@ -120,6 +120,13 @@ def test_same_seed_same_image_and_progressive(gpu_context):
 def test_depth_beyond_the_kept_light_vertices_is_refused(gpu_context, max_depth):
     with pytest.raises(ValueError, match=f"integrator 'bdpt' takes max_depth from 1 to {BDPT_MAX_DEPTH}"):
         Renderer(diffuse_box(), SIZE, SIZE, max_depth=max_depth, integrator="bdpt")
+
+
+def test_no_band_of_rows_kernel(gpu_context):
+    """The viewer renders bands of rows; light tracing splats anywhere in the image, so bdpt has no
+    such kernel and says so in one line (`wgputrace view` offers no --integrator)."""
+    with pytest.raises(ValueError, match="bdpt integrator renders whole images only: it has no band-of-rows"):
+        path_tracer_kernel(gpu_context, "bvh", "bdpt", rows=True)
 
 
 @pytest.mark.slow
