@@ -65,3 +65,17 @@ def test_no_nonfinite_samples(scene):
 def test_unknown_sampler_is_refused():
     with pytest.raises(ValueError, match="sampler must be one of independent, sobol, got 'halton'"):
         wt.Renderer(BUILTIN_SCENES["cornell"](), SIZE, SIZE, sampler="halton")
+
+
+@pytest.mark.parametrize("sampler", ["sobol", "independent"])
+def test_restart_at_another_seed_is_a_fresh_renderer_of_it(sampler):
+    """restart(seed) (a cluster worker's next batch) continues as a Renderer built with that seed,
+    and a later restart() goes back to it."""
+    renderer = wt.Renderer(BUILTIN_SCENES["cornell"](), SIZE, SIZE, seed=SEED, sampler=sampler)
+    image_after(renderer, 4)
+    renderer.restart(seed=SEED + 1)
+    fresh = wt.Renderer(BUILTIN_SCENES["cornell"](), SIZE, SIZE, seed=SEED + 1, sampler=sampler)
+    expected = image_after(fresh, 4)
+    assert np.array_equal(image_after(renderer, 4), expected)
+    renderer.restart()
+    assert np.array_equal(image_after(renderer, 4), expected)

@@ -2,7 +2,7 @@
 from it; or an animation's frames, each from the scene file's text.
 
 `RenderWorker` is a plain class (pool.py makes it an actor), so its work can be checked without
-Ray. A batch restarts the same Renderer at the batch's seed (`start_batch`), so the scene, its BVH,
+Ray. A batch restarts the same Renderer at the batch's seed (`Renderer.restart(seed)`), so the scene, its BVH,
 its buffers and its pipelines are built once per worker, not per batch.
 """
 
@@ -16,11 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..gpu.buffers import write_buffer
 from ..loaders.python_scene import scene_from_source
 from ..render import Renderer
-from ..render.rng_seed import pixel_rng_states
-from ..render.sobol import pixel_sobol_states
 from ..scene import Camera, Scene
 from .batches import Batch
 from .merge import BatchImage
@@ -86,24 +83,6 @@ class FrameOutcome:
     render_seconds: float
 
 
-def sampler_states(renderer: Renderer, seed: int) -> np.ndarray:
-    """Every pixel's sampler state in a fresh Renderer like `renderer` seeded with `seed`: the
-    independent sampler's xoshiro128** state, or the Sobol sampler's seed before any sample (its
-    first scramble: a restart goes back to it, a reset moves on)."""
-    pixels = renderer.width * renderer.height
-    if renderer.sampler == "sobol":
-        return pixel_sobol_states(seed, pixels)
-    return pixel_rng_states(seed, pixels)
-
-
-def start_batch(renderer: Renderer, seed: int) -> None:
-    """Put `renderer` where a fresh Renderer of its scene seeded with `seed` starts: no samples,
-    every pixel's sampler state at that seed. restart() clears the sums and takes the states back to
-    the renderer's own seed; the new seed's states are then written over them."""
-    renderer.restart()
-    write_buffer(renderer.context, renderer.resources["rng_states"], 0, sampler_states(renderer, seed))
-
-
 class RenderWorker:
     """One worker's renderers (one per tile shape; one in all for an untiled image) and the calls
     the driver makes on it."""
@@ -143,7 +122,7 @@ class RenderWorker:
         renderer = self._renderer(tile)
         if self.settings.tile_side is not None:
             renderer.set_camera(TileCamera.of(self.camera, self.settings.width, self.settings.height, tile))
-        start_batch(renderer, tile.seed(batch.seed))
+        renderer.restart(tile.seed(batch.seed))
         start = time.perf_counter()
         renderer.render(batch.spp)
         rendered = time.perf_counter()

@@ -562,9 +562,14 @@ class Renderer:
         self._bind()
         self.restart()
 
-    def restart(self) -> None:
+    def restart(self, seed: int | None = None) -> None:
         """Forget all samples and put every pixel's random sequence back at the seed, on the GPU: the
-        samples that follow repeat the first ones bit for bit."""
+        samples that follow repeat the first ones bit for bit. With `seed`, the renderer continues as
+        a fresh Renderer of that seed would start (a cluster worker's next batch), its pipeline and
+        buffers kept."""
+        if seed is not None and seed != self.seed:
+            self.seed = seed
+            write_buffer(self.context, self._rng_at_seed, 0, self._sampler_states(replicate=0))
         encoder = self._device.create_command_encoder()
         encoder.clear_buffer(self._accumulation)
         if self._guide_sums is not None:
