@@ -15,7 +15,7 @@ bench/results/; the suite adds bench/results/suite_<adapter>.json with the summa
 target with its measured value and whether it was met. A benchmark that fails (its validation, or
 an error) is recorded as failed and the suite goes on; the exit status is 1 if any failed.
 versus_mitsuba and traversal_ceiling are skipped, with the reason recorded, where mitsuba is not
-importable.
+importable; convergence (issue 18's error against time) then leaves out Mitsuba's rows, saying why.
 """
 
 from __future__ import annotations
