@@ -28,7 +28,9 @@ that exists: the Cornell box's there is 256x256, the issue's setting, made with
 Each scene renders at its reference's size; `--max-spp` is the last checkpoint at 128x128, and a
 larger image stops at as many paths (256x256: a quarter of the spp). The caustic scene is measured
 twice: on the whole image, and on the floor pixels its caustic falls on (scenes/caustic.py
-`caustic_mask`), as the scene "caustic:caustic_pixels".
+`caustic_mask`), as the scene "caustic:caustic_pixels"; tiny_light also without the dozen pixels
+around its directly seen, sub-pixel lamp ("tiny_light:away_from_lamp"), which otherwise decide its
+whole image's error.
 
 Read off each curve, from a power law fitted to RMSE against time (checkpoints from FIT_MIN_SPP
 on): the time to reach a fixed RMSE per scene (what ours as shipped reaches at its last checkpoint;
@@ -79,7 +81,7 @@ from bench.common import (
     write_csv,
     write_result,
 )
-from wgputrace import Renderer, load_scene
+from wgputrace import Renderer, Scene, load_scene
 from wgputrace.scenes.caustic import caustic_mask
 from wgputrace.testing.image_statistics import Estimate
 from wgputrace.testing.references import Reference, load_reference
@@ -90,7 +92,35 @@ SAMPLERS = ("independent", "sobol")
 MITSUBA = "mitsuba"
 MITSUBA_SAMPLERS = ("independent", "multijitter")
 # Pixels where one kind of light transport decides the error, measured apart as "<scene>:<region>".
-REGIONS: dict[str, dict[str, Callable]] = {"caustic": {"caustic_pixels": caustic_mask}}
+LAMP = "lamp"
+
+
+def caustic_pixels(scene: Scene, width: int, height: int) -> np.ndarray:
+    return caustic_mask(scene.camera, width, height)
+
+
+def away_from_lamp(scene: Scene, width: int, height: int) -> np.ndarray:
+    """(height, width) bool: pixels at least one pixel away from the box the lamp's corners
+    project to. tiny_light's lamp is sub-pixel and some 10^4 times brighter than the rest: the few
+    pixels that see it carry nearly all of the whole image's squared error."""
+    right, up, forward = scene.camera.image_plane(width, height)
+    (lamp,) = [shape.world_vertices for shape in scene.shapes if shape.name == LAMP]
+    offsets = lamp.reshape(-1, 3).astype(np.float64) - np.asarray(scene.camera.position)
+    depth = offsets @ forward
+    # camera_ray: forward + x right - y up over x, y in [-1, 1], row 0 at the top
+    columns = ((offsets @ right) / (right @ right) / depth + 1.0) / 2.0 * width
+    rows = ((offsets @ up) / (up @ up) / depth * -1.0 + 1.0) / 2.0 * height
+    keep = np.ones((height, width), bool)
+    keep[max(int(rows.min()) - 1, 0) : int(rows.max()) + 2, max(int(columns.min()) - 1, 0) : int(columns.max()) + 2] = (
+        False
+    )
+    return keep
+
+
+REGIONS: dict[str, dict[str, Callable[[Scene, int, int], np.ndarray]]] = {
+    "caustic": {"caustic_pixels": caustic_pixels},
+    "tiny_light": {"away_from_lamp": away_from_lamp},
+}
 BENCH_REFERENCES = Path(__file__).resolve().parent / "references"
 # --max-spp counts samples per pixel at this size; larger references stop at as many paths.
 BASE_PIXELS = 128 * 128
@@ -186,8 +216,8 @@ class SceneSetup:
 def scene_setup(name: str, max_spp: int) -> SceneSetup:
     reference = bench_reference(name)
     width, height = reference.metadata["width"], reference.metadata["height"]
-    camera = load_scene(name).camera
-    regions = {region: mask(camera, width, height) for region, mask in REGIONS.get(name, {}).items()}
+    scene = load_scene(name)
+    regions = {region: mask(scene, width, height) for region, mask in REGIONS.get(name, {}).items()}
     return SceneSetup(name, reference, scene_spp(max_spp, width, height), regions)
 
 

@@ -1,5 +1,5 @@
 """bench/convergence.py's read-off on synthetic curves (no renderer, no Mitsuba): the fixed RMSE,
-each strategy's time to reach it, efficiencies and the issue's ratios."""
+each strategy's time to reach it, efficiencies and the issue's ratios; and its pixel regions."""
 
 from __future__ import annotations
 
@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 
 from bench.common import checkpoints
-from bench.convergence import BASELINE, MITSUBA, Strategy, gains, read_off, scene_spp
+from bench.convergence import BASELINE, MITSUBA, Strategy, away_from_lamp, gains, read_off, scene_spp
+from wgputrace import load_scene
+from wgputrace.testing.references import load_reference
 
 # Exact power laws: only floating-point rounding separates the fit from the truth.
 RTOL = 1e-9
@@ -102,3 +104,11 @@ def test_gains_are_the_issues_ratios():
 )
 def test_larger_images_stop_at_as_many_paths(max_spp, size, expected):
     assert scene_spp(max_spp, size, size) == expected
+
+
+def test_away_from_lamp_leaves_out_the_lamp_pixels_and_little_else():
+    mask = away_from_lamp(load_scene("tiny_light"), 128, 128)
+    brightest = load_reference("tiny_light").estimate.mean.max(axis=-1)
+    # the lamp's pixels are over a hundred times brighter than any other
+    assert np.count_nonzero(~mask) <= 16
+    assert brightest[~mask].max() > 100 * brightest[mask].max()
