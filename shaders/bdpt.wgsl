@@ -153,7 +153,8 @@ fn trace_light_subpath() {
 }
 
 // The camera subpath from `camera`, with every strategy that ends at one of its vertices: emission
-// found (s = 0), next-event estimation (s = 1) and connections to the kept light vertices. The
+// found (s = 0), next-event estimation (s = 1) and connections to the kept light vertices, whose
+// shadow rays are traced once the subpath ends (bdpt/shadow_queue.wgsl). The
 // throughput, roulette (judging it without refraction's eta^2) and max_depth as in path_tracer.wgsl.
 fn trace_camera_subpath(camera: Ray) -> vec3<f32> {
     var ray = camera;
@@ -188,14 +189,15 @@ fn trace_camera_subpath(camera: Ray) -> vec3<f32> {
             break;
         }
         if connectible(v) && frame.light_count != 0u {
-            var connected = next_event(v, sums, t);
+            // next-event estimation's and one per light vertex within max_depth - 1 - depth edges
+            radiance += unblocked_sum_unless_room(frame.max_depth - depth);
+            queue_shadowed(next_event(v, sums, t), throughput);
             for (var i = 0u; i < light_vertex_count; i++) {
                 let y = light_vertices[i];
                 if y.edges + 1u + depth <= frame.max_depth {
-                    connected += connect_vertices(v, sums, t, y);
+                    queue_shadowed(connect_vertices(v, sums, t, y), throughput);
                 }
             }
-            radiance += throughput * connected;
         }
         let next = sample_scattering(v);
         if next.forward <= 0.0 {
@@ -212,7 +214,7 @@ fn trace_camera_subpath(camera: Ray) -> vec3<f32> {
         ray = vertex_ray(v, next.direction);
         skip_triangle = hit.triangle;
     }
-    return radiance;
+    return radiance + unblocked_sum();
 }
 
 fn render_pixel(xy: vec2<u32>) {

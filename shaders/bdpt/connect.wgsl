@@ -1,7 +1,9 @@
 // The strategies that join a camera subpath to light: next-event estimation (s = 1), a connection
 // to a stored light vertex (s >= 2, t >= 2) and light tracing's connection to the camera (t = 1),
-// each with its MIS weight (mis_weight.wgsl) and its own shadow ray.
+// each with its MIS weight (mis_weight.wgsl) and its own shadow ray (the camera subpath's queued:
+// shadow_queue.wgsl).
 //! include "bdpt/vertex.wgsl"
+//! include "bdpt/shadow_queue.wgsl"
 //! include "bdpt/mis_weight.wgsl"
 //! include "bdpt/camera_importance.wgsl"
 //! include "light_emission.wgsl"
@@ -15,24 +17,24 @@ struct LightVertex {
     edges: u32,
 }
 
-// Whether anything blocks the segment between the vertices' points (each moved off its surface).
-fn segment_occluded(a: SurfaceVertex, b: SurfaceVertex, direction: vec3<f32>) -> bool {
+// The segment between the vertices' points (each moved off its surface).
+fn segment_shadow_ray(a: SurfaceVertex, b: SurfaceVertex, direction: vec3<f32>) -> ShadowRay {
     let start = vertex_ray(a, direction).origin;
     let end = vertex_ray(b, -direction).origin;
     let distance = length(end - start);
-    return occluded(Ray(start, (end - start) / distance), distance * SHADOW_RAY_SHORTENING, a.triangle_index);
+    return ShadowRay(Ray(start, (end - start) / distance), distance * SHADOW_RAY_SHORTENING, a.triangle_index);
 }
 
-// Whether anything blocks the way from `x` to the sampled light (towards `direction`): as in
-// path_tracer.wgsl, aimed from the moved origin up to the light point, or to infinity.
-fn light_occluded(x: SurfaceVertex, light: LightSample, direction: vec3<f32>) -> bool {
+// The way from `x` to the sampled light (towards `direction`): as in path_tracer.wgsl, aimed from
+// the moved origin up to the light point, or to infinity.
+fn light_shadow_ray(x: SurfaceVertex, light: LightSample, direction: vec3<f32>) -> ShadowRay {
     let origin = vertex_ray(x, direction).origin;
     if light.distant {
-        return occluded(Ray(origin, direction), FLOAT_MAX, x.triangle_index);
+        return ShadowRay(Ray(origin, direction), FLOAT_MAX, x.triangle_index);
     }
     let shadow = light.position - origin;
     let shadow_distance = length(shadow);
-    return occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, x.triangle_index);
+    return ShadowRay(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, x.triangle_index);
 }
 
 // The MIS sums a light subpath starts with from `emitted` (mis_weight.wgsl's stand-in densities:
@@ -108,26 +110,23 @@ fn next_event_mis(x: SurfaceVertex, sums: MisSums, sample: NextEventSample, s: S
 }
 
 // Next-event estimation from camera vertex `x` (s = 1, t = `t`): one light sample as the path
-// tracer draws it, its shadow ray, weighted.
-fn next_event(x: SurfaceVertex, sums: MisSums, t: u32) -> vec3<f32> {
+// tracer draws it, weighted, with its shadow ray.
+fn next_event(x: SurfaceVertex, sums: MisSums, t: u32) -> Shadowed {
     let sample = sample_next_event(x);
     // as in path_tracer.wgsl's direct_light: an environment sample's density may round to 0
     if !(sample.light.pdf > 0.0) {
-        return vec3<f32>(0.0);
+        return nothing_shadowed();
     }
     // NaN too: a point light at the receiving point has no direction
     if !(sample.cos_light > COS_MIN) {
-        return vec3<f32>(0.0);
+        return nothing_shadowed();
     }
     let s = scattering(x, sample.direction);
     let weight = strategy_weight(1u, t, next_event_mis(x, sums, sample, s));
     if all(s.value == vec3<f32>(0.0)) || weight == 0.0 {
-        return vec3<f32>(0.0);
+        return nothing_shadowed();
     }
-    if light_occluded(x, sample.light, sample.direction) {
-        return vec3<f32>(0.0);
-    }
-    return s.value * sample.light.radiance * (weight / sample.light.pdf);
+    return Shadowed(light_shadow_ray(x, sample.light, sample.direction), s.value * sample.light.radiance * (weight / sample.light.pdf));
 }
 
 // The weight of joining camera vertex `x` (its subpath's `sums`, scattering `camera_side` towards
@@ -140,22 +139,20 @@ fn vertex_connection_mis(x: SurfaceVertex, sums: MisSums, y: LightVertex, camera
     return connection_weight(light_term, camera_term);
 }
 
-// Camera vertex `x` (t vertices with the camera) joined to light vertex `y` (s = y.edges + 1).
-fn connect_vertices(x: SurfaceVertex, sums: MisSums, t: u32, y: LightVertex) -> vec3<f32> {
+// Camera vertex `x` (t vertices with the camera) joined to light vertex `y` (s = y.edges + 1), with
+// the shadow ray between them.
+fn connect_vertices(x: SurfaceVertex, sums: MisSums, t: u32, y: LightVertex) -> Shadowed {
     let to_y = y.vertex.position - x.position;
     let distance_squared = dot(to_y, to_y);
     let direction = to_y * inverseSqrt(distance_squared);
     let camera_side = scattering(x, direction);
     let light_side = scattering(y.vertex, -direction);
     if all(camera_side.value == vec3<f32>(0.0)) || all(light_side.value == vec3<f32>(0.0)) {
-        return vec3<f32>(0.0);
+        return nothing_shadowed();
     }
     let mis_weight = vertex_connection_mis(x, sums, y, camera_side, light_side, direction, distance_squared);
     let weight = strategy_weight(y.edges + 1u, t, mis_weight);
-    if weight == 0.0 || segment_occluded(x, y.vertex, direction) {
-        return vec3<f32>(0.0);
-    }
-    return y.throughput * camera_side.value * light_side.value * (weight / distance_squared);
+    return Shadowed(segment_shadow_ray(x, y.vertex, direction), y.throughput * camera_side.value * light_side.value * (weight / distance_squared));
 }
 
 // A splat of light tracing: what light vertex `y` sends through the camera into `pixel`.
