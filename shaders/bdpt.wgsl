@@ -74,30 +74,54 @@ struct Roulette {
     survival: f32,
 }
 
+// Whether roulette is played (and draws its number) at `edges`.
+fn roulette_plays(edges: u32) -> bool {
+    return edges >= RUSSIAN_ROULETTE_DEPTH;
+}
+
 fn play_roulette(edges: u32, attenuation: vec3<f32>) -> Roulette {
-    if edges < RUSSIAN_ROULETTE_DEPTH {
+    if !roulette_plays(edges) {
         return Roulette(false, 1.0);
     }
     let survival = min(max_component(attenuation), RUSSIAN_ROULETTE_MAX_SURVIVAL);
     return Roulette(sample_1d() >= survival, survival);
 }
 
-// The light subpath: a light point and direction (sample_emission), then BSDF sampling. Its
-// connectible vertices splat through the camera at once and are kept for the camera subpath's
-// connections where a camera vertex can still follow within max_depth.
+// The numbers a light subpath draws at most: 3 for its light point and direction, then at each
+// vertex that scatters (1 to max_depth - 2 edges from the light) 2 for the BSDF and 1 for roulette.
+fn light_subpath_draw_budget() -> u32 {
+    return 3u + 3u * (frame.max_depth - 2u);
+}
+
+// The light subpath, drawing light_subpath_draw_budget() numbers whatever its length: the camera
+// subpath's k-th number then has the same dimension in every sample of a pixel, as in the path
+// tracer, where the Sobol sampler stratifies each dimension over the samples (sampler.wgsl). With
+// the light subpath's length shifting them, glossy_through_glossy's MSE per sample was 1.3x
+// (bench/README.md's log).
 fn trace_light_subpath() {
     light_vertex_count = 0u;
     splat_count = 0u;
     if frame.light_count == 0u || frame.max_depth < 2u {
         return;
     }
+    for (var unused = light_subpath_draw_budget() - walk_light_subpath(); unused > 0u; unused--) {
+        _ = sample_1d();
+    }
+}
+
+// The light subpath: a light point and direction (sample_emission), then BSDF sampling. Its
+// connectible vertices splat through the camera at once and are kept for the camera subpath's
+// connections where a camera vertex can still follow within max_depth. Returns how many numbers
+// it drew.
+fn walk_light_subpath() -> u32 {
     let u_select = sample_2d();
     let u_position = sample_2d();
     let emitted = sample_emission(u_select, u_position, sample_2d());
     let density = emitted.pdf_position * emitted.pdf_direction;
     let cos_light = dot(emitted.normal, emitted.direction);
+    var draws = 3u;
     if !(density > 0.0) || !(cos_light > 0.0) || all(emitted.radiance == vec3<f32>(0.0)) {
-        return;
+        return draws;
     }
     var throughput = emitted.radiance * (cos_light / density);
     var attenuation = vec3<f32>(1.0);
@@ -135,6 +159,7 @@ fn trace_light_subpath() {
             break;
         }
         let next = sample_scattering(v);
+        draws += SCATTERING_DRAWS;
         if next.forward <= 0.0 {
             break;
         }
@@ -142,6 +167,7 @@ fn trace_light_subpath() {
         attenuation *= next.weight;
         sums = mis_sums_after_scattering(sums, abs(dot(v.geometric, next.direction)), next.forward, next.reverse, next.delta);
         let roulette = play_roulette(edges, attenuation);
+        draws += select(0u, 1u, roulette_plays(edges));
         if roulette.ends {
             break;
         }
@@ -150,6 +176,7 @@ fn trace_light_subpath() {
         ray = vertex_ray(v, next.direction);
         skip_triangle = hit.triangle;
     }
+    return draws;
 }
 
 // The camera subpath from `camera`, with every strategy that ends at one of its vertices: emission

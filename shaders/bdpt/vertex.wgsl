@@ -125,6 +125,9 @@ struct ScatteringSample {
     delta: bool,
 }
 
+// The numbers sample_scattering draws.
+const SCATTERING_DRAWS: u32 = 2u;
+
 fn sample_scattering(v: SurfaceVertex) -> ScatteringSample {
     let local = shading_frame(v.shading);
     let wi = to_local(local, v.towards);
