@@ -542,6 +542,9 @@ def main(argv: list[str] | None = None) -> int:
             scenes[name]["strategies"][strategy.label] = record
     all_curves = curves(rows)
     table = read_off(all_curves)
+    # the same by process CPU time (both renderers' worker threads run in this process), which the
+    # other work on shared cores moves far less than wall time
+    table_cpu = read_off(curves([row | {"seconds": row["cpu_seconds"]} for row in rows]))
     result = {
         "scene": list(args.scenes),
         "width": None,  # per scene: "scenes"
@@ -569,6 +572,8 @@ def main(argv: list[str] | None = None) -> int:
         "curves": all_curves,
         "table": table,
         "gains": gains(table),
+        "table_process_cpu": table_cpu,
+        "gains_process_cpu": gains(table_cpu),
     }
     write_result("convergence", result, out=args.out, plot=plot, run=run)
     write_csv("convergence", rows, CSV_COLUMNS, args.out)
