@@ -1,15 +1,15 @@
 // The camera subpath's contributions that count where their shadow ray is unblocked, queued and
-// traced together once the subpath ends or the queue is full (trace_camera_subpath).
+// traced together once the subpath ends or the next vertex's might not fit (trace_camera_subpath).
 //! include "hit_queries.wgsl"
 //
 // Why queued: llvmpipe runs eight invocations in lockstep, and a loop runs while any of them still
 // needs it. Traced where they arise, a lane whose camera subpath ended idles while the others
 // trace theirs; queued, the k-th rays of all eight traverse together. On door_ajar this makes bdpt
-// 1.08x as fast (bench/README.md's log). The queue holds a whole path's rays up to max_depth 10
+// 1.09x as fast (bench/README.md's log). The queue holds a whole path's rays up to max_depth 10
 // ((10 - 1) 10 / 2: the vertex at depth d joins next-event estimation's light and up to
 // 9 - d light vertices); deeper paths empty it on the way. A queue for max_depth 16 (120 rays) is
-// hardly faster and compiles 6.5 s longer per scene (llvmpipe lowers the private arrays' indexing
-// to branches over every element).
+// hardly faster and compiles 6.5 s longer per scene (llvmpipe's compile time grows with the
+// length of private arrays indexed at run time).
 const BDPT_SHADOW_RAYS: u32 = 45u;
 
 // A segment to test: `ray` from the moved origin, blocked by anything but `skip_triangle` before
