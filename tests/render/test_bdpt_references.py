@@ -28,14 +28,11 @@ image; weaker statistics than test_references.py's at 64x64, the price of CI tim
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import partial
 
 import pytest
 
-from wgputrace import Renderer
 from wgputrace.gpu.shading_normals import MITSUBA_SHADING_NORMALS
-from wgputrace.testing import references
-from wgputrace.testing.references import STORAGE_RTOL, assert_same_expectation, load_reference, render_batches
+from wgputrace.testing.references import assert_matches_reference, load_reference, render_batches
 from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
@@ -77,10 +74,9 @@ PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, BLOCK_TESTS)
 
 @pytest.mark.slow
 @pytest.mark.parametrize("scene", CASES)
-def test_bdpt_matches_mitsuba_reference(gpu_context, failure_dir, monkeypatch, scene):
+def test_bdpt_matches_mitsuba_reference(gpu_context, failure_dir, scene):
     case = CASES[scene]
     reference = load_reference(case.reference)
-    monkeypatch.setattr(references, "Renderer", partial(Renderer, shader_overrides=dict(case.overrides)))
     render = render_batches(
         scene,
         SIZE,
@@ -89,15 +85,12 @@ def test_bdpt_matches_mitsuba_reference(gpu_context, failure_dir, monkeypatch, s
         seed=case.seed,
         max_depth=reference.metadata["max_depth"],
         integrator="bdpt",
+        shader_overrides=dict(case.overrides),
     )
-    assert render.nonfinite_samples == 0
-    expected = reference.estimate.downsampled(reference.metadata["width"] // SIZE)
-    assert_same_expectation(
+    assert_matches_reference(
         f"{scene}_bdpt_vs_mitsuba",
-        render.estimate,
-        expected,
-        expected.mean,
-        STORAGE_RTOL,
+        render,
+        reference,
         failure_dir,
         blocks=BLOCKS,
         per_test_significance=PER_TEST_SIGNIFICANCE,

@@ -19,7 +19,7 @@ from functools import cache
 
 import pytest
 
-from wgputrace.testing.references import STORAGE_RTOL, assert_same_expectation, load_reference, render_batches
+from wgputrace.testing.references import assert_matches_reference, load_reference, render_batches
 from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
@@ -76,15 +76,10 @@ def test_matches_mitsuba_reference(gpu_context, failure_dir, case):
         max_depth=ref.metadata["max_depth"],
         integrator=case.integrator,
     )
-    assert render.nonfinite_samples == 0
-    expected = ref.estimate.downsampled(ref.metadata["width"] // SIZE)
-    label = f"{case.scene}_{case.integrator}_vs_mitsuba"
-    assert_same_expectation(
-        label,
-        render.estimate,
-        expected,
-        expected.mean,
-        STORAGE_RTOL,
+    assert_matches_reference(
+        f"{case.scene}_{case.integrator}_vs_mitsuba",
+        render,
+        ref,
         failure_dir,
         blocks=BLOCKS,
         per_test_significance=PER_TEST_SIGNIFICANCE,

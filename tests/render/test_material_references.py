@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import pytest
 
-from wgputrace.testing.references import STORAGE_RTOL, assert_same_expectation, load_reference, render_batches
+from wgputrace.testing.references import assert_matches_reference, load_reference, render_batches
 from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
@@ -61,14 +61,10 @@ def test_matches_mitsuba_reference(gpu_context, failure_dir, scene):
     render = render_batches(
         scene, SIZE, batches=BATCHES, spp=SPP, seed=SCENES[scene], max_depth=reference.metadata["max_depth"]
     )
-    assert render.nonfinite_samples == 0
-    expected = reference.estimate.downsampled(reference.metadata["width"] // SIZE)
-    assert_same_expectation(
+    assert_matches_reference(
         f"{scene}_vs_mitsuba",
-        render.estimate,
-        expected,
-        expected.mean,
-        STORAGE_RTOL,
+        render,
+        reference,
         failure_dir,
         blocks=BLOCKS,
         per_test_significance=PER_TEST_SIGNIFICANCE,

@@ -35,6 +35,7 @@ from wgputrace.testing.image_statistics import Estimate
 from wgputrace.testing.references import (
     STORAGE_RTOL,
     BatchedRender,
+    assert_matches_reference,
     assert_same_expectation,
     load_reference,
     reference_dir,
@@ -186,7 +187,11 @@ def test_each_integrator_matches_mitsuba_reference(gpu_context, failure_dir, sce
         max_depth=ref.metadata["max_depth"],
         integrator=integrator,
     )
-    assert render.nonfinite_samples == 0
-    expected = ref.estimate.downsampled(ref.metadata["width"] // SIZE)
-    label = f"{scene}_{integrator}_vs_mitsuba"
-    same_expectation(label, render.estimate, expected, expected.mean, STORAGE_RTOL, failure_dir)
+    assert_matches_reference(
+        f"{scene}_{integrator}_vs_mitsuba",
+        render,
+        ref,
+        failure_dir,
+        blocks=BLOCKS,
+        per_test_significance=PER_TEST_SIGNIFICANCE,
+    )

@@ -29,7 +29,7 @@ fail), and the term only darkens (never brightens) and darkens the sphere by at 
 
 from __future__ import annotations
 
-from functools import cache, partial
+from functools import cache
 
 import numpy as np
 import pytest
@@ -45,8 +45,7 @@ from wgputrace.scenes.normal_mapped import (
     normal_mapped_plane,
 )
 from wgputrace.scenes.smooth_sphere import CENTRE_Y, RADIUS, smooth_sphere
-from wgputrace.testing import references
-from wgputrace.testing.references import STORAGE_RTOL, assert_same_expectation, load_reference, render_batches
+from wgputrace.testing.references import assert_matches_reference, load_reference, render_batches
 from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
@@ -75,21 +74,21 @@ DARKENING_MIN = 0.9
 
 @pytest.mark.slow
 @pytest.mark.parametrize("scene", SCENES)
-def test_without_our_terms_matches_mitsuba(gpu_context, failure_dir, monkeypatch, scene):
+def test_without_our_terms_matches_mitsuba(gpu_context, failure_dir, scene):
     reference = load_reference(scene)
-    # render_batches with our terms off: its Renderer given the overrides
-    monkeypatch.setattr(references, "Renderer", partial(Renderer, shader_overrides=MITSUBA_SHADING_NORMALS))
     render = render_batches(
-        scene, SIZE, batches=BATCHES, spp=SPP, seed=SCENES[scene], max_depth=reference.metadata["max_depth"]
+        scene,
+        SIZE,
+        batches=BATCHES,
+        spp=SPP,
+        seed=SCENES[scene],
+        max_depth=reference.metadata["max_depth"],
+        shader_overrides=MITSUBA_SHADING_NORMALS,
     )
-    assert render.nonfinite_samples == 0
-    expected = reference.estimate.downsampled(reference.metadata["width"] // SIZE)
-    assert_same_expectation(
+    assert_matches_reference(
         f"{scene}_without_our_terms_vs_mitsuba",
-        render.estimate,
-        expected,
-        expected.mean,
-        STORAGE_RTOL,
+        render,
+        reference,
         failure_dir,
         blocks=BLOCKS,
         per_test_significance=PER_TEST_SIGNIFICANCE,

@@ -57,16 +57,14 @@ class BatchedRender:
 
 
 def render_batches(
-    scene_name: str, size: int, *, batches: int, spp: int, seed: int, max_depth: int, integrator: str = "mis"
+    scene_name: str, size: int, *, batches: int, spp: int, seed: int, max_depth: int, **renderer_options
 ) -> BatchedRender:
-    """`batches` images of `spp` samples each, from one renderer: each batch continues every
-    pixel's random stream, so the batches are independent."""
+    """`batches` images of `spp` samples each, from one renderer (`renderer_options`: integrator,
+    sampler, shader_overrides, ...) reset between them, so the batches are independent."""
     with warnings.catch_warnings():
         # the slivers scene drops its zero-area triangles on purpose (tests/scene checks the warning)
         warnings.simplefilter("ignore", DegenerateTrianglesWarning)
-        renderer = Renderer(
-            scene_by_name(scene_name), size, size, seed=seed, max_depth=max_depth, integrator=integrator
-        )
+        renderer = Renderer(scene_by_name(scene_name), size, size, seed=seed, max_depth=max_depth, **renderer_options)
     images, nonfinite = [], 0
     for _ in range(batches):
         renderer.render(spp)
@@ -152,3 +150,28 @@ def assert_same_expectation(
                 f"expectations at p < {per_test_significance:.3g}; worst:\n"
                 f"{worst_blocks(comparison, ours, other, block, WORST_BLOCKS_SHOWN)}\nimages: {', '.join(map(str, paths))}"
             )
+
+
+def assert_matches_reference(
+    label: str,
+    render: BatchedRender,
+    reference: Reference,
+    failure_dir: Path,
+    *,
+    blocks: Sequence[int],
+    per_test_significance: float,
+) -> None:
+    """`render` has no non-finite sample and the expectation of `reference` (Mitsuba's, averaged
+    down to the render's size) block by block, up to the reference's float16 storage."""
+    assert render.nonfinite_samples == 0, f"{label}: {render.nonfinite_samples} non-finite samples"
+    expected = reference.estimate.downsampled(reference.metadata["width"] // render.batches.shape[2])
+    assert_same_expectation(
+        label,
+        render.estimate,
+        expected,
+        expected.mean,
+        STORAGE_RTOL,
+        failure_dir,
+        blocks=blocks,
+        per_test_significance=per_test_significance,
+    )
