@@ -34,6 +34,7 @@ from .cli_arguments import (
     add_view_arguments,
     apply_lighting,
     image_path,
+    method_options,
     positive_float,
     positive_int,
 )
@@ -178,7 +179,7 @@ def _render_on_cluster(args: argparse.Namespace) -> int:
     if lighting is not None:
         print(f"lighting         {lighting}")
     args.spp = DEFAULT_SPP if args.spp is None else args.spp
-    render_on_cluster(args, scene)
+    render_on_cluster(args, scene, method_options(args))
     return 0
 
 
@@ -186,7 +187,7 @@ def _render_frames(args: argparse.Namespace) -> int:
     from .cluster.command_line import render_frames_on_cluster
 
     try:
-        render_frames_on_cluster(args)
+        render_frames_on_cluster(args, method_options(args))
     except Aborted as abort:
         _tell(
             f"wgputrace: {signal_name(abort.signal)}: stopped; the frames written are kept and the same command "
@@ -221,10 +222,8 @@ def _render(args: argparse.Namespace) -> int:
         height,
         seed=args.seed,
         max_depth=args.max_depth,
-        accel=args.accel,
-        integrator=args.integrator,
-        sampler=args.sampler,
         guides=args.denoise,
+        **method_options(args),
     )
     setup_seconds = time.perf_counter() - start
     spp = DEFAULT_SPP if args.spp is None and args.time_limit is None else args.spp

@@ -157,6 +157,11 @@ def add_method_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def method_options(args: argparse.Namespace) -> dict[str, str]:
+    """The Renderer's keyword arguments that add_method_arguments' options give."""
+    return {"accel": args.accel, "integrator": args.integrator, "sampler": args.sampler}
+
+
 def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int], scene_note: str = "") -> None:
     """SCENE (as wgputrace.load_scene reads it), --size, --max-depth, --seed, --exposure and the
     lighting options (`apply_lighting` applies them)."""

@@ -35,13 +35,13 @@ def progress_bar(unit: str) -> Iterator[Callable[[ClusterProgress], None]]:
         yield update
 
 
-def render_on_cluster(args: argparse.Namespace, scene) -> None:
-    """`wgputrace render --ray`: the scene's image from the cluster, written with what made it."""
+def render_on_cluster(args: argparse.Namespace, scene, options: dict[str, str]) -> None:
+    """`wgputrace render --ray`: the scene's image from the cluster, written with what made it;
+    `options`: the Renderer's (cli_arguments.method_options)."""
     from .batch_render import render_batches
 
     width, height = args.size
     spp = args.spp
-    options = {"accel": args.accel, "integrator": args.integrator, "sampler": args.sampler}
     with progress_bar("batch") as progress:
         result = render_batches(
             scene,
@@ -92,8 +92,9 @@ def render_on_cluster(args: argparse.Namespace, scene) -> None:
     print(f"wrote            {path} ({spp} spp)")
 
 
-def render_frames_on_cluster(args: argparse.Namespace) -> None:
-    """`wgputrace render-frames`: every frame not written yet, each file as it finishes."""
+def render_frames_on_cluster(args: argparse.Namespace, options: dict[str, str]) -> None:
+    """`wgputrace render-frames`: every frame not written yet, each file as it finishes; `options`:
+    the Renderer's (cli_arguments.method_options)."""
     from .frames import render_frames
 
     width, height = args.size
@@ -111,9 +112,7 @@ def render_frames_on_cluster(args: argparse.Namespace) -> None:
             address=args.ray,
             workers=args.workers,
             progress=progress,
-            accel=args.accel,
-            integrator=args.integrator,
-            sampler=args.sampler,
+            **options,
         )
     if report.skipped:
         print(f"skipped          {len(report.skipped)} frames written before ({report.skipped[0]} ...)")
