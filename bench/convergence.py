@@ -38,7 +38,10 @@ where another curve does not pass that RMSE between its fitted checkpoints, its 
 on, flagged "extrapolated") and the efficiency 1 / (MSE x seconds) at the last checkpoint. For
 an unbiased strategy RMSE falls as time^-1/2, so time ratios at a common RMSE equal inverse
 efficiency ratios. Ratios compare with ours at the default integrator and sampler, and with
-Mitsuba's independent sampler. Writes bench/results/convergence_<adapter>.csv (every checkpoint),
+Mitsuba's independent sampler; all of it by wall-clock time ("table", "gains") and by process CPU
+time, both renderers' worker threads included ("table_process_cpu", "gains_process_cpu"), which
+the suite judges the targets by: other work on the two shared cores swung single wall-clock ratios
+up to 2x. Writes bench/results/convergence_<adapter>.csv (every checkpoint),
 .json (settings, versions, validation, curves, the table) and .png (one panel per scene, and the
 efficiencies).
 """
