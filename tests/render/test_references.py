@@ -161,9 +161,10 @@ def test_references_are_small_and_match_their_settings():
     # every reference file is some test's
     from tests.render.test_light_references import CASES as LIGHT_CASES
     from tests.render.test_material_references import SCENES as MATERIAL_SCENES
+    from tests.render.test_shading_normal_references import SCENES as SHADING_NORMAL_SCENES
 
     used = {case.reference for case in CASES.values()} | {case.scene for case in LIGHT_CASES}
-    used |= set(MATERIAL_SCENES)
+    used |= set(MATERIAL_SCENES) | set(SHADING_NORMAL_SCENES)
     assert {path.stem for path in paths} == used
     for path in paths:
         ref = reference(path.stem)
