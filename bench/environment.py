@@ -90,10 +90,12 @@ CORNELL_TARGET = 1.03  # issue 15: as fast as before within 3%
 # line: "image SPP" renders SPP samples from the seed and gives the picture's hash, "time SPP"
 # renders SPP new samples and gives their wall and process CPU seconds.
 CORNELL_WORKER = """
-import hashlib, json, sys, time
+import hashlib, inspect, json, sys, time
 import numpy as np
 import wgputrace
-renderer = wgputrace.Renderer(wgputrace.default_scene(), int(sys.argv[1]), int(sys.argv[2]), seed=1)
+# checkouts from before the Sobol sampler had only the independent one: compare like with like
+options = {"sampler": "independent"} if "sampler" in inspect.signature(wgputrace.Renderer).parameters else {}
+renderer = wgputrace.Renderer(wgputrace.default_scene(), int(sys.argv[1]), int(sys.argv[2]), seed=1, **options)
 renderer.render(1)
 print(json.dumps({"module": wgputrace.__file__}), flush=True)
 for line in sys.stdin:
