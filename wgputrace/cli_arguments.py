@@ -311,7 +311,7 @@ def apply_lighting(scene: Scene, args) -> str | None:
         scene.environment = Environment.from_file(args.env)
     elif args.env is not None:
         scene.environment = Environment(radiance=args.env)
-    elif not _has_light(scene):
+    elif not scene.has_light():
         scene.environment = default_environment()
         note = (
             f"the scene brings no light: lit by the default environment, a constant radiance of {DEFAULT_RADIANCE:g} "
@@ -332,18 +332,3 @@ def apply_lighting(scene: Scene, args) -> str | None:
             raise ValueError(f"{option} {value:g}: there is no environment to apply it to ({why})")
         setattr(scene.environment, attribute, value)
     return note
-
-
-def _has_light(scene: Scene) -> bool:
-    """Whether anything in `scene` sends light: a light, an environment, or a material that emits
-    (judged as the renderer's light table judges it: from its GPU record, or for an emission through
-    a texture record (Principled's), from that)."""
-    from .render.lights import emitted_radiance
-    from .render.scene_buffers import material_records
-    from .render.texture_atlas import surface_radiance
-
-    if scene.lights or scene.environment is not None:
-        return True
-    if any(max(surface_radiance(material)) > 0 for material in scene.materials):
-        return True
-    return bool(emitted_radiance(material_records(scene.materials)).max(initial=0.0) > 0)

@@ -83,7 +83,6 @@ from .gltf_compression import (
     draco_available,
 )
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
-from .textures import material_textures
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -511,13 +510,13 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
         if faces.size == 0:
             continue
         material = materials.material(primitive.get("material"), primitive_where)
-        textures = material_textures(material)
+        textures = material.textures()
         corner = {
             key: _corner_attribute(reader, attributes, semantic, faces, len(positions), primitive_where)
             for key, semantic, wanted in (
                 ("normals", "NORMAL", True),
                 ("uvs", "TEXCOORD_0", bool(textures)),
-                ("tangents", "TANGENT", "normal_texture" in textures),
+                ("tangents", "TANGENT", "normal" in textures),
             )
             if wanted and semantic in attributes
         }

@@ -50,6 +50,7 @@ import urllib.parse
 import warnings
 
 from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principled, SceneError
+from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
 from .textures import ImageError, decode_image
@@ -59,7 +60,6 @@ DEFAULT_IOR = 1.5  # KHR_materials_ior's default
 # We have no blends of lobes: a factor from this value up picks the lobe.
 LOBE_THRESHOLD = 0.5
 DEFAULT_ALPHA_CUTOFF = 0.5
-ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 WRAP_MODES = {10497: "repeat", 33071: "clamp", 33648: "mirror"}
 TRANSFORM_EXTENSION = "KHR_texture_transform"
 # Texture sources in extensions we cannot decode, and what they are

@@ -60,7 +60,6 @@ from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Pr
 from .errors import SceneLoadError, SceneLoadWarning
 from .mtl_maps import MAP_KEYS, PRINCIPLED_MAPS, MapImages, TextureMap, parse_map
 from .orientation import wind_outwards
-from .textures import material_textures
 
 DEFAULT_DIFFUSE = 0.8
 DEFAULT_IOR = 1.5
@@ -178,7 +177,7 @@ def _shapes(path: Path, corners: np.ndarray, normals: np.ndarray, texcoords: np.
         if (refs != NO_REF).any():
             corner["normals"] = _corner_normals(triangles, normals, refs)
         uv_ids = np.asarray(uv_refs, np.int64).reshape(-1, 3)
-        if material_textures(material) and (uv_ids != NO_REF).any():
+        if material.textures() and (uv_ids != NO_REF).any():
             # a corner naming no vt reads the texture at (0, 0)
             corner["uvs"] = np.where((uv_ids != NO_REF)[..., None], texcoords[uv_ids], np.float32(0.0))
         before = triangles.copy()

@@ -16,8 +16,7 @@ import zlib
 import numpy as np
 from PIL import Image, UnidentifiedImageError
 
-from ..scene import Material
-from ..scene.texture import MAX_TEXTURE_SIDE, Texture
+from ..scene.texture import MAX_TEXTURE_SIDE
 
 # Pillow modes kept as they are; any other is converted to RGBA (palettes, CMYK, 16-bit grey...)
 KEPT_MODES = ("L", "LA", "RGB", "RGBA")
@@ -26,8 +25,6 @@ SIXTEEN_BIT_MAX = 65535
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 # JPEG's start-of-frame markers (SOF0..SOF15 less DHT, JPG and DAC, which share the range)
 JPEG_FRAME_MARKERS = set(range(0xC0, 0xD0)) - {0xC4, 0xC8, 0xCC}
-# Principled's texture parameters
-TEXTURE_PARAMETERS = ("base_color_texture", "metallic_roughness_texture", "normal_texture", "emission_texture")
 
 
 class ImageError(Exception):
@@ -89,9 +86,3 @@ def _pixels(image: Image.Image) -> np.ndarray:
         image = image.convert("RGBA")
     pixels = np.asarray(image, np.uint8)
     return pixels[:, :, None] if pixels.ndim == 2 else pixels
-
-
-def material_textures(material: Material) -> dict[str, Texture]:
-    """The parameters of `material` that are textures, by name."""
-    found = {name: getattr(material, name, None) for name in TEXTURE_PARAMETERS}
-    return {name: texture for name, texture in found.items() if texture is not None}

@@ -100,7 +100,7 @@ def bsdf_dict(material: Material, tangents: np.ndarray | None = None) -> dict:
     texture per BSDF)."""
     if material.shader is None:
         return {"type": "diffuse", "reflectance": mitsuba_rgb((0.0, 0.0, 0.0))}
-    if getattr(material, "normal_texture", None) is None:
+    if "normal" not in material.textures():
         bsdf = material.mitsuba_bsdf()
     else:
         bsdf = material.mitsuba_bsdf(tangent_handedness=uniform_handedness(material, tangents))

@@ -73,15 +73,7 @@ from .scene_buffers import (
     set_wide_bounds,
     triangle_records,
 )
-from .texture_atlas import (
-    lets_rays_through,
-    light_density,
-    material_texture_records,
-    needs_material_record,
-    pack_atlas,
-    surface_radiance,
-    used_textures,
-)
+from .texture_atlas import light_density, material_texture_records, needs_material_record, pack_atlas, used_textures
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
 # Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
@@ -166,12 +158,12 @@ class SceneMirror:
     def see_through(self) -> bool:
         """Whether a material lets rays through some of its surface (alpha modes, single-sided), so
         that every ray's triangle test must ask its material (gpu/alpha.py)."""
-        return any(lets_rays_through(material) for material in self.scene.materials)
+        return any(material.lets_rays_through() for material in self.scene.materials)
 
     @property
     def emissive_surfaces(self) -> bool:
         """Whether a material emits through its texture record (Principled's emission: gpu/emission.py)."""
-        return any(max(surface_radiance(material)) > 0 for material in self.scene.materials)
+        return any(max(material.surface_emission()) > 0 for material in self.scene.materials)
 
     def _surface_light_densities(self) -> np.ndarray:
         """Each material's light table weight per unit area from its texture record (0: none)."""
@@ -267,7 +259,7 @@ class SceneMirror:
         changes = {}
         if geometry_moved or self.corner_uvs is None:
             changes[CORNER_UVS] = self._update_corner_uvs()
-        normal_mapped = any(getattr(material, "normal_texture", None) is not None for material in materials)
+        normal_mapped = any("normal" in material.textures() for material in materials)
         if geometry_moved or self.corner_tangents is None or normal_mapped != self._normal_mapped:
             changes[CORNER_TANGENTS] = self._update_corner_tangents(normal_mapped)
         if [id(t) for t in textures] != [id(t) for t in self._textures] or self.atlas_texels is None:
@@ -317,7 +309,7 @@ class SceneMirror:
         textured = [
             (index, material)
             for index, material in enumerate(self.scene.materials)
-            if self._light_densities[index] > 0 and getattr(material, "emission_texture", None) is not None
+            if self._light_densities[index] > 0 and "emission" in material.textures()
         ]
         if textured:
             shapes = self.scene.shapes
@@ -326,8 +318,8 @@ class SceneMirror:
             uvs = np.zeros((len(material_of), 3, 2), np.float32) if uvs is None else uvs
             for index, material in textured:
                 rows = material_of == index
-                means = footprint_means(material.emission_texture, uvs[rows])
-                densities[rows] = (means * surface_radiance(material)) @ LUMINANCE_WEIGHTS
+                means = footprint_means(material.textures()["emission"], uvs[rows])
+                densities[rows] = (means * material.surface_emission()) @ LUMINANCE_WEIGHTS
         return densities
 
     def _update_triangle_light_densities(self, densities: np.ndarray) -> np.ndarray:

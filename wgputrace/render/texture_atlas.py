@@ -31,12 +31,11 @@ from ..gpu.layout import MATERIAL_TEXTURES, TEXTURE
 from ..gpu.textures import NO_TEXTURE
 from ..scene import Material, SceneError
 from ..scene.lights.light import LUMINANCE_WEIGHTS
-from ..scene.materials.principled import ALPHA_MODES
 from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb
 
-# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl, emission.wgsl, normal_texture.wgsl read them)
+# the fields of MATERIAL_TEXTURES that hold a parameter (Material.fill_texture_record writes them)
 _PARAMETER_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided", "emitted", "normal_scale")
-# the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
+# the slots of MATERIAL_TEXTURES that name a texture (the keys of Material.textures)
 TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name not in _PARAMETER_FIELDS)
 
 
@@ -50,30 +49,12 @@ class Atlas:
     records: np.ndarray  # TEXTURE.dtype, one per texture in `used_textures` order
 
 
-def material_textures(material: Material) -> dict[str, Texture]:
-    """The textures `material` reads, by MATERIAL_TEXTURES slot."""
-    slots = {slot: getattr(material, f"{slot}_texture", None) for slot in TEXTURE_SLOTS}
-    return {slot: texture for slot, texture in slots.items() if texture is not None}
-
-
-def lets_rays_through(material: Material) -> bool:
-    """Whether `material` lets rays through some of its surface (shaders/alpha.wgsl), which its
-    MATERIAL_TEXTURES record says, texture or not."""
-    return getattr(material, "alpha_mode", "OPAQUE") != "OPAQUE" or not getattr(material, "double_sided", True)
-
-
-def surface_radiance(material: Material) -> tuple[float, float, float]:
-    """The radiance a material without an emitting kind emits through its MATERIAL_TEXTURES
-    record (Principled's emission x emission_strength; x the emission texture on the GPU)."""
-    strength = getattr(material, "emission_strength", 1.0)
-    return tuple(c * strength for c in getattr(material, "emission", (0.0, 0.0, 0.0)))
-
-
 def light_density(material: Material) -> float:
-    """The luminance of the material's emitted radiance x its emission texture's mean over every
-    texel: zero where it emits nothing (render/emission_footprints.py weighs each triangle)."""
-    radiance = np.array(surface_radiance(material))
-    texture = getattr(material, "emission_texture", None)
+    """The luminance of the radiance a material emits through its texture record x its emission
+    texture's mean over every texel: zero where it emits nothing that way (`footprint_means` weighs
+    each triangle)."""
+    radiance = np.array(material.surface_emission())
+    texture = material.textures().get("emission")
     if texture is not None:
         radiance = radiance * texture.linear_texels[..., :3].reshape(-1, 3).mean(axis=0, dtype=np.float64)
     return float(radiance @ LUMINANCE_WEIGHTS)
@@ -81,14 +62,14 @@ def light_density(material: Material) -> float:
 
 def needs_material_record(material: Material) -> bool:
     """Whether `material` lets rays through or emits through its MATERIAL_TEXTURES record."""
-    return lets_rays_through(material) or max(surface_radiance(material)) > 0
+    return material.lets_rays_through() or max(material.surface_emission()) > 0
 
 
 def used_textures(materials: list[Material]) -> list[Texture]:
     """Every texture the materials read, each once, in first-use order."""
     seen: dict[int, Texture] = {}
     for material in materials:
-        for texture in material_textures(material).values():
+        for texture in material.textures().values():
             seen.setdefault(id(texture), texture)
     return list(seen.values())
 
@@ -98,15 +79,10 @@ def material_texture_records(materials: list[Material], textures: list[Texture])
     index = {id(texture): i for i, texture in enumerate(textures)}
     records = MATERIAL_TEXTURES.zeros(len(materials))
     for record, material in zip(records, materials, strict=True):
-        slots = material_textures(material)
+        slots = material.textures()
         for slot in TEXTURE_SLOTS:
             record[slot] = index[id(slots[slot])] if slot in slots else NO_TEXTURE
-        record["alpha"] = getattr(material, "alpha", 1.0)
-        record["alpha_mode"] = ALPHA_MODES.index(getattr(material, "alpha_mode", "OPAQUE"))
-        record["alpha_cutoff"] = getattr(material, "alpha_cutoff", 0.5)
-        record["double_sided"] = getattr(material, "double_sided", True)
-        record["emitted"] = surface_radiance(material)
-        record["normal_scale"] = getattr(material, "normal_scale", 1.0)
+        material.fill_texture_record(record)
     return records
 
 

@@ -75,6 +75,10 @@ class Scene:
         """The lights that are not emissive triangles nor the environment, in the order added."""
         return tuple(self._lights)
 
+    def has_light(self) -> bool:
+        """Whether anything sends light: a light, an environment, or a material that emits."""
+        return bool(self._lights) or self.environment is not None or any(m.emits() for m in self.materials)
+
     def add_light(self, *lights: Light) -> Scene:
         for light in lights:
             if not isinstance(light, Light):

@@ -48,6 +48,9 @@ class Emitter(Material):
         r, g, b = self.color
         return (r * self.emittance, g * self.emittance, b * self.emittance)
 
+    def emits(self) -> bool:
+        return max(self.radiance) > 0
+
     def fill_record(self, record) -> None:
         record["color"] = self.radiance
 

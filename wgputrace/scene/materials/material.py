@@ -34,6 +34,10 @@ from typing import ClassVar
 import numpy as np
 
 from ..registry import Kind, KindRegistry
+from ..texture import Texture
+
+# glTF's alphaMode values, numbered for the GPU in this order (a MATERIAL_TEXTURES record's alpha_mode)
+ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 
 
 class MaterialError(ValueError):
@@ -105,6 +109,8 @@ def _check_kind(cls: type[Material], where: str) -> None:
         raise TypeError(f"{where}: shader must be a MaterialShader or None, got {cls.shader!r}")
     if cls.emission_wgsl is not None and cls.record_radiance.__func__ is Material.record_radiance.__func__:
         raise TypeError(f"{where}: declares an emission but no record_radiance for the light table")
+    if cls.emission_wgsl is not None and cls.emits is Material.emits:
+        raise TypeError(f"{where}: declares an emission but does not say when it emits (`emits`)")
 
 
 MATERIAL_KINDS = KindRegistry("material", _check_kind)
@@ -154,6 +160,30 @@ class Material(Kind):
         """Write the parameters into `record`, one MATERIAL record (gpu/layout.py), by field name, as
         `shader` and `emission_wgsl` read them. `kind` is written by the caller; other fields stay zero."""
         raise NotImplementedError
+
+    def textures(self) -> dict[str, Texture]:
+        """The textures it reads, by MATERIAL_TEXTURES slot ("base_color", "normal", ...): none here."""
+        return {}
+
+    def lets_rays_through(self) -> bool:
+        """Whether rays pass through some of its surface (alpha modes, a single side), which every
+        ray's triangle test then asks its texture record: never here."""
+        return False
+
+    def surface_emission(self) -> tuple[float, float, float]:
+        """The radiance it emits through its texture record (times its "emission" texture where it
+        has one), beside what an emitting kind emits (`emission_wgsl`): none here."""
+        return (0.0, 0.0, 0.0)
+
+    def emits(self) -> bool:
+        """Whether it sends any light, through its kind's emission or its texture record."""
+        return max(self.surface_emission()) > 0
+
+    def fill_texture_record(self, record: np.void) -> None:
+        """Write the parameters of its MATERIAL_TEXTURES record (the texture slots are the caller's):
+        here opaque, seen from both sides, emitting nothing, its normals unscaled."""
+        record["alpha"], record["alpha_mode"], record["alpha_cutoff"] = 1.0, ALPHA_MODES.index("OPAQUE"), 0.5
+        record["double_sided"], record["emitted"], record["normal_scale"] = True, (0.0, 0.0, 0.0), 1.0
 
     def mitsuba_bsdf(self) -> dict:
         """The Mitsuba 3 BSDF dict of one side where `two_sided` (the exporter wraps it in `twosided`).

@@ -46,10 +46,10 @@ import numpy as np
 from ..texture import Texture
 from .emitter import RADIANCE_MAX
 from .glass import IOR_MAX
-from .material import Material, MaterialError, MaterialShader, check_color, check_number, mitsuba_rgb
+from .material import ALPHA_MODES, Material, MaterialError, MaterialShader, check_color, check_number, mitsuba_rgb
 
-# glTF's alphaMode values, numbered for the GPU in this order (gpu/alpha.py)
-ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
+# the texture parameters, `<slot>_texture` for each MATERIAL_TEXTURES slot Principled reads
+_TEXTURE_SLOTS = ("base_color", "metallic_roughness", "normal", "emission")
 # glTF sets no bound on a normal map's scale; beyond this its bumps are all slope (a typo, surely)
 NORMAL_SCALE_MAX = 100.0
 
@@ -91,7 +91,8 @@ class Principled(Material):
     two_sided_wgsl = "material.spec_trans == 0.0"
 
     def checked_parameters(self) -> dict[str, object]:
-        for parameter in ("base_color_texture", "metallic_roughness_texture", "normal_texture", "emission_texture"):
+        for slot in _TEXTURE_SLOTS:
+            parameter = f"{slot}_texture"
             value = getattr(self, parameter)
             if value is not None and not isinstance(value, Texture):
                 raise MaterialError(
@@ -130,6 +131,21 @@ class Principled(Material):
         record["color"], record["alpha"] = self.base_color, self.roughness
         record["ior"], record["metallic"] = self.eta, self.metallic
         record["spec_trans"] = self.spec_trans
+
+    def textures(self) -> dict[str, Texture]:
+        slots = {slot: getattr(self, f"{slot}_texture") for slot in _TEXTURE_SLOTS}
+        return {slot: texture for slot, texture in slots.items() if texture is not None}
+
+    def lets_rays_through(self) -> bool:
+        return self.alpha_mode != "OPAQUE" or not self.double_sided
+
+    def surface_emission(self) -> tuple[float, float, float]:
+        return tuple(c * self.emission_strength for c in self.emission)
+
+    def fill_texture_record(self, record) -> None:
+        record["alpha"], record["alpha_mode"] = self.alpha, ALPHA_MODES.index(self.alpha_mode)
+        record["alpha_cutoff"], record["double_sided"] = self.alpha_cutoff, self.double_sided
+        record["emitted"], record["normal_scale"] = self.surface_emission(), self.normal_scale
 
     def mitsuba_bsdf(self, tangent_handedness: float = 1.0) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
