@@ -62,7 +62,7 @@ from bench.common import (
     write_result,
 )
 from wgputrace import Camera, Diffuse, Environment, Renderer, Scene, make_icosphere, make_plane
-from wgputrace.scene.environment import local_of_uv
+from wgputrace.scene.lights.environment import local_of_uv
 
 MAP_SIZE = (512, 256)
 SUN_DIRECTION = (0.5, 0.6, -0.4)  # towards the sun: high, on the camera's side, from the picture's left
@@ -122,7 +122,7 @@ for line in sys.stdin:
 def sunny_map() -> np.ndarray:
     """Texels (H, W, 3): the sky's gradient by elevation, dark ground below the horizon, the sun a disc."""
     width, height = MAP_SIZE
-    # where each texel sits in Mitsuba's convention (scene/environment.py), and the way it looks
+    # where each texel sits in Mitsuba's convention (scene/lights/environment.py), and the way it looks
     u, v = np.meshgrid((np.arange(width) + 0.5) / width, np.arange(height) / (height - 1))
     directions = local_of_uv(np.stack([u, v], axis=-1).reshape(-1, 2)).reshape(height, width, 3)
     elevation = directions[..., 1:2]

@@ -16,8 +16,8 @@ from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
 from .scene import Camera, Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
-from .scene.environment import Environment
 from .scene.lights import KINDS as LIGHT_KINDS
+from .scene.lights.environment import Environment
 from .scene.materials import KINDS
 from .scenes import default_scene
 

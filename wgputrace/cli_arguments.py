@@ -302,7 +302,7 @@ def apply_lighting(scene: Scene, args) -> str | None:
     triangle, no environment, no light) gets the default environment, and the line returned says
     so (None otherwise); --env-intensity and --env-rotation then apply to the environment the scene
     has. A bad map, or those two without an environment, raise a one-line ValueError."""
-    from .scene.environment import DEFAULT_RADIANCE, Environment, default_environment
+    from .scene.lights.environment import DEFAULT_RADIANCE, Environment, default_environment
 
     note = None
     if args.env == NO_ENVIRONMENT:

@@ -23,6 +23,9 @@ from pathlib import Path
 import numpy as np
 
 FORMATS = (".png", ".exr", ".npy")
+# Environment maps: OpenEXR, or Radiance RGBE through the hdr extra's OpenImageIO.
+ENVIRONMENT_MAP_SUFFIXES = (".exr", ".hdr", ".pic")
+_HDR_EXTRA = "pip install 'wgputrace[hdr]'"
 SIDECAR_SUFFIX = ".json"
 TEMPORARY_SUFFIX = ".tmp"
 # An EXR layer's name: words joined by dots (OpenEXR's nested layers, "light.key"), each channel
@@ -233,12 +236,69 @@ def load_layers(path: str | Path) -> dict[str, np.ndarray]:
 
     with OpenEXR.File(str(path), separate_channels=True) as exr:
         channels = {name: channel.pixels for name, channel in exr.channels().items()}
-    names = {name.rpartition(".")[0] for name in channels if "." in name}
-    return {
-        name: _check(np.stack([channels[f"{name}.{letter}"] for letter in _RGB], axis=2))
-        for name in sorted(names)
-        if all(f"{name}.{letter}" in channels for letter in _RGB)
-    }
+    layers = _rgb_layers(channels)
+    return {name: _check(_stacked(channels, layers[name])) for name in sorted(layers) if name}
+
+
+def load_environment_map(path: str | Path) -> np.ndarray:
+    """float32 (H, W, 3) texels of an equirectangular map: one RGB layer of an .exr (the unnamed
+    layer's, else the only layer's), or an .hdr/.pic (Radiance RGBE, through OpenImageIO)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in ENVIRONMENT_MAP_SUFFIXES:
+        formats = ", ".join(ENVIRONMENT_MAP_SUFFIXES)
+        raise ValueError(f"{path}: environment maps must be {formats} files, not {suffix or 'without extension'}")
+    if not path.is_file():
+        raise ValueError(f"{path}: no such file")
+    return _read_exr_map(path) if suffix == ".exr" else _read_radiance_map(path)
+
+
+def _read_exr_map(path: Path) -> np.ndarray:
+    import OpenEXR
+
+    try:
+        with OpenEXR.File(str(path), separate_channels=True) as exr:
+            channels = {name: channel.pixels for name, channel in exr.channels().items()}
+    except RuntimeError as error:  # OpenEXR's error for a file it cannot read
+        raise ValueError(f"{path}: not a readable OpenEXR file ({error})") from None
+    layers = _rgb_layers(channels)
+    if "" not in layers and len(layers) != 1:
+        found = ", ".join(sorted(channels)) or "none"
+        raise ValueError(f"{path}: expected one layer of R, G and B channels, found channels {found}")
+    names = layers[""] if "" in layers else next(iter(layers.values()))
+    return _stacked(channels, names).astype(np.float32)
+
+
+def _rgb_layers(channels: Mapping[str, np.ndarray]) -> dict[str, tuple[str, str, str]]:
+    """Every layer with R, G and B channels (letters in either case), by layer name ("" for the
+    unnamed layer's `R`, `G`, `B`): its channels' names in RGB order."""
+    layers: dict[str, dict[str, str]] = {}
+    for name in channels:
+        layer, _, letter = name.rpartition(".")
+        if letter.upper() in ("R", "G", "B"):
+            layers.setdefault(layer, {})[letter.upper()] = name
+    return {layer: tuple(names[letter] for letter in _RGB) for layer, names in layers.items() if len(names) == 3}
+
+
+def _stacked(channels: Mapping[str, np.ndarray], names: tuple[str, str, str]) -> np.ndarray:
+    return np.stack([channels[name] for name in names], axis=2)
+
+
+def _read_radiance_map(path: Path) -> np.ndarray:
+    try:
+        import OpenImageIO
+    except ImportError:
+        raise ValueError(f"{path}: reading Radiance .hdr files needs OpenImageIO: {_HDR_EXTRA}") from None
+    image = OpenImageIO.ImageInput.open(str(path))
+    if image is None:
+        raise ValueError(f"{path}: not a readable Radiance file ({OpenImageIO.geterror().strip()})")
+    try:
+        pixels = image.read_image(0, 0, 0, 3, "float")
+    finally:
+        image.close()
+    if pixels is None or pixels.ndim != 3:
+        raise ValueError(f"{path}: not a readable Radiance file ({OpenImageIO.geterror().strip()})")
+    return np.ascontiguousarray(pixels, dtype=np.float32)
 
 
 def read_text_metadata(path: str | Path) -> dict[str, str]:

@@ -50,8 +50,8 @@ from .loaders.resolve import scene_file
 
 if TYPE_CHECKING:
     from .render import Renderer
-    from .scene.environment import Environment
     from .scene.lights import Light
+    from .scene.lights.environment import Environment
 
 # One attribute per key rather than one JSON text: exrheader prints each attribute on its own line
 # (`wgputrace:spp (type string): "64"`), PIL's `Image.text` and exiftool list each text chunk, so

@@ -232,7 +232,7 @@ def test_flat_list_nodes_count_shapes():
 
 def test_a_map_larger_than_the_adapter_holds_is_downscaled_with_a_warning(gpu_context, monkeypatch):
     from wgputrace import Environment
-    from wgputrace.scene.environment import EnvironmentWarning
+    from wgputrace.scene.lights.environment import EnvironmentWarning
 
     side = 64
     monkeypatch.setitem(gpu_context.device.limits, "max-texture-dimension-2d", side)

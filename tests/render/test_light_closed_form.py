@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Renderer, Scene, Shape, SpotLight, Sun, make_plane
-from wgputrace.scene.environment import Environment
+from wgputrace.scene.lights.environment import Environment
 from wgputrace.scenes.environment_lit import ONE_TEXEL_ROTATION_DEGREES, one_texel_map, one_texel_uv
 from wgputrace.testing.image_statistics import Estimate, compare_blocks
 from wgputrace.testing.stats import sidak

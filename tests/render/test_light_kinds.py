@@ -1,6 +1,6 @@
 """Lights besides emissive triangles: each kind's shipped WGSL against its definition (Mitsuba 3's
 point, spot and directional; the sun's cone sampled against its pdf by chi-square), the environment
-map's GPU lookup, density and sampling against scene/environment.py's numpy references, the one
+map's GPU lookup, density and sampling against scene/lights/environment.py's numpy references, the one
 light table's choices (chi-square over every kind), closed forms rendered (a white furnace under a
 constant environment, a plane under a directional and under a point light), no non-finite sample
 for degenerate lights and maps, and edits that upload only what they change."""
@@ -22,7 +22,7 @@ from wgputrace.render.light_buffers import LightBuffers
 from wgputrace.render.limits import SceneCounts, check_scene_counts, environment_table_words
 from wgputrace.render.scene_sync import SceneMirror
 from wgputrace.scene import DirectionalLight, LightError, PointLight, SpotLight, Sun
-from wgputrace.scene.environment import cell_of_uv
+from wgputrace.scene.lights.environment import cell_of_uv
 from wgputrace.testing.harness import run_kernel
 from wgputrace.testing.stats import chi_square, sidak, z_limit
 from wgputrace.view.banded import BandedRenderer

@@ -13,7 +13,7 @@ import OpenEXR
 import pytest
 
 from wgputrace.scene import SceneError
-from wgputrace.scene.environment import (
+from wgputrace.scene.lights.environment import (
     DEFAULT_RADIANCE,
     Environment,
     EnvironmentWarning,

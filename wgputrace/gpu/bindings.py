@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import wgpu
 
+from ..scene.lights.environment import ENVIRONMENT_MAP
 from .device import GpuContext
 from .layout import (
     ACCUMULATED_PIXEL,
@@ -30,7 +31,7 @@ from .layout import (
     TEXTURE,
     GpuStruct,
 )
-from .light_dispatch import ENVIRONMENT_MAP, LightFeatures
+from .light_dispatch import LightFeatures
 
 # The workgroup of every kernel that runs one invocation per pixel: its y extent is also the
 # height of the viewer's bands of rows (view/banded.py).

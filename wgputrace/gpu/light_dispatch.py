@@ -28,19 +28,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..scene.lights import light_class, light_classes
+from ..scene.lights.environment import ENVIRONMENT_SHADERS
 
 GENERATED_LIGHTS = "generated/lights.wgsl"
 GENERATED_ESCAPED_LIGHT = "generated/escaped_light.wgsl"
 GENERATED_LIGHT_EMISSION = "generated/light_emission.wgsl"
 LIGHT_SOURCE_FLAG = 0x80000000
 ENVIRONMENT_LIGHT = 0xFFFFFFFF
-# How the GPU holds an environment: one radiance for every direction, or a map with its sampling
-# tables (an all-black map lights nothing and is left out, as no environment).
-CONSTANT_ENVIRONMENT, ENVIRONMENT_MAP = "constant", "map"
-_ENVIRONMENT_FILES = {
-    CONSTANT_ENVIRONMENT: "lights/environment_constant.wgsl",
-    ENVIRONMENT_MAP: "lights/environment_map.wgsl",
-}
 
 
 @dataclass(frozen=True)
@@ -53,9 +47,9 @@ class LightFeatures:
     environment: str | None = None
 
     def __post_init__(self) -> None:
-        if self.environment not in (None, *_ENVIRONMENT_FILES):
+        if self.environment not in (None, *ENVIRONMENT_SHADERS):
             raise ValueError(
-                f"environment must be None or one of {tuple(_ENVIRONMENT_FILES)}, got {self.environment!r}"
+                f"environment must be None or one of {tuple(ENVIRONMENT_SHADERS)}, got {self.environment!r}"
             )
         object.__setattr__(self, "kinds", tuple(light_class(kind).kind for kind in sorted(set(self.kinds))))
 
@@ -102,7 +96,7 @@ def light_dispatch(features: LightFeatures = NO_LIGHTS) -> str:
     lines += [
         '//! include "generated/bindings/lights.wgsl"',
         *(f'//! include "{cls.shader.file}"' for cls in classes),
-        *([f'//! include "{_ENVIRONMENT_FILES[features.environment]}"'] if features.environment else []),
+        *([f'//! include "{ENVIRONMENT_SHADERS[features.environment]}"'] if features.environment else []),
         "fn is_light_source(entry: u32) -> bool { return entry >= LIGHT_SOURCE_FLAG; }",
         "fn sample_light_source(entry: u32, p: vec3<f32>, u: vec2<f32>) -> LightSample {",
     ]

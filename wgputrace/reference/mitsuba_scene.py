@@ -18,7 +18,7 @@ file's tangents: the same frame where those follow dP/du (a flat, undistorted UV
 
 Lights: each light's own `mitsuba_emitter()` (scene/lights/: `point`, `spot`, `directional`); the
 environment a `constant` (radiance x intensity) or an `envmap` of its texels (scale = intensity,
-to_world the rotation about +y, scene/environment.py's convention, which is Mitsuba's). A hidden
+to_world the rotation about +y, scene/lights/environment.py's convention, which is Mitsuba's). A hidden
 environment is the path integrator's `hide_emitters`, which hides every emitter from camera rays,
 so it is refused in a scene that also has emitting triangles. Our Sun has no Mitsuba plugin: a scene
 with one is refused (tests cover it by closed forms, and a sun drawn into a map by `envmap`).
@@ -37,7 +37,7 @@ from types import ModuleType
 import numpy as np
 
 from wgputrace.scene import Light, Material, Scene
-from wgputrace.scene.environment import Environment
+from wgputrace.scene.lights.environment import Environment
 from wgputrace.scene.materials.material import mitsuba_rgb
 from wgputrace.scene.shapes import corner_normals, corner_uvs
 from wgputrace.scene.tangents import corner_tangents

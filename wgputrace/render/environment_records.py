@@ -1,5 +1,4 @@
-"""The environment (scene/environment.py) as the GPU holds it: its part of the lighting parameters,
-the map's texels and its sampling tables packed into one buffer of 32-bit words.
+"""The environment map as the GPU holds it: its texels and its sampling tables packed into one buffer of 32-bit words.
 
 | words (uint32)  | count   | what                                                            |
 |-----------------|---------|-----------------------------------------------------------------|
@@ -7,15 +6,13 @@ the map's texels and its sampling tables packed into one buffer of 32-bit words.
 | columns         | 2 R W   | per cell row, per cell: threshold, alias: picks a cell in the row |
 | cell densities  | R W     | f32 bits: the density per steradian of a direction in the cell  |
 
-An H x W map has R = max(H - 1, 1) cell rows of W cells (scene/environment.py EnvironmentTables);
+An H x W map has R = max(H - 1, 1) cell rows of W cells (scene/lights/environment.py EnvironmentTables);
 shaders/lights/environment_map.wgsl reads the words at these offsets, from the map's width and
 height in the lighting parameters. The tables do not change with intensity, rotation or visibility, so an edit
 of those uploads the lighting parameters only.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -29,27 +26,6 @@ def environment_state(environment) -> tuple | None:
         return None
     radiance = None if environment.radiance is None else tuple(environment.radiance)
     return (radiance, environment.intensity, environment.rotation_degrees, environment.visible)
-
-
-def environment_power(environment, scene_radius: float) -> float:
-    """The light sampler's weight of `environment` (render/lights.py): its power through the scene's
-    bounding sphere (the environment's `power`, pbrt-v4's pi r^2 x the luminance integrated over the
-    sphere) over 2 pi, the units of the triangles' weights."""
-    return float(environment.power(scene_radius)) / (2.0 * math.pi)
-
-
-def fill_environment(record: np.void, environment) -> None:
-    """The environment's fields of a LIGHTING record: a constant's radiance (intensity applied) or a
-    map's intensity, whether camera rays see it, the rotation about +y as (cos, sin), and the map's size."""
-    if environment.radiance is not None:
-        record["environment_radiance"] = np.asarray(environment.radiance) * environment.intensity
-    else:
-        record["environment_radiance"] = (environment.intensity,) * 3
-        height, width = environment.texels.shape[:2]
-        record["environment_size"] = (width, height)
-    angle = math.radians(environment.rotation_degrees)
-    record["environment_rotation"] = (math.cos(angle), math.sin(angle))
-    record["environment_visible"] = bool(environment.visible)
 
 
 def environment_texels(environment) -> np.ndarray:

@@ -11,8 +11,9 @@ import wgpu
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE
 from ..gpu.device import GpuContext
 from ..gpu.float_texture import FloatTexture
-from ..gpu.light_dispatch import ENVIRONMENT_MAP, LightFeatures
+from ..gpu.light_dispatch import LightFeatures
 from ..gpu.tracked_buffer import TrackedBuffer
+from ..scene.lights.environment import ENVIRONMENT_MAP
 from .group_resources import GroupResources
 from .scene_sync import ENVIRONMENT_TABLES, ENVIRONMENT_TEXELS, LIGHT_SOURCES, LIGHTING_PARAMETERS, SceneMirror
 

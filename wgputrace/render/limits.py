@@ -314,7 +314,7 @@ def atlas_side(context: GpuContext) -> int:
 def fit_environment(context: GpuContext, scene: Scene) -> None:
     """Replace an environment map larger than the adapter holds (its texture side, or its sampling
     tables in one storage binding: 8k maps exceed lavapipe's 128 MiB) by a box-filtered copy that
-    fits, keeping its mean, with an EnvironmentWarning naming both sizes (scene/environment.py
+    fits, keeping its mean, with an EnvironmentWarning naming both sizes (scene/lights/environment.py
     fit_to): refusing the HDR maps users download would serve them worse than a softer sky."""
     environment = scene.environment
     if environment is None or environment.texels is None:

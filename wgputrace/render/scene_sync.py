@@ -48,19 +48,13 @@ import numpy as np
 
 from ..bvh import BVH, Refitter
 from ..gpu.layout import LIGHT_SOURCE, LIGHTING
-from ..gpu.light_dispatch import CONSTANT_ENVIRONMENT, ENVIRONMENT_MAP, LightFeatures
+from ..gpu.light_dispatch import LightFeatures
 from ..scene import Scene, Shape
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_normals, corner_uvs
 from ..scene.tangents import corner_tangents
 from .emission_footprints import footprint_means
-from .environment_records import (
-    environment_power,
-    environment_state,
-    environment_table_words,
-    environment_texels,
-    fill_environment,
-)
+from .environment_records import environment_state, environment_table_words, environment_texels
 from .lights import LUMINANCE_WEIGHTS, LightTable, emitting, light_table
 from .scene_buffers import (
     SceneRecords,
@@ -349,13 +343,9 @@ class SceneMirror:
         }
 
     def _environment_holds(self) -> str | None:
-        """How the GPU holds the scene's environment (gpu/light_dispatch.py): None where it has none."""
+        """How the GPU holds the scene's environment (`Environment.held_as`): None where it has none."""
         environment = self.scene.environment
-        if environment is None:
-            return None
-        if environment.texels is None:
-            return CONSTANT_ENVIRONMENT
-        return ENVIRONMENT_MAP if self.environment_tables is not None else None
+        return None if environment is None else environment.held_as
 
     def _has_distant_lights(self) -> bool:
         """Lights whose power depends on the scene's size: distant ones and the environment."""
@@ -508,7 +498,7 @@ class SceneMirror:
         if environment_changed:
             changes.update(self._update_environment_map())
         holds = self._environment_holds()
-        environment_weight = environment_power(environment, radius) if holds is not None else 0.0
+        environment_weight = environment.weight(radius) if holds is not None else 0.0
         self._light_densities = self._surface_light_densities()
         densities = self._triangle_light_densities()
         table = light_table(
@@ -535,7 +525,7 @@ class SceneMirror:
         lighting["source_count"] = len(lights)
         lighting["scene_center"], lighting["scene_radius"] = center, radius
         if holds is not None:
-            fill_environment(lighting[0], environment)
+            environment.fill_record(lighting[0])
             lighting["environment_probability"] = table.environment_probability
         changes[LIGHTING_PARAMETERS] = changed_rows(self.lighting, lighting)
         self.lighting = lighting

@@ -1,5 +1,5 @@
 """A scene: shapes (triangles sharing a material), the materials they index, a camera, and the
-lights that are not emissive triangles: an environment (`environment`, scene/environment.py) and
+lights that are not emissive triangles: an environment (`environment`, scene/lights/environment.py) and
 point, spot, directional and sun lights (`add_light`, scene/lights/).
 
 Editing (Mitsuba's traverse/params.update, with plain attributes): add and remove shapes and lights,
@@ -18,9 +18,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .camera import Camera
-from .environment import Environment
 from .errors import SceneError
 from .lights import Light
+from .lights.environment import Environment
 from .materials import Material
 from .shapes import Shape
 
@@ -56,7 +56,7 @@ class TriangleArrays:
 class Scene:
     shapes: list[Shape] = field(default_factory=list)
     camera: Camera = field(default_factory=Camera)
-    # the light arriving from infinitely far in every direction (scene/environment.py); None: black
+    # the light arriving from infinitely far in every direction (scene/lights/environment.py); None: black
     environment: Environment | None = None
     _lights: list[Light] = field(default_factory=list, init=False, repr=False)
 

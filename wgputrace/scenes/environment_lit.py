@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..scene import Camera, Diffuse, Glossy, Scene, make_box, make_icosphere, make_plane
-from ..scene.environment import Environment, local_of_uv
+from ..scene.lights.environment import Environment, local_of_uv
 
 # The sunny sky: width x height texels (Mitsuba's envmap needs at least 2 x 3).
 SKY_SIZE = (128, 64)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..scene import Camera, DirectionalLight, Principled, Scene, Shape
-from ..scene.environment import Environment
+from ..scene.lights.environment import Environment
 from .textured_asset import normal_texture
 
 HALF_SIZE = 1.0

@@ -13,7 +13,7 @@ off, and with it on it fades those steps out (tests/render/test_smooth_sphere.py
 from __future__ import annotations
 
 from ..scene import Camera, Diffuse, PointLight, Scene, make_icosphere
-from ..scene.environment import Environment
+from ..scene.lights.environment import Environment
 
 RADIUS = 0.5
 CENTRE_Y = 0.55

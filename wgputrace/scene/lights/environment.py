@@ -53,9 +53,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import SceneError
-from .lights.alias_table import alias_table
-from .lights.light import LUMINANCE_WEIGHTS
+from ...image_io import load_environment_map
+from ..errors import SceneError
+from .alias_table import alias_table
+from .light import LUMINANCE_WEIGHTS
 
 # The radiance of the environment a scene without any light gets (Mitsuba's `constant` emitter
 # with radiance 1): a diffuse surface of albedo a under it, unshadowed, has radiance a.
@@ -65,13 +66,16 @@ DEFAULT_RADIANCE = 1.0
 # `threshold`, else take `alias` (an index into the same table).
 ALIAS_ENTRY = np.dtype([("threshold", np.float32), ("alias", np.uint32)])
 
+# How the GPU holds an environment (`Environment.held_as`), and the WGSL of each: one radiance for
+# every direction, or a map with its sampling tables.
+CONSTANT_ENVIRONMENT, ENVIRONMENT_MAP = "constant", "map"
+ENVIRONMENT_SHADERS = {
+    CONSTANT_ENVIRONMENT: "lights/environment_constant.wgsl",
+    ENVIRONMENT_MAP: "lights/environment_map.wgsl",
+}
+
 # A direction this close to the poles has no defined azimuth; its u is taken as 0.
 _POLE_EPSILON = 1e-12
-
-# Readers of map files by extension.
-EXR_SUFFIXES = (".exr",)
-RADIANCE_SUFFIXES = (".hdr", ".pic")
-_HDR_EXTRA = "pip install 'wgputrace[hdr]'"
 
 # Every map (every Environment and every edit of texels) gets a number no other has had, so a
 # renderer that remembers which one it uploaded knows when to upload again.
@@ -137,8 +141,10 @@ class Environment:
     ) -> Environment:
         """An equirectangular map read from an OpenEXR (.exr) or Radiance (.hdr, .pic) file; its
         texel values times `intensity` are radiance (Mitsuba's `envmap` with scale = intensity)."""
-        path = Path(path)
-        texels = read_map(path)
+        try:
+            texels = load_environment_map(path)
+        except ValueError as error:
+            raise SceneError(str(error)) from None
         return cls(
             texels=texels, intensity=intensity, rotation_degrees=rotation_degrees, visible=visible, source=str(path)
         )
@@ -252,6 +258,33 @@ class Environment:
             return not np.any(self._radiance > 0.0)
         return self.sampling_tables() is None
 
+    @property
+    def held_as(self) -> str | None:
+        """How the GPU holds it (an ENVIRONMENT_SHADERS key), None for an all-black map, which lights
+        nothing and is left out as no environment."""
+        if self._texels is None:
+            return CONSTANT_ENVIRONMENT
+        return ENVIRONMENT_MAP if self.sampling_tables() is not None else None
+
+    def weight(self, scene_radius: float) -> float:
+        """The light sampler's weight, in its units (`Light.weight`): its power through the scene's
+        bounding sphere over 2 pi."""
+        return float(self.power(scene_radius)) / (2.0 * math.pi)
+
+    def fill_record(self, record: np.void) -> None:
+        """The environment's fields of the LIGHTING record: a constant's radiance (intensity applied)
+        or a map's intensity, whether camera rays see it, the rotation about +y as (cos, sin), and
+        the map's size."""
+        if self._texels is None:
+            record["environment_radiance"] = np.asarray(self.radiance) * self.intensity
+        else:
+            record["environment_radiance"] = (self.intensity,) * 3
+            height, width = self._texels.shape[:2]
+            record["environment_size"] = (width, height)
+        angle = math.radians(self.rotation_degrees)
+        record["environment_rotation"] = (math.cos(angle), math.sin(angle))
+        record["environment_visible"] = bool(self.visible)
+
     def sampling_tables(self) -> EnvironmentTables | None:
         """The map's alias tables and densities, built once per texel generation; None for a
         constant (sampled uniformly over the sphere, as a 1x1 map would be) or a black map (never
@@ -353,63 +386,7 @@ def default_environment() -> Environment:
     return Environment(radiance=DEFAULT_RADIANCE)
 
 
-# ---- reading and checking maps ---------------------------------------------------------------
-
-
-def read_map(path: Path) -> np.ndarray:
-    """float32 (H, W, 3) texels of an .exr (OpenEXR) or .hdr/.pic (Radiance RGBE, OpenImageIO) file."""
-    suffix = path.suffix.lower()
-    if suffix not in EXR_SUFFIXES + RADIANCE_SUFFIXES:
-        formats = ", ".join(EXR_SUFFIXES + RADIANCE_SUFFIXES)
-        raise SceneError(f"{path}: environment maps must be {formats} files, not {suffix or 'without extension'}")
-    if not path.is_file():
-        raise SceneError(f"{path}: no such file")
-    return _read_exr(path) if suffix in EXR_SUFFIXES else _read_radiance(path)
-
-
-def _read_exr(path: Path) -> np.ndarray:
-    import OpenEXR
-
-    try:
-        with OpenEXR.File(str(path), separate_channels=True) as exr:
-            channels = {name: channel.pixels for name, channel in exr.channels().items()}
-    except RuntimeError as error:  # OpenEXR's error for a file it cannot read
-        raise SceneError(f"{path}: not a readable OpenEXR file ({error})") from None
-    return np.stack([channels[name] for name in _rgb_channel_names(path, channels)], axis=2).astype(np.float32)
-
-
-def _rgb_channel_names(path: Path, channels: dict[str, np.ndarray]) -> list[str]:
-    """The names of the R, G and B channels of one layer: the unnamed layer's (`R`, `G`, `B`)
-    when it has them, else the only layer that does (`<layer>.R`, ...); letters in either case."""
-    layers: dict[str, dict[str, str]] = {}
-    for name in channels:
-        layer, _, letter = name.rpartition(".")
-        if letter.upper() in ("R", "G", "B"):
-            layers.setdefault(layer, {})[letter.upper()] = name
-    complete = {layer: names for layer, names in layers.items() if len(names) == 3}
-    if "" in complete:
-        return [complete[""][letter] for letter in "RGB"]
-    if len(complete) == 1:
-        return [next(iter(complete.values()))[letter] for letter in "RGB"]
-    found = ", ".join(sorted(channels)) or "none"
-    raise SceneError(f"{path}: expected one layer of R, G and B channels, found channels {found}")
-
-
-def _read_radiance(path: Path) -> np.ndarray:
-    try:
-        import OpenImageIO
-    except ImportError:
-        raise SceneError(f"{path}: reading Radiance .hdr files needs OpenImageIO: {_HDR_EXTRA}") from None
-    image = OpenImageIO.ImageInput.open(str(path))
-    if image is None:
-        raise SceneError(f"{path}: not a readable Radiance file ({OpenImageIO.geterror().strip()})")
-    try:
-        pixels = image.read_image(0, 0, 0, 3, "float")
-    finally:
-        image.close()
-    if pixels is None or pixels.ndim != 3:
-        raise SceneError(f"{path}: not a readable Radiance file ({OpenImageIO.geterror().strip()})")
-    return np.ascontiguousarray(pixels, dtype=np.float32)
+# ---- checking maps ----------------------------------------------------------------------------
 
 
 def checked_texels(texels: np.ndarray, source: str) -> np.ndarray:
