@@ -41,7 +41,7 @@ from bench.common import (
 )
 from wgputrace import Renderer, default_scene
 from wgputrace.bvh import BVH, build_bvh
-from wgputrace.render import scene_buffers
+from wgputrace.render import scene_records
 
 BASELINE_REVISION = "82b407f"
 CURRENT = "current"
@@ -105,15 +105,15 @@ def time_builds(vertices: np.ndarray, builders: dict[str, Callable[..., BVH]], r
 
 def time_renders(scene_factory: Callable, builders: dict[str, Callable[..., BVH]], repeats: int) -> dict:
     """Seconds per sample per pixel at SIZE x SIZE with each builder's tree, interleaved."""
-    original = scene_buffers.build_bvh
+    original = scene_records.build_bvh
     renderers = {}
     try:
         for name, build in builders.items():
-            # the renderer builds its tree through scene_buffers.build_bvh: swapped for the variant's
-            scene_buffers.build_bvh = build
+            # the renderer builds its tree through scene_records.build_bvh: swapped for the variant's
+            scene_records.build_bvh = build
             renderers[name] = Renderer(scene_factory(), SIZE, SIZE, seed=1, max_depth=MAX_DEPTH)
     finally:
-        scene_buffers.build_bvh = original
+        scene_records.build_bvh = original
     images = {}
     for name, renderer in renderers.items():
         renderer.render(SPP)  # compiles, and the picture to validate

@@ -55,7 +55,7 @@ from bench.common import (
 )
 from wgputrace import Diffuse, Glossy, Renderer, Scene, load_scene
 from wgputrace.bvh.binned_sah import build_bvh
-from wgputrace.gpu.generated import NO_TRIANGLE
+from wgputrace.kernels.structs import NO_TRIANGLE
 from wgputrace.testing.oracles import bvh_closest_hit
 from wgputrace.testing.references import load_reference
 

@@ -41,14 +41,15 @@ from bench.common import (
     write_json,
 )
 from wgputrace import Renderer, default_scene, make_icosphere
-from wgputrace.gpu.bindings import IMAGE_WORKGROUP, PIXELS_GROUP, STORAGE_READ, Binding, scene_group
+from wgputrace.gpu.bindings import IMAGE_WORKGROUP, STORAGE_READ, Binding
 from wgputrace.gpu.buffers import read_buffer, storage_buffer
 from wgputrace.gpu.device import describe, gpu
-from wgputrace.gpu.generated import BVH_STACK_SIZE, GENERATED_TRAVERSAL_STACK, INTEGRATORS, traversal_stack
-from wgputrace.gpu.kernel import ComputeKernel, Pass, Timestamps, submit
+from wgputrace.gpu.kernel import Pass, Timestamps, submit
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL, TRIANGLE
-from wgputrace.gpu.material_dispatch import GENERATED_MATERIALS, material_dispatch, shaded_kinds
 from wgputrace.gpu.shader_source import shader_root
+from wgputrace.kernels.bind_groups import PIXELS_GROUP, scene_group
+from wgputrace.kernels.compile import compute_kernel
+from wgputrace.kernels.traversal import BVH_STACK_SIZE, GENERATED_TRAVERSAL_STACK, traversal_stack
 from wgputrace.render.rng_seed import pixel_rng_states
 
 SEED = 1
@@ -174,25 +175,21 @@ class Run:
         context = renderer.context
         width, height = renderer.width, renderer.height
         self.context, self.variant, self.width, self.height = context, variant, width, height
-        generated = {
-            "acceleration.wgsl": '//! include "traverse_bvh.wgsl"\n',
-            # the stack the renderer compiles for this scene's tree, unless the variant sizes its own
-            GENERATED_TRAVERSAL_STACK: traversal_stack(renderer.traversal_stack_size),
-            GENERATED_MATERIALS: material_dispatch(shaded_kinds(frozenset(m.kind for m in renderer.scene.materials))),
-            **variant.sources,
-        }
         scene = scene_group("bvh")
         resources = renderer.resources
         if variant.storage_triangles:
             scene = scene.with_binding(STORAGE_TRIANGLES)
             resources["triangles"] = storage_buffer(context, "triangles", renderer.records.triangles)
-        self.kernel = ComputeKernel(
+        # the renderer's own kernel variant (its scene's traversal, stack and material kinds),
+        # with the variant's sources in place of the shipped ones
+        self.kernel = compute_kernel(
             context,
             "path_tracer.wgsl",
             (scene, PIXELS_GROUP),
+            renderer.variant,
             workgroup_size=variant.workgroup,
-            generated=generated,
-            constants={"INTEGRATOR": INTEGRATORS.index(variant.integrator)},
+            generated=variant.sources,
+            constants=renderer.variant.constants,
             label=variant.name,
         )
         self.states = pixel_rng_states(SEED, width * height)

@@ -1,5 +1,5 @@
 """How much a refit BVH slows rendering as its SAH cost degrades: the measurement behind
-wgputrace.render.scene_sync.REBUILD_DEGRADATION.
+wgputrace.render.scene_mirror.REBUILD_DEGRADATION.
 
     python -m bench.refit_threshold
     python -m bench.refit_threshold --size 64x64 --spp 4 --steps 16 --repeats 7
@@ -26,7 +26,7 @@ import numpy as np
 
 from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
 from wgputrace import Diffuse, Renderer, default_scene, make_icosphere, model_matrix
-from wgputrace.render import scene_sync
+from wgputrace.render import scene_mirror
 
 SEED = 20261123
 SPHERES = 24
@@ -70,8 +70,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parse(parser, argv, "steps")
     run = Run()
     width, height = args.size
-    threshold = scene_sync.REBUILD_DEGRADATION
-    scene_sync.REBUILD_DEGRADATION = float("inf")  # the refit renderer must keep its first tree
+    threshold = scene_mirror.REBUILD_DEGRADATION
+    scene_mirror.REBUILD_DEGRADATION = float("inf")  # the refit renderer must keep its first tree
 
     rng = np.random.default_rng(SEED)
     scene, spheres = scene_with_spheres(rng)

@@ -68,7 +68,7 @@ from bench.common import (
     write_result,
 )
 from wgputrace import Renderer, load_scene
-from wgputrace.gpu.generated import NO_TRIANGLE
+from wgputrace.kernels.structs import NO_TRIANGLE
 from wgputrace.reference.mitsuba_scene import (
     EMITTER_BACK_OFFSET_RELATIVE,
     LLVM_VARIANT,

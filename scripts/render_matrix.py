@@ -1,5 +1,6 @@
-"""Every built-in scene under every integrator (and the flat list on the Cornell box), small and
-short, to check that a change leaves renders bit for bit as they were at the same seed.
+"""Every built-in scene under every integrator and sampler (and the flat list and the denoiser's
+guides on the Cornell box), small and short, to check that a change leaves renders bit for bit as
+they were at the same seed.
 
     python scripts/render_matrix.py --out after.npz
     PYTHONPATH=/path/to/older/checkout python scripts/render_matrix.py --out before.npz   (run by path, not -m)
@@ -24,6 +25,19 @@ DEFAULT_SIZE = 512
 DEFAULT_SPP = 2
 
 
+def methods() -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The integrators and samplers of the checkout imported (older ones named them elsewhere)."""
+    try:
+        from wgputrace.integrators import integrator_names
+        from wgputrace.kernels.sampler import SAMPLERS
+    except ImportError:
+        from wgputrace.gpu.generated import INTEGRATORS as names
+        from wgputrace.gpu.sampler import SAMPLERS
+
+        return names, SAMPLERS
+    return integrator_names(), SAMPLERS
+
+
 def render_matrix() -> dict[str, np.ndarray]:
     import wgputrace as wt
     from wgputrace.scenes import BUILTIN_SCENES
@@ -33,12 +47,17 @@ def render_matrix() -> dict[str, np.ndarray]:
         renderer.render(SPP)
         return renderer.image()
 
+    integrators, samplers = methods()
     images = {
-        f"{name}_{integrator}": mean(make(), integrator=integrator)
+        f"{name}_{integrator}_{sampler}": mean(make(), integrator=integrator, sampler=sampler)
         for name, make in BUILTIN_SCENES.items()
-        for integrator in ("mis", "nee", "bsdf")
+        for integrator in integrators
+        for sampler in samplers
     }
     images["cornell_flat"] = mean(BUILTIN_SCENES["cornell"](), accel="flat")
+    guided = wt.Renderer(BUILTIN_SCENES["textured_asset"](), *SIZE, seed=SEED, guides=True)
+    guided.render(SPP)
+    images |= {f"textured_asset_guide_{name}": guide for name, guide in guided.guides().items()}
     images["default_512"] = wt.render(wt.default_scene(), DEFAULT_SPP, DEFAULT_SIZE, DEFAULT_SIZE, seed=1)
     return images
 

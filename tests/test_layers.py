@@ -1,7 +1,7 @@
 """The package's layers, read from the source with `ast`: no import cycle between wgputrace's modules
-(imports inside functions count too), no import upwards across the layers, nothing imports the
-viewer's app but the command line, nothing imports the test support, and no tracked file edits
-sys.path."""
+(imports inside functions count too; imports under `if TYPE_CHECKING:` do not, as they never run and
+serve annotations only), no import upwards across the layers, nothing imports the viewer's app but
+the command line, nothing imports the test support, and no tracked file edits sys.path."""
 
 from __future__ import annotations
 
@@ -24,6 +24,7 @@ LAYERS: tuple[frozenset[str], ...] = (
     frozenset({"scene", "bvh", "image_io", "denoise"}),  # pure numpy (denoise: and pyoidn)
     frozenset({"loaders", "scenes", "reference"}),  # scenes from files and names, and to Mitsuba
     frozenset({"gpu"}),  # the only layer that talks to wgpu's device
+    frozenset({"kernels", "integrators"}),  # what a kernel compiles in, and the integrators' descriptors
     frozenset({"render", "provenance", "", "cluster"}),  # "": the package, which offers wt.cluster
     frozenset({"view"}),  # the viewer's GPU side
     frozenset({"cli_arguments"}),  # arguments the command line and the viewer share
@@ -69,7 +70,10 @@ def imports(module: str) -> Iterator[tuple[str, int, bool]]:
     tree = ast.parse(path.read_text(), str(path))
     functions = [node for node in ast.walk(tree) if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)]
     lazy = {id(inner) for function in functions for inner in ast.walk(function)}
+    typing_only = {id(inner) for block in ast.walk(tree) if _is_type_checking(block) for inner in ast.walk(block)}
     for node in ast.walk(tree):
+        if id(node) in typing_only:
+            continue
         if isinstance(node, ast.Import):
             targets = [alias.name for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
@@ -88,6 +92,11 @@ def imports(module: str) -> Iterator[tuple[str, int, bool]]:
                 target = target.rpartition(".")[0]
             if target.startswith("wgputrace") and target != module:
                 yield target, node.lineno, id(node) in lazy
+
+
+def _is_type_checking(node: ast.AST) -> bool:
+    """An `if TYPE_CHECKING:` block."""
+    return isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING"
 
 
 GRAPH = {module: sorted({target for target, _, _ in imports(module)}) for module in MODULES}

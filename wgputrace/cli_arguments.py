@@ -12,9 +12,9 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .gpu.generated import INTEGRATORS
-from .gpu.sampler import DEFAULT_SAMPLER, SAMPLERS
 from .image_io import FORMATS as IMAGE_FORMATS
+from .integrators import integrator_names
+from .kernels.sampler import DEFAULT_SAMPLER, SAMPLERS
 from .loaders import FORMATS as SCENE_FORMATS
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE
 
@@ -144,7 +144,7 @@ def add_method_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--accel", choices=("bvh", "flat"), default="bvh", help="BVH, or trac0r's flat box list")
     parser.add_argument(
         "--integrator",
-        choices=INTEGRATORS,
+        choices=integrator_names(),
         default="mis",
         help="direct light by BSDF sampling, light sampling, or both with MIS (default); bdpt: "
         "bidirectional paths, every connection weighed by MIS",

@@ -9,7 +9,7 @@ import pytest
 
 from wgputrace.bvh import BVH, build_bvh, build_flat
 from wgputrace.bvh.binned_sah import DEFAULT_MAX_DEPTH
-from wgputrace.gpu.generated import NO_TRIANGLE
+from wgputrace.kernels.structs import NO_TRIANGLE
 from wgputrace.testing.oracles import brute_force_closest_hit, bvh_closest_hit, ray_triangle
 from wgputrace.testing.scenes import geometric_peel_scene, random_rays, random_soup
 

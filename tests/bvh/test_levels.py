@@ -7,8 +7,8 @@ import pytest
 
 from wgputrace import default_scene
 from wgputrace.bvh.levels import box_edges, node_levels
-from wgputrace.render.scene_buffers import node_records
-from wgputrace.render.scene_sync import scene_records
+from wgputrace.render.scene_mirror import scene_records
+from wgputrace.render.scene_records import node_records
 
 
 def test_levels_of_the_default_scene_tree_match_a_recursive_walk():

@@ -10,7 +10,7 @@ import wgputrace as wt
 from wgputrace.cluster.batches import split_samples
 from wgputrace.cluster.merge import OrderedSum
 from wgputrace.cluster.worker import RenderSettings, RenderWorker
-from wgputrace.gpu.sampler import SAMPLERS
+from wgputrace.kernels.sampler import SAMPLERS
 
 pytestmark = pytest.mark.gpu
 

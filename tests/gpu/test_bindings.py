@@ -9,19 +9,11 @@ import re
 import numpy as np
 import pytest
 
-from wgputrace.gpu.bindings import (
-    BAND_GROUP,
-    IMAGE_WORKGROUP,
-    PIXELS_GROUP,
-    RAY_COUNT_GROUP,
-    STORAGE_READ_WRITE,
-    BindGroup,
-    Binding,
-    scene_group,
-)
+from wgputrace.gpu.bindings import IMAGE_WORKGROUP, STORAGE_READ_WRITE, BindGroup, Binding
 from wgputrace.gpu.buffers import read_buffer, storage_buffer
 from wgputrace.gpu.kernel import ComputeKernel
 from wgputrace.gpu.shader_source import shader_root
+from wgputrace.kernels.bind_groups import BAND_GROUP, PIXELS_GROUP, RAY_COUNT_GROUP, scene_group
 from wgputrace.testing.harness import harness_group
 from wgputrace.view.layout import ATROUS_GROUP, BOX_LINES_GROUP, GUIDES_GROUP, PRESENT_GROUP, RESOLVE_GROUP
 

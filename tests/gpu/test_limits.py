@@ -31,7 +31,7 @@ from wgputrace.render.limits import (
     wide_record_bound,
 )
 from wgputrace.render.rng_seed import pixel_rng_states
-from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.testing.memory import TRACEMALLOC_SLACK_BYTES, traced_peak
 
 # Rows of the images probed against the per-pixel buffer limits: wide enough that the dispatch's

@@ -22,7 +22,7 @@ from wgputrace import (
     render,
 )
 from wgputrace.loaders.framing import FRAMING_VFOV_DEGREES
-from wgputrace.render.scene_buffers import material_records
+from wgputrace.render.scene_records import material_records
 from wgputrace.scene import DegenerateTrianglesWarning
 
 SIZE = 24

@@ -11,7 +11,7 @@ import pytest
 
 from wgputrace import DirectionalLight, Environment
 from wgputrace.render.renderer import Renderer
-from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.scene import Camera, Diffuse, Emitter, Principled, Scene, Shape, Texture
 
 pytestmark = pytest.mark.gpu

@@ -24,11 +24,14 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Emitter, Renderer, Scene
-from wgputrace.gpu.bdpt import BDPT_MAX_DEPTH
 from wgputrace.gpu.device import DeviceLimitError
+from wgputrace.integrators import integrator
+from wgputrace.integrators.bdpt import BDPT_MAX_DEPTH
+from wgputrace.integrators.splats import SPLATS
+from wgputrace.kernels.variant import KernelVariant
 from wgputrace.render import limits
-from wgputrace.render.limits import SPLAT_BUFFERS, check_image_size, host_bytes
-from wgputrace.render.renderer import UNLIMITED_DEPTH, path_tracer_kernel
+from wgputrace.render.limits import check_image_size, host_bytes
+from wgputrace.render.renderer import UNLIMITED_DEPTH
 from wgputrace.scene import DegenerateTrianglesWarning, cornell_box
 from wgputrace.scenes import scene_by_name
 from wgputrace.testing.image_statistics import Estimate
@@ -124,9 +127,9 @@ def test_depth_beyond_the_kept_light_vertices_is_refused(gpu_context, max_depth)
 
 def test_no_band_of_rows_kernel(gpu_context):
     """The viewer renders bands of rows; light tracing splats anywhere in the image, so bdpt has no
-    such kernel and says so in one line (`wgputrace view` offers no --integrator)."""
+    such kernel and its variant says so in one line (`wgputrace view` offers no --integrator)."""
     with pytest.raises(ValueError, match="bdpt integrator renders whole images only: it has no band-of-rows"):
-        path_tracer_kernel(gpu_context, "bvh", "bdpt", rows=True)
+        KernelVariant(integrator=integrator("bdpt"), rows=True)
 
 
 @pytest.mark.slow
@@ -146,7 +149,7 @@ def test_the_splat_buffer_is_counted_before_allocating(gpu_context, monkeypatch)
     """render/limits.py counts the splat sums as the renderer allocates them; a host with just
     enough memory for the path tracer's image refuses the same image under bdpt, in one line."""
     renderer = Renderer(diffuse_box(), SIZE, SIZE, integrator="bdpt")
-    assert renderer.gpu_image_bytes["splats"] == SIZE * SIZE * SPLAT_BUFFERS["splats"]
+    assert renderer.gpu_image_bytes["splats"] == SIZE * SIZE * SPLATS.bytes_per_pixel
     side = 1024
     monkeypatch.setattr(limits, "available_host_memory", lambda: host_bytes(gpu_context, side * side))
     check_image_size(gpu_context, side, side)

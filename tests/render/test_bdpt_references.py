@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import pytest
 
-from wgputrace.gpu.shading_normals import MITSUBA_SHADING_NORMALS
+from wgputrace.kernels.shading_normals import MITSUBA_SHADING_NORMALS
 from wgputrace.testing.references import assert_matches_reference, load_reference, render_batches
 from wgputrace.testing.stats import sidak
 

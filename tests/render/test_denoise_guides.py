@@ -10,8 +10,8 @@ import pytest
 
 from wgputrace import Camera, Diffuse, Glass, Renderer, Scene, default_scene, make_box
 from wgputrace.gpu.buffers import read_buffer
-from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL
+from wgputrace.kernels.structs import NO_TRIANGLE
 from wgputrace.scenes import BUILTIN_SCENES
 from wgputrace.testing.oracles import brute_force_closest_hit, fresnel_dielectric, record_corners, triangle_normals
 from wgputrace.view.banded import BandedRenderer

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from wgputrace import UNLIMITED_DEPTH, Camera, Diffuse, Glass, Glossy, Renderer, Scene, make_box, make_plane, save_image
-from wgputrace.render.scene_buffers import material_records
+from wgputrace.render.scene_records import material_records
 from wgputrace.testing.bsdf_grid import EVAL, integrate_bsdf, lobe_grid
 from wgputrace.testing.scenes import ENCLOSURE_RADIANCE, inside_emitter
 from wgputrace.testing.stats import sidak, z_limit

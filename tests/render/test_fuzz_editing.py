@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, precondition, rule
 
 from wgputrace import Camera, Emitter, Glass, Renderer, Shape, default_scene
-from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.scene import DegenerateTrianglesWarning, MaterialError, SceneError
 from wgputrace.testing.fuzzing import fuzz_settings, time_limit
 from wgputrace.testing.harness import read_binding

@@ -27,15 +27,15 @@ from wgputrace import (
     Texture,
     make_plane,
 )
-from wgputrace.gpu.bindings import scene_group
 from wgputrace.gpu.layout import FRAME, LIGHT, MATERIAL, TRIANGLE
-from wgputrace.gpu.light_dispatch import (
+from wgputrace.kernels.light_dispatch import (
     GENERATED_LIGHT_EMISSION,
     LIGHT_SOURCE_FLAG,
     LightFeatures,
     light_emission_dispatch,
 )
-from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.kernels.variant import KernelVariant
+from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.testing.harness import run_kernel
 from wgputrace.testing.stats import chi_square, sidak, z_limit
 
@@ -102,9 +102,10 @@ def emission_samples(context, scene: Scene, count: int, rng) -> np.ndarray:
     """`count` light path starts (ROW records) drawn by sample_emission with the records, bind
     groups and generated hooks a Renderer makes for `scene`."""
     renderer = Renderer(scene, 4, 4)
-    variant, resources = renderer.scene_variant, renderer.resources
-    bound = {group: {binding.name: resources[binding.name] for binding in group.bindings} for group in variant.groups()}
-    scene_bindings = {binding.name: resources[binding.name] for binding in scene_group(variant.acceleration).bindings}
+    features, resources = renderer.variant.scene, renderer.resources
+    scene_group, *extras = features.groups()
+    bound = {group: {binding.name: resources[binding.name] for binding in group.bindings} for group in extras}
+    scene_bindings = {binding.name: resources[binding.name] for binding in scene_group.bindings}
     uniforms = rng.random((count, 8), dtype=np.float32)
     return run_kernel(
         context,
@@ -116,7 +117,8 @@ def emission_samples(context, scene: Scene, count: int, rng) -> np.ndarray:
         output_type="EmissionRow",
         scene=scene_bindings,
         groups=bound,
-        generated={**variant.generated(), GENERATED_LIGHT_EMISSION: light_emission_dispatch(variant.lights)},
+        variant=KernelVariant(features),
+        generated={GENERATED_LIGHT_EMISSION: light_emission_dispatch(features.lights)},
     )
 
 

@@ -13,14 +13,15 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Emitter, Environment, Renderer, Scene, make_icosphere, make_plane
-from wgputrace.gpu.bindings import lights_group
 from wgputrace.gpu.device import DeviceLimitError
 from wgputrace.gpu.layout import FRAME, LIGHT_SOURCE
-from wgputrace.gpu.light_dispatch import GENERATED_LIGHTS, light_dispatch
 from wgputrace.gpu.texels import TrackedTexels
-from wgputrace.render.light_buffers import LightBuffers
+from wgputrace.kernels.bind_groups import lights_group
+from wgputrace.kernels.compile import tracing_kernel
+from wgputrace.kernels.variant import KernelVariant, SceneFeatures
+from wgputrace.render.gpu_records import GpuRecords
 from wgputrace.render.limits import SceneCounts, check_scene_counts, environment_table_words
-from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.scene import DirectionalLight, LightError, PointLight, SpotLight, Sun
 from wgputrace.scene.lights.environment import cell_of_uv
 from wgputrace.testing.harness import run_kernel
@@ -164,6 +165,8 @@ def run_with_lights(context, scene: Scene, wgsl: str, inputs: np.ndarray, count:
     features = mirror.light_features
     frame = FRAME.zeros(1)
     frame["light_count"], frame["light_weight_total"] = mirror.lights.count, mirror.lights.total_weight
+    group, records = lights_group(features), GpuRecords(context)
+    records.sync(mirror.arrays, {}, [group])
     scene_records = {
         "frame": frame,
         "triangles": mirror.triangles,
@@ -180,8 +183,8 @@ def run_with_lights(context, scene: Scene, wgsl: str, inputs: np.ndarray, count:
         input_types=["vec4<f32>"],
         output_type="vec4<f32>",
         scene=scene_records,
-        groups={lights_group(features): LightBuffers(context, mirror).resources},
-        generated={GENERATED_LIGHTS: light_dispatch(features)},
+        groups={group: records.bound_in(group.name)},
+        variant=KernelVariant(SceneFeatures(lights=features)),
     )
 
 
@@ -403,7 +406,8 @@ def test_light_edits_upload_only_what_they_change(gpu_context, rng):
     assert {"environment map", "environment tables"} <= set(renderer.upload_stats)
     scene.remove_light(point)
     renderer.render(1)
-    assert renderer.kernel is renderer.kernel_variant() and "PointLight" not in renderer.kernel.label
+    assert renderer.kernel is tracing_kernel(renderer.context, renderer.variant)
+    assert "PointLight" not in renderer.kernel.label
     scene.environment = None
     scene.remove_light(*scene.lights)
     renderer.render(1)

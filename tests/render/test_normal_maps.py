@@ -13,7 +13,7 @@ import pytest
 
 from wgputrace import DirectionalLight
 from wgputrace.render.renderer import Renderer
-from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.scene import Camera, Principled, Scene, Shape, Texture
 
 pytestmark = pytest.mark.gpu

@@ -3,10 +3,13 @@ and a counted render that equals the uncounted one bit for bit, so counts belong
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Emitter, Renderer, Scene, default_scene, make_box, make_plane
+from wgputrace.kernels.compile import tracing_kernel
 from wgputrace.render.ray_count import count_rays
 
 pytestmark = pytest.mark.gpu
@@ -57,4 +60,4 @@ def test_the_counted_render_is_the_uncounted_render_bit_for_bit(gpu_context):
 def test_the_timed_pipeline_has_no_counter(gpu_context):
     renderer = Renderer(default_scene(), SIZE, SIZE, seed=SEED)
     assert "ray_counts" not in renderer.kernel.source.text
-    assert "ray_counts" in renderer.kernel_variant(count_rays=True).source.text
+    assert "ray_counts" in tracing_kernel(gpu_context, replace(renderer.variant, count_rays=True)).source.text

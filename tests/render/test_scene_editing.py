@@ -15,7 +15,7 @@ from wgputrace.gpu.device import DeviceLimitError
 from wgputrace.gpu.layout import FRAME, MATERIAL, TRIANGLE, WIDE_BVH_NODE
 from wgputrace.gpu.texels import TEXEL_BYTES
 from wgputrace.gpu.tracked_buffer import SPARE_FRACTION, UploadCount
-from wgputrace.render import scene_buffers, scene_sync
+from wgputrace.render import scene_mirror, scene_records
 from wgputrace.scene import SceneError
 from wgputrace.testing.harness import read_binding
 from wgputrace.testing.oracles import bvh_bounds_from_scratch
@@ -82,7 +82,7 @@ def test_moving_one_mesh_uploads_its_triangles_and_the_nodes_above_them(cornell,
     nodes_before = renderer.records.nodes.copy()
     sphere.transform = place((0.0, -0.05, -0.1), (0, 0, 0), 1.0)
     # a refit keeps the topology: the wide records' boxes are regathered, the tree not collapsed again
-    monkeypatch.setattr(scene_buffers, "collapse", lambda bvh: pytest.fail("a refit collapsed the tree again"))
+    monkeypatch.setattr(scene_records, "collapse", lambda bvh: pytest.fail("a refit collapsed the tree again"))
     image = rendered(renderer)
     stats = renderer.upload_stats
     assert set(stats) == {"triangles", "bvh nodes"}
@@ -120,7 +120,7 @@ def test_moving_a_light_keeps_light_sampling_equal_to_a_fresh_renderer(gpu_conte
     scene.add(bulb)
     renderer = Renderer(scene, SIZE, SIZE, seed=SEED)
     renderer.render(SPP)
-    monkeypatch.setattr(scene_sync, "REBUILD_DEGRADATION", np.inf)  # keep the refit tree, however poor
+    monkeypatch.setattr(scene_mirror, "REBUILD_DEGRADATION", np.inf)  # keep the refit tree, however poor
     bulb.transform = place((-0.4, -0.6, -0.3), (0, 0, 0), 1.0)
     image = rendered(renderer)
     assert "lights" in renderer.upload_stats and renderer._mirror.refits == 1
@@ -180,8 +180,8 @@ def test_a_refit_past_the_threshold_rebuilds(cornell, monkeypatch):
     sphere.transform = place((0.0, 0.0, 0.02), (0, 0, 0), 1.0)  # a small move stays a refit
     renderer.update()
     assert (mirror.refits, mirror.rebuilds) == (1, 1)
-    assert mirror.refitter.degradation <= scene_sync.REBUILD_DEGRADATION
-    monkeypatch.setattr(scene_sync, "REBUILD_DEGRADATION", 1.0)
+    assert mirror.refitter.degradation <= scene_mirror.REBUILD_DEGRADATION
+    monkeypatch.setattr(scene_mirror, "REBUILD_DEGRADATION", 1.0)
     sphere.transform = place((0.3, 0.5, 0.3), (0, 0, 0), 1.0)
     image = rendered(renderer)
     assert (mirror.refits, mirror.rebuilds) == (1, 2)

@@ -35,7 +35,7 @@ import numpy as np
 import pytest
 
 from wgputrace import DirectionalLight, Environment, Renderer
-from wgputrace.gpu.shading_normals import MITSUBA_SHADING_NORMALS, SHADOW_TERMINATOR_TERM
+from wgputrace.kernels.shading_normals import MITSUBA_SHADING_NORMALS, SHADOW_TERMINATOR_TERM
 from wgputrace.scene import Camera
 from wgputrace.scenes.normal_mapped import (
     HALF_SIZE,

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from wgputrace import Environment
-from wgputrace.gpu.bindings import SHADING_GROUP
-from wgputrace.gpu.shading_normals import shading_normals_hook
+from wgputrace.kernels.bind_groups import SHADING_GROUP
+from wgputrace.kernels.shading_normals import shading_normals_hook
+from wgputrace.kernels.variant import KernelVariant, SceneFeatures
 from wgputrace.render.renderer import Renderer
 from wgputrace.scene import Camera, Diffuse, DirectionalLight, Scene, Shape
 from wgputrace.scene.shapes import make_icosphere, model_matrix
@@ -86,8 +87,9 @@ def test_normals_against_the_geometry_give_no_nan():
 
 
 def test_flat_scenes_bind_and_compile_none_of_it():
+    flat_hook, smooth_hook = (shading_normals_hook(KernelVariant(SceneFeatures(smooth=on))) for on in (False, True))
     for included in (SHADING_GROUP.file, "shading_normals.wgsl"):
-        assert included not in shading_normals_hook(False) and included in shading_normals_hook(True)
+        assert included not in flat_hook and included in smooth_hook
     flat = Renderer(sphere_scene(1, smooth=False), 8, 8)
     smooth = Renderer(sphere_scene(1, smooth=True), 8, 8)
     assert not flat.smooth_shading and "shading" not in flat.bind_groups

@@ -12,13 +12,14 @@ import numpy as np
 import pytest
 
 from wgputrace import Environment
-from wgputrace.gpu.bindings import shading_group
 from wgputrace.gpu.buffers import storage_buffer
 from wgputrace.gpu.float_texture import FloatTexture
 from wgputrace.gpu.layout import CORNER_TANGENTS, CORNER_UVS, MATERIAL_TEXTURES
-from wgputrace.gpu.textures import GENERATED_TEXTURES, textures_hook
+from wgputrace.kernels.bind_groups import shading_group
+from wgputrace.kernels.textures import textures_hook
+from wgputrace.kernels.variant import KernelVariant, SceneFeatures
 from wgputrace.render.renderer import Renderer
-from wgputrace.render.scene_sync import SceneMirror
+from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.render.texture_atlas import TextureWarning, pack_atlas
 from wgputrace.scene import Camera, Principled, Scene, SceneError, Shape, Texture, TextureTransform, cornell_box
 from wgputrace.scene.texture import WRAP_MODES, srgb_to_linear
@@ -99,7 +100,7 @@ def sample_on_gpu(gpu_context, textures: list[Texture], queries: np.ndarray) -> 
         input_types=["vec4<f32>"],
         output_type="vec4<f32>",
         groups={shading_group(smooth=False, textured=True): resources},
-        generated={GENERATED_TEXTURES: textures_hook(True)},
+        variant=KernelVariant(SceneFeatures(textured=True)),
     )
 
 
@@ -227,7 +228,8 @@ def test_degenerate_and_huge_uvs_render_without_nan():
 
 
 def test_scenes_without_textures_bind_compile_and_allocate_none():
-    assert "textures.wgsl" not in textures_hook(False) and "textures.wgsl" in textures_hook(True)
+    untextured, textured = (textures_hook(KernelVariant(SceneFeatures(textured=on))) for on in (False, True))
+    assert "textures.wgsl" not in untextured and "textures.wgsl" in textured
     uvs_only = Scene([Shape("quad", QUAD, Principled("plain"), uvs=QUAD_UVS)], CAMERA)
     for scene in (cornell_box(), uvs_only):
         renderer = Renderer(scene, 16, 16)

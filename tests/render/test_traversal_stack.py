@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from wgputrace import Diffuse, Renderer, Shape, default_scene
-from wgputrace.gpu.generated import BVH_STACK_SIZE, STACK_SIZE_STEP, traversal_stack_size
+from wgputrace.kernels.traversal import BVH_STACK_SIZE, STACK_SIZE_STEP, traversal_stack_size
 from wgputrace.testing.scenes import geometric_peel_scene
 
 SIZE = 16

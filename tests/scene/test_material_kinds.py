@@ -15,11 +15,12 @@ import numpy as np
 import pytest
 
 import wgputrace
-from wgputrace.gpu.material_dispatch import material_dispatch, material_kind_constants, shaded_kinds
 from wgputrace.gpu.shader_source import shader_root
+from wgputrace.kernels.material_dispatch import material_dispatch, material_kind_constants
+from wgputrace.kernels.variant import shaded_kinds
 from wgputrace.reference.mitsuba_scene import bsdf_dict, emitter_dict
 from wgputrace.render.lights import emitted_radiance, emitting
-from wgputrace.render.scene_buffers import material_records
+from wgputrace.render.scene_records import material_records
 from wgputrace.scene import Diffuse, Emitter, Glass, Glossy, Material, material_class, material_classes
 from wgputrace.scene.materials.principled import Principled
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Emitter, Glass, Glossy, Scene
-from wgputrace.render.scene_buffers import material_records
+from wgputrace.render.scene_records import material_records
 from wgputrace.scene import MaterialError, SceneError
 
 

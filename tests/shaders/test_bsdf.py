@@ -8,7 +8,7 @@ import pytest
 
 from wgputrace import Diffuse, Glass, Glossy
 from wgputrace.gpu.layout import MATERIAL, GpuStruct
-from wgputrace.render.scene_buffers import material_records
+from wgputrace.render.scene_records import material_records
 from wgputrace.testing.bsdf_grid import UNIT_LENGTH_TOLERANCE, incident_directions, refraction_indices, sin_theta
 from wgputrace.testing.harness import run_kernel
 from wgputrace.testing.oracles import UNIT_ROUNDOFF, as_vec4, fresnel_dielectric, relative_error

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Glass, Glossy
-from wgputrace.render.scene_buffers import material_records
+from wgputrace.render.scene_records import material_records
 from wgputrace.testing.bsdf_grid import (
     PDF,
     UNIT_LENGTH_TOLERANCE,

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Scene, Shape, make_box, make_icosphere
-from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import BVH_NODE
-from wgputrace.render.scene_buffers import SceneRecords
-from wgputrace.render.scene_sync import scene_records
+from wgputrace.kernels.structs import NO_TRIANGLE
+from wgputrace.render.scene_mirror import scene_records
+from wgputrace.render.scene_records import SceneRecords
 from wgputrace.testing.harness import node_binding, run_kernel
 from wgputrace.testing.oracles import (
     EDGE_MARGIN,

@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Glossy, Principled
-from wgputrace.render.scene_buffers import material_records
+from wgputrace.render.scene_records import material_records
 from wgputrace.scene import MaterialError
 from wgputrace.scene.materials.principled import eta_from_specular
 from wgputrace.testing.bsdf_grid import (

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgputrace.gpu.bindings import SHADING_GROUP
 from wgputrace.gpu.buffers import storage_buffer
 from wgputrace.gpu.layout import CORNER_ATTRIBUTES
-from wgputrace.gpu.shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
+from wgputrace.kernels.bind_groups import SHADING_GROUP
+from wgputrace.kernels.variant import KernelVariant, SceneFeatures
 from wgputrace.testing.harness import run_kernel
 
 pytestmark = pytest.mark.gpu
@@ -115,7 +115,7 @@ def test_shading_normal_and_weight_match_the_oracle(gpu_context):
         input_types=["vec4<f32>"],
         output_type="vec4<f32>",
         groups={SHADING_GROUP: {"corner_attributes": storage_buffer(gpu_context, "corners", records)}},
-        generated={GENERATED_SHADING_NORMALS: shading_normals_hook(True)},
+        variant=KernelVariant(SceneFeatures(smooth=True)),
     )
     assert np.isfinite(result).all()
     assert (result[:, 3] >= 0).all() and (result[:, 3] <= 1 + ATOL).all()

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Scene, Shape, default_scene
-from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import TRIANGLE
 from wgputrace.gpu.texels import texels_per_record, texture_shape
-from wgputrace.render.scene_buffers import ACCELERATIONS, SceneRecords
-from wgputrace.render.scene_sync import scene_records
+from wgputrace.kernels.structs import NO_TRIANGLE
+from wgputrace.render.scene_mirror import scene_records
+from wgputrace.render.scene_records import ACCELERATIONS, SceneRecords
 from wgputrace.testing.oracles import (
     brute_force_closest_hit,
     ray_triangle,

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Emitter, Renderer, Scene, default_scene, make_plane
-from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL
+from wgputrace.kernels.structs import NO_TRIANGLE
 from wgputrace.scene import Principled, Shape, Texture
 from wgputrace.testing.oracles import brute_force_closest_hit, record_corners, t_tolerance
 from wgputrace.view.banded import BandedRenderer

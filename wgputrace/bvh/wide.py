@@ -24,7 +24,7 @@ levels and needs at most (WIDTH - 1) D entries. The renderer builds with max_dep
 splitting the leaves the builder made at that limit adds at most LEAF_SPLIT_LEVELS levels below
 it, so STACK_SIZE entries hold every tree the renderer makes (the Cornell box with a cluster of
 tiny triangles peeled off one per level needs 102). `collapse` counts each tree's need exactly
-(`WideBVH.max_stack`), so the renderer compiles a stack of only that size (gpu/generated.py), and
+(`WideBVH.max_stack`), so the renderer compiles a stack of only that size (`traversal_stack_size`), and
 refuses a tree that could need more than it is allowed.
 """
 

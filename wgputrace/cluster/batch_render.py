@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..gpu.generated import PATH_TRACER_INTEGRATORS
+from ..integrators import integrator, integrator_names
 from ..scene import Scene
 from .batches import Batch, split_samples
 from .connection import connected
@@ -77,10 +77,11 @@ def render_batches(
     cut into, for an image larger than a worker's device allows (its DeviceLimitError names the
     largest square it can render). `options` are the Renderer's other keyword arguments (accel,
     integrator). `progress` is called after every batch (of a tile) merged."""
-    if tile is not None and options.get("integrator", "mis") not in PATH_TRACER_INTEGRATORS:
+    method = integrator(options.get("integrator", "mis"))
+    if tile is not None and method.splats:
+        tiled = ", ".join(name for name in integrator_names() if not integrator(name).splats)
         raise ValueError(
-            f"tiles need a path tracer integrator ({', '.join(PATH_TRACER_INTEGRATORS)}): "
-            f"{options['integrator']} splats light paths onto the whole image"
+            f"tiles need an integrator that does not splat ({tiled}): {method.name} splats light paths onto the whole image"
         )
     work = split_samples(spp, seed, batches)
     settings = RenderSettings(width, height, seed, max_depth, options, tile)

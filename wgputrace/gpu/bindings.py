@@ -1,6 +1,6 @@
 """Bind groups, each declared once: a list of named bindings becomes both the WGSL `@group @binding`
 declarations (the virtual file `generated/bindings/<name>.wgsl`) and an explicit wgpu bind group
-layout, the way gpu/layout.py's GpuStruct makes a dtype and a WGSL struct from one field list.
+layout, the way GpuStruct makes a dtype and a WGSL struct from one field list.
 
 Slot numbers exist only here: kernels bind resources by name (`kernel.bind("scene", frame=...)`),
 and the layout of a group is made once per device, so a bind group made for one kernel can be set
@@ -14,24 +14,8 @@ from dataclasses import dataclass, replace
 
 import wgpu
 
-from ..scene.lights.environment import ENVIRONMENT_MAP
 from .device import GpuContext
-from .layout import (
-    ACCUMULATED_PIXEL,
-    BVH_NODE,
-    CORNER_ATTRIBUTES,
-    CORNER_TANGENTS,
-    CORNER_UVS,
-    FRAME,
-    LIGHT,
-    LIGHT_SOURCE,
-    LIGHTING,
-    MATERIAL,
-    MATERIAL_TEXTURES,
-    TEXTURE,
-    GpuStruct,
-)
-from .light_dispatch import LightFeatures
+from .layout import GpuStruct
 
 # The workgroup of every kernel that runs one invocation per pixel: its y extent is also the
 # height of the viewer's bands of rows (view/banded.py).
@@ -190,113 +174,3 @@ def _resource(resource: object) -> object:
 def group_files(groups: tuple[BindGroup, ...]) -> dict[str, str]:
     """The virtual files declaring `groups`."""
     return {group.file: group.wgsl() for group in groups}
-
-
-# The scene, read by every kernel that traces rays (scene_bindings.wgsl includes it). Triangles are
-# texels (gpu/texels.py); the acceleration structure's nodes are declared per traversal
-# (scene_group): texels of 4-wide records for the BVH, a storage array of boxes for the flat list.
-SCENE_GROUP = BindGroup(
-    "scene",
-    0,
-    (
-        Binding("frame", UNIFORM, FRAME),
-        Binding("triangles", TEXTURE_U32),
-        Binding("nodes", TEXTURE_U32),
-        Binding("materials", STORAGE_READ, MATERIAL),
-        Binding("lights", STORAGE_READ, LIGHT),
-    ),
-)
-_NODES = {"bvh": Binding("nodes", TEXTURE_U32), "flat": Binding("nodes", STORAGE_READ, BVH_NODE)}
-
-
-def scene_group(acceleration: str) -> BindGroup:
-    """The scene group with the nodes as `acceleration`'s traversal (traverse_<acceleration>.wgsl) reads them."""
-    if acceleration not in _NODES:
-        raise ValueError(f"acceleration must be one of {tuple(_NODES)}, got {acceleration!r}")
-    return SCENE_GROUP.with_binding(_NODES[acceleration])
-
-
-# Each pixel's random state and running sum: what the path tracer writes.
-PIXELS_GROUP = BindGroup(
-    "pixels",
-    1,
-    (
-        Binding("rng_states", STORAGE_READ_WRITE, "vec4<u32>"),
-        Binding("accumulation", STORAGE_READ_WRITE, ACCUMULATED_PIXEL),
-    ),
-)
-# The denoiser's guides (shaders/path_guides.wgsl): two Kahan sums per pixel, the albedo's at 2 * pixel
-# and the normal's at 2 * pixel + 1, bound only in the variant of the path tracer that makes them.
-_GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
-# Light tracing's splats (shaders/bdpt/splat.wgsl, render/splats.py), bound only by the
-# bidirectional path tracer.
-_SPLATS = Binding("splats", ATOMIC_COUNTERS)
-
-
-def pixels_group(guides: bool, splats: bool = False) -> BindGroup:
-    """The pixels group, with the guide sums where the path tracer accumulates guides and the splat
-    sums where it splats (bidirectional path tracing)."""
-    group = PIXELS_GROUP.extended(_GUIDE_SUMS) if guides else PIXELS_GROUP
-    return group.extended(_SPLATS) if splats else group
-
-
-# The viewer's band of rows (path_tracer_rows.wgsl): the first row of this dispatch.
-BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
-# Rays counted by kind (gpu/ray_count.py), only in the counting variant of the path tracer.
-RAY_COUNT_GROUP = BindGroup("ray_count", 3, (Binding("ray_counts", ATOMIC_COUNTERS),))
-
-# The lights besides emissive triangles (gpu/light_dispatch.py), bound only in the variants of the
-# path tracer whose scene has them, each binding only where the scene needs it: the parameters
-# (the environment's, the light source count) with any such light, the light sources' records with
-# any, the environment map (rgba32float texels, read with textureLoad: float32 filtering is an
-# optional feature) and its sampling tables (alias tables and texel densities as 32-bit words, in
-# one buffer) with a map. Its own group, so the scene group stays the one every ray-tracing kernel
-# shares (the viewer's guides read it as declared); index 4 needs max-bind-groups >= 5.
-LIGHTS_GROUP_INDEX = 4
-_LIGHTING = Binding("lighting", UNIFORM, LIGHTING)
-_LIGHT_SOURCES = Binding("light_sources", STORAGE_READ, LIGHT_SOURCE)
-_ENVIRONMENT_MAP = Binding("environment_map", TEXTURE_F32)
-_ENVIRONMENT_TABLES = Binding("environment_tables", STORAGE_READ, "u32")
-
-
-def lights_group(features: LightFeatures) -> BindGroup:
-    """The lights group of a path tracer compiled for `features` (which have some light)."""
-    if not features.any:
-        raise ValueError("a scene lit by emissive triangles alone binds no lights group")
-    group = BindGroup("lights", LIGHTS_GROUP_INDEX, (_LIGHTING,))
-    if features.kinds:
-        group = group.extended(_LIGHT_SOURCES)
-    if features.environment == ENVIRONMENT_MAP:
-        group = group.extended(_ENVIRONMENT_MAP).extended(_ENVIRONMENT_TABLES)
-    return group
-
-
-# The triangles' corner attributes (shading normals) in BVH order, bound only in the variant of the
-# path tracer for scenes with per-vertex normals (gpu/shading_normals.py). Its own group, like the
-# lights, so the scene group every ray-tracing kernel shares stays the same with or without them;
-# index 5 needs max-bind-groups >= 6.
-SHADING_GROUP_INDEX = 5
-SHADING_GROUP = BindGroup(
-    "shading", SHADING_GROUP_INDEX, (Binding("corner_attributes", STORAGE_READ, CORNER_ATTRIBUTES),)
-)
-# What textured scenes add to it (gpu/textures.py): the corner texture coordinates, the atlas
-# (linear rgba32float texels read with textureLoad and filtered by hand, as the environment map),
-# the textures' rectangles in it, each material's textures, the corner tangents of normal maps, and
-# the light table's weight per unit area of each triangle emitting through a texture record.
-_TEXTURE_BINDINGS = (
-    Binding("corner_uvs", STORAGE_READ, CORNER_UVS),
-    Binding("corner_tangents", STORAGE_READ, CORNER_TANGENTS),
-    Binding("texture_atlas", TEXTURE_F32),
-    Binding("textures", STORAGE_READ, TEXTURE),
-    Binding("material_textures", STORAGE_READ, MATERIAL_TEXTURES),
-    Binding("triangle_light_densities", STORAGE_READ, "f32"),
-)
-
-
-def shading_group(smooth: bool, textured: bool) -> BindGroup:
-    """The shading group of a path tracer for a scene with per-vertex normals (`smooth`), textures
-    (`textured`) or both; its file is SHADING_GROUP.file in every variant."""
-    if not (smooth or textured):
-        raise ValueError("a flat, untextured scene binds no shading group")
-    bindings = (SHADING_GROUP.bindings if smooth else ()) + (_TEXTURE_BINDINGS if textured else ())
-    return replace(SHADING_GROUP, bindings=bindings)

@@ -12,7 +12,6 @@ import wgpu
 
 from .bindings import GENERATED_WORKGROUP, IMAGE_WORKGROUP, BindGroup, group_files, workgroup_constants
 from .device import GpuContext
-from .generated import standard_files
 from .shader_source import ShaderSource, load_shader
 
 
@@ -58,10 +57,10 @@ def compile_shader(
     label: str,
     create_pipeline,
 ) -> tuple[ShaderSource, object]:
-    """Join `entry` with the standard generated files, the groups' declarations and `generated`;
-    compile it and call `create_pipeline(module, layout)` with the layout made of `groups`."""
+    """Join `entry` with the groups' declarations and the `generated` files; compile it and call
+    `create_pipeline(module, layout)` with the layout made of `groups`."""
     layout = pipeline_layout(context, groups, label)
-    source = load_shader(entry, {**standard_files(), **group_files(tuple(groups)), **(generated or {})})
+    source = load_shader(entry, {**group_files(tuple(groups)), **(generated or {})})
     try:
         module = context.device.create_shader_module(label=label, code=source.text)
         return source, create_pipeline(module, layout)
@@ -98,9 +97,8 @@ class ComputeKernel(Kernel):
         label: str | None = None,
         entry_point: str = "main",
     ) -> None:
-        """Compile `entry` (a file under shaders/, or a virtual one in `generated`) at `entry_point`.
-        `generated` adds or replaces virtual files; by default the material dispatch covers every
-        kind, rays are not counted and the traversal stack has BVH_STACK_SIZE entries."""
+        """Compile `entry` (a file under shaders/, or a virtual one in `generated`) at `entry_point`,
+        with the virtual files `generated` (a kernel variant's: `compute_kernel`)."""
         label = label or entry
 
         def create(module, layout):

@@ -120,6 +120,9 @@ class TrackedTexels:
     def resource(self) -> wgpu.GPUTextureView:
         return self._view
 
+    def destroy(self) -> None:
+        self.texture.destroy()
+
     def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
         """Make the texture equal `data`, given that only `rows` (sorted, unique) differ from the
         last upload, rows beyond the old length included; None means every row."""

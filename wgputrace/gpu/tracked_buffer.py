@@ -55,6 +55,9 @@ class TrackedBuffer:
         """What a bind group binds: the buffer (TrackedTexels binds a texture view)."""
         return self.buffer
 
+    def destroy(self) -> None:
+        self.buffer.destroy()
+
     def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
         """Make the GPU copy equal `data`, given that only `rows` (sorted, unique) differ from the
         last upload, rows beyond the old length included; None means every row."""

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..gpu.layout import LIGHT
-from ..gpu.light_dispatch import ENVIRONMENT_LIGHT, LIGHT_SOURCE_FLAG
+from ..kernels.light_dispatch import ENVIRONMENT_LIGHT, LIGHT_SOURCE_FLAG
 from ..scene import material_classes
 from ..scene.lights.alias_table import alias_table
 from ..scene.lights.light import LUMINANCE_WEIGHTS

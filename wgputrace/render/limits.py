@@ -14,10 +14,10 @@ An image of W x H pixels (render/renderer.py allocates these):
 | rng states, rng states at the seed | a pixel's state (rng_seed.py)     | max-buffer-size, max-storage-buffer-binding-size |
 | accumulation                       | ACCUMULATED_PIXEL                 | max-buffer-size, max-storage-buffer-binding-size |
 | guide sums (with guides only)      | 2 x ACCUMULATED_PIXEL             | max-buffer-size, max-storage-buffer-binding-size |
-| splats (the bdpt integrator only)  | SPLAT_WORDS words (splats.py)     | max-buffer-size, max-storage-buffer-binding-size |
+| the integrator's pixel arrays      | `Integrator.pixel_arrays`         | max-buffer-size, max-storage-buffer-binding-size |
 | the renderer and one image()       | `host_bytes`                      | host memory: MemAvailable of /proc/meminfo       |
 |   (with guides: and one guides())  |                                   |                                                  |
-|   (bdpt: its splats read back too) |                                   |                                                  |
+|   (splats: read back too)          |                                   |                                                  |
 
 A scene, before its BVH is built (a build takes seconds for millions of triangles): its triangles
 and an upper bound of its 4-wide BVH records as texels (gpu/texels.py), or the flat list's boxes,
@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..gpu.bindings import IMAGE_WORKGROUP, LIGHTS_GROUP_INDEX, SHADING_GROUP_INDEX
+from ..gpu.bindings import IMAGE_WORKGROUP
 from ..gpu.device import DeviceLimitError, GpuContext
 from ..gpu.float_texture import require_float_texture
 from ..gpu.layout import (
@@ -49,10 +49,12 @@ from ..gpu.layout import (
 )
 from ..gpu.texels import require_texels
 from ..gpu.tracked_buffer import require_records
+from ..integrators import Integrator
+from ..integrators.splats import SPLATS
+from ..kernels.bind_groups import LIGHTS_GROUP_INDEX, SHADING_GROUP_INDEX
 from ..scene import Scene
 from .lights import emitting_kinds
 from .rng_seed import pixel_rng_states
-from .splats import SPLAT_WORDS
 
 # The name the host's memory goes by where a device limit's name would stand.
 HOST_MEMORY = "available host memory (bytes)"
@@ -65,8 +67,6 @@ PIXEL_BUFFERS = {
 }
 # The buffer a renderer with the denoiser's guides adds: the albedo's and the normal's Kahan sums.
 GUIDE_BUFFERS = {"guide sums": 2 * ACCUMULATED_PIXEL.size}
-# The buffer the bidirectional path tracer adds: light tracing's fixed-point sums (render/splats.py).
-SPLAT_BUFFERS = {"splats": SPLAT_WORDS * np.dtype(np.uint32).itemsize}
 PIXEL_BUFFER_LIMITS = ("max-buffer-size", "max-storage-buffer-binding-size")
 # pixel_rng_states holds this many times its result at its peak: uint64 pixel indices and both
 # uint64 halves of every state, their stack and its copy (56 B per 16-byte state, measured with
@@ -99,16 +99,17 @@ def available_host_memory() -> int | None:
     return None
 
 
-def pixel_buffers(guides: bool = False, splats: bool = False) -> dict[str, int]:
+def pixel_buffers(guides: bool = False, integrator: Integrator | None = None) -> dict[str, int]:
     """The renderer's buffers of one record per pixel, by label: bytes per pixel; the guide sums too
-    with `guides`, the splat sums with `splats`."""
-    return {**PIXEL_BUFFERS, **(GUIDE_BUFFERS if guides else {}), **(SPLAT_BUFFERS if splats else {})}
+    with `guides`, and the `integrator`'s own arrays."""
+    arrays = {} if integrator is None else {a.binding.name: a.bytes_per_pixel for a in integrator.pixel_arrays}
+    return {**PIXEL_BUFFERS, **(GUIDE_BUFFERS if guides else {}), **arrays}
 
 
-def host_steps(pixels: int, guides: bool = False, splats: bool = False) -> dict[str, int]:
+def host_steps(pixels: int, guides: bool = False, integrator: Integrator | None = None) -> dict[str, int]:
     """Host memory each step of making a Renderer of `pixels` pixels and of one `image()` (with
-    `guides`: then one `guides()`; with `splats`, the bidirectional path tracer's, whose image()
-    reads its splat sums back too) holds at once, at most. wgpu stages every upload and read-back
+    `guides`: then one `guides()`; under an `integrator` that splats, image() reads its splat sums
+    back too) holds at once, at most. wgpu stages every upload and read-back
     in a host-visible buffer of its size, and keeps that memory after a read-back. Measured on
     lavapipe at 2048x2048 (/proc/self/status VmHWM from before the Renderer to after an image(),
     tests/gpu/test_limits.py's tracemalloc checks cover the numpy part): 188 B per pixel, as
@@ -124,11 +125,11 @@ def host_steps(pixels: int, guides: bool = False, splats: bool = False) -> dict[
         # the staging memory wgpu kept, read_buffer's array, the float64 sum and mean, the float32 image
         "averaging": 2 * accumulation + pixels * (2 * _FLOAT64_RGB_BYTES + _FLOAT32_RGB_BYTES),
     }
-    if splats:
-        splat_words = pixels * SPLAT_BUFFERS["splats"]
+    if integrator is not None and integrator.splats:
+        splat_words = pixels * SPLATS.bytes_per_pixel
         # image() holds the accumulation's staging memory and array while the splats come back
         # (staging, its bytearray copy, read_buffer's array) and turn into float64 words, summed
-        # per channel through three float64 temporaries (splats.py splat_sums)
+        # per channel through three float64 temporaries (`splat_sums`)
         steps["reading back the splats"] = 2 * accumulation + 5 * splat_words + 3 * pixels * _FLOAT64_RGB_BYTES
         steps["averaging"] += pixels * _FLOAT64_RGB_BYTES
     if guides:
@@ -147,18 +148,20 @@ def host_steps(pixels: int, guides: bool = False, splats: bool = False) -> dict[
     return steps
 
 
-def host_bytes(context: GpuContext, pixels: int, guides: bool = False, splats: bool = False) -> int:
+def host_bytes(context: GpuContext, pixels: int, guides: bool = False, integrator: Integrator | None = None) -> int:
     """Host memory a Renderer of `pixels` pixels and one `image()` (with `guides`, and one
-    `guides()`; with `splats`, the bidirectional path tracer's) need: their largest step, plus the
+    `guides()`; with the `integrator`'s arrays) need: their largest step, plus the
     per-pixel buffers themselves where the adapter allocates from host memory. Not the denoiser's
     own memory (Intel Open Image Denoise sizes its work to the memory it finds)."""
-    resident = pixels * sum(pixel_buffers(guides, splats).values()) if context.shares_host_memory else 0
-    return resident + max(host_steps(pixels, guides, splats).values())
+    resident = pixels * sum(pixel_buffers(guides, integrator).values()) if context.shares_host_memory else 0
+    return resident + max(host_steps(pixels, guides, integrator).values())
 
 
-def image_needs(context: GpuContext, width: int, height: int, guides: bool = False, splats: bool = False) -> list[Need]:
-    """What a `width` x `height` image (with the denoiser's guides or not, with the bidirectional
-    path tracer's splat sums or not) asks of each limit, in the order they are checked."""
+def image_needs(
+    context: GpuContext, width: int, height: int, guides: bool = False, integrator: Integrator | None = None
+) -> list[Need]:
+    """What a `width` x `height` image (with the denoiser's guides or not, under `integrator`)
+    asks of each limit, in the order they are checked."""
     pixels = width * height
     workgroups = [-(-size // group) for size, group in zip((width, height), IMAGE_WORKGROUP, strict=True)]
     needs = [
@@ -167,11 +170,11 @@ def image_needs(context: GpuContext, width: int, height: int, guides: bool = Fal
     ]
     needs += [
         Need(limit, pixels * record_bytes, f"buffer {label!r}")
-        for label, record_bytes in pixel_buffers(guides, splats).items()
+        for label, record_bytes in pixel_buffers(guides, integrator).items()
         for limit in PIXEL_BUFFER_LIMITS
     ]
     read_backs = "one image() and one guides() read-back" if guides else "one image() read-back"
-    needs.append(Need(HOST_MEMORY, host_bytes(context, pixels, guides, splats), f"the renderer with {read_backs}"))
+    needs.append(Need(HOST_MEMORY, host_bytes(context, pixels, guides, integrator), f"the renderer with {read_backs}"))
     return needs
 
 
@@ -184,39 +187,41 @@ def _first_excess(context: GpuContext, needs: list[Need], host_memory: int | Non
     return None
 
 
-def _largest_square(context: GpuContext, host_memory: int | None, guides: bool, splats: bool) -> int:
+def _largest_square(context: GpuContext, host_memory: int | None, guides: bool, integrator: Integrator | None) -> int:
     """The side of the largest square image within every limit (0 if none is): a bisection, as
     every need grows with the side."""
     fits, too_big = 0, min(IMAGE_WORKGROUP) * context.device.limits["max-compute-workgroups-per-dimension"] + 1
     while too_big - fits > 1:
         side = (fits + too_big) // 2
-        if _first_excess(context, image_needs(context, side, side, guides, splats), host_memory) is None:
+        if _first_excess(context, image_needs(context, side, side, guides, integrator), host_memory) is None:
             fits = side
         else:
             too_big = side
     return fits
 
 
-def largest_square_image(context: GpuContext, guides: bool = False, splats: bool = False) -> int:
+def largest_square_image(context: GpuContext, guides: bool = False, integrator: Integrator | None = None) -> int:
     """The side of the largest square image this adapter (and this host's free memory) can render,
-    with the denoiser's guides or without, with the bidirectional path tracer's splats or without."""
-    return _largest_square(context, available_host_memory(), guides, splats)
+    with the denoiser's guides or without, under `integrator` (None: one without arrays of its own)."""
+    return _largest_square(context, available_host_memory(), guides, integrator)
 
 
-def check_image_size(context: GpuContext, width: int, height: int, guides: bool = False, splats: bool = False) -> None:
+def check_image_size(
+    context: GpuContext, width: int, height: int, guides: bool = False, integrator: Integrator | None = None
+) -> None:
     """DeviceLimitError, before anything is allocated, if a `width` x `height` image (with the
-    denoiser's guide sums where `guides`, the bidirectional path tracer's splat sums where `splats`)
+    denoiser's guide sums where `guides`, the `integrator`'s pixel arrays)
     exceeds a device limit or the host's available memory: names the limit, the value asked for,
     the largest allowed, and the largest square image that fits."""
     host_memory = available_host_memory()
-    excess = _first_excess(context, image_needs(context, width, height, guides, splats), host_memory)
+    excess = _first_excess(context, image_needs(context, width, height, guides, integrator), host_memory)
     if excess is None:
         return
     need, allowed = excess
     offered_by = "this host" if need.limit == HOST_MEMORY else f"the adapter {context.adapter_name}"
-    side = _largest_square(context, host_memory, guides, splats)
+    side = _largest_square(context, host_memory, guides, integrator)
     guided = " with guides" if guides else ""
-    guided += " under bdpt" if splats else ""
+    guided += f" under {integrator.name}" if integrator is not None and integrator.pixel_arrays else ""
     raise DeviceLimitError(
         f"a {width:,}x{height:,} image: {need.what} needs {need.limit} = {need.value:,} but {offered_by} "
         f"offers {allowed:,}; the largest square image it can render{guided} is {side:,}x{side:,}"
@@ -270,7 +275,7 @@ def wide_record_bound(triangle_count: int) -> int:
     triangles: one record for a tree that is a single leaf, else (n - 1) // 3.
 
     Why: leaves are never empty and every binary interior node holds more than the builder's
-    max_leaf_size = 4 triangles (render/scene_buffers.py builds with the default; the bound holds
+    max_leaf_size = 4 triangles (render/scene_records.py builds with the default; the bound holds
     for any size >= 3). A record is an interior node that adopted 2, 1 or 0 more (4, 3 or 2
     children); one with fewer than 4 children has only leaves below it, so it holds a node with
     two leaf children (itself or the one it adopted), a different one for each such record. With
@@ -293,10 +298,14 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
     require_records(context, "materials", counts.materials, MATERIAL.size, storage)
     require_records(context, "lights", counts.light_table_entries, LIGHT.size, storage)
     if counts.light_sources or counts.environment:
-        context.require("max-bind-groups", LIGHTS_GROUP_INDEX + 1, "the lights group (gpu/bindings.py)")
+        context.require(
+            "max-bind-groups", LIGHTS_GROUP_INDEX + 1, f"the lights group (bind group {LIGHTS_GROUP_INDEX})"
+        )
     require_records(context, "light sources", counts.light_sources, LIGHT_SOURCE.size, storage)
     if counts.smooth_triangles:
-        context.require("max-bind-groups", SHADING_GROUP_INDEX + 1, "the shading group (gpu/bindings.py)")
+        context.require(
+            "max-bind-groups", SHADING_GROUP_INDEX + 1, f"the shading group (bind group {SHADING_GROUP_INDEX})"
+        )
         # every triangle has a record once one shape is smooth (a flat one, zeros: its face normal)
         require_records(context, "corner attributes", counts.triangles, CORNER_ATTRIBUTES.size, storage)
     width, height = counts.environment_map

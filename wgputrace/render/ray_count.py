@@ -2,19 +2,20 @@
 
 Renders are deterministic (same seed, same adapter, same arguments: the same image bit for bit),
 so counting the samples a timed render took, from the same random state, counts exactly that
-render's rays; the timed kernel itself never carries a counter (gpu/ray_count.py). The counted
+render's rays; the timed kernel itself never carries a counter (`ray_count_hook`). The counted
 samples go into the renderer's accumulation like any others, so the caller can check that the
 counted image equals the timed one bit for bit: the proof that the count belongs to those paths.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..gpu.buffers import read_buffer, storage_buffer, write_buffer
-from ..gpu.ray_count import RAY_KINDS
+from ..kernels.compile import tracing_kernel
+from ..kernels.ray_count import RAY_KINDS
 from .renderer import Renderer
 
 
@@ -51,7 +52,7 @@ def count_rays(renderer: Renderer, spp: int) -> RayCounts:
         raise ValueError(f"spp must be >= 1, got {spp}")
     renderer.update()
     context = renderer.context
-    kernel = renderer.kernel_variant(count_rays=True)
+    kernel = tracing_kernel(context, replace(renderer.variant, count_rays=True))
     zeros = np.zeros(len(RAY_KINDS), np.uint32)
     counter = storage_buffer(context, "ray counts", zeros, read_back=True)
     bind_groups = {**renderer.bind_groups, "ray_count": kernel.bind("ray_count", ray_counts=counter)}

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gpu.layout import MATERIAL_TEXTURES, TEXTURE
-from ..gpu.textures import NO_TEXTURE
+from ..kernels.textures import NO_TEXTURE
 from ..scene import Material, SceneError
 from ..scene.lights.light import LUMINANCE_WEIGHTS
 from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb

@@ -2,7 +2,7 @@
 
 A test writes a kernel body that includes the shipped .wgsl files it exercises, reads its inputs
 from `inputs_N` and writes `output`; the harness binds numpy arrays to them (the "harness" group,
-declared like every other in gpu/bindings.py), dispatches one invocation per element, and returns
+declared like every other bind group), dispatches one invocation per element, and returns
 the output array. The scene group is declared too, so the body may include scene_bindings.wgsl or
 a traversal: the scene resources a test gives go by binding name, the others hold one zero record.
 The shipped code is what is tested.
@@ -13,21 +13,15 @@ from __future__ import annotations
 import numpy as np
 import wgpu
 
-from wgputrace.gpu.bindings import (
-    ARRAY_WORKGROUP,
-    SCENE_GROUP,
-    STORAGE_READ,
-    STORAGE_READ_WRITE,
-    BindGroup,
-    Binding,
-    scene_group,
-)
+from wgputrace.gpu.bindings import ARRAY_WORKGROUP, STORAGE_READ, STORAGE_READ_WRITE, BindGroup, Binding
 from wgputrace.gpu.buffers import read_buffer, storage_buffer, uniform_buffer
 from wgputrace.gpu.graphics import read_texture
-from wgputrace.gpu.kernel import ComputeKernel
 from wgputrace.gpu.layout import BVH_NODE, FRAME, LIGHT, MATERIAL, TRIANGLE, WIDE_BVH_NODE
 from wgputrace.gpu.texels import TrackedTexels
-from wgputrace.render.scene_buffers import SceneRecords
+from wgputrace.kernels.bind_groups import SCENE_GROUP, scene_group
+from wgputrace.kernels.compile import compute_kernel
+from wgputrace.kernels.variant import DEFAULT_VARIANT, KernelVariant
+from wgputrace.render.scene_records import SceneRecords
 
 # Invocations per workgroup: a dispatch holds at most 65,535 times this many.
 WORKGROUP = ARRAY_WORKGROUP[0]
@@ -54,16 +48,18 @@ def run_kernel(
     output_type: str,
     scene: dict[str, np.ndarray | object] | None = None,
     groups: dict[BindGroup, dict[str, object]] | None = None,
+    variant: KernelVariant = DEFAULT_VARIANT,
     generated: dict[str, str] | None = None,
 ) -> np.ndarray:
     """Run `wgsl` (which defines `fn compute(i: u32) -> OUTPUT`) for i in [0, count).
 
     inputs[k] is bound read-only as `inputs_k: array<input_types[k]>`. `scene` fills the scene
-    group (gpu/bindings.py SCENE_GROUP) by binding name: frame, triangles, nodes, materials, lights.
+    group (SCENE_GROUP) by binding name: frame, triangles, nodes, materials, lights.
     Arrays are uploaded (the triangles as texels), GPU resources (`node_binding`) bound as they
     are; nodes given as an array are the flat list's storage buffer, else the BVH's texels.
-    `groups` adds bind groups (the lights group, say) with their GPU resources by binding name, and
-    `generated` the generated files their WGSL includes (the light dispatch).
+    `groups` adds bind groups (the lights group, say) with their GPU resources by binding name;
+    the kernel is compiled for `variant` (the features whose code the test includes: textures,
+    lights...), with `generated` files added.
     """
     groups = dict(groups or {})
     scene = dict(scene or {})
@@ -81,10 +77,11 @@ def run_kernel(
             "}",
         ]
     )
-    kernel = ComputeKernel(
+    kernel = compute_kernel(
         context,
         "harness_entry.wgsl",
         (scene_group(acceleration), harness, *groups),
+        variant,
         workgroup_size=ARRAY_WORKGROUP,
         generated={"harness_entry.wgsl": entry, **(generated or {})},
         label="test harness",

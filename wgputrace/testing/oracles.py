@@ -13,8 +13,8 @@ from typing import NamedTuple
 import numpy as np
 
 from wgputrace.bvh import BVH
-from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.gpu.layout import TRIANGLE
+from wgputrace.kernels.structs import NO_TRIANGLE
 
 # One float32 rounding (2^-24 relative); tolerances count how many of them can pile up.
 UNIT_ROUNDOFF = 2.0**-24

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wgputrace.render.scene_buffers import SceneRecords
+from wgputrace.render.scene_records import SceneRecords
 from wgputrace.testing.harness import frame_record, node_binding, run_kernel
 from wgputrace.testing.oracles import as_vec4
 

@@ -15,6 +15,7 @@ viewer's denoiser reads them).
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -22,6 +23,7 @@ from ..gpu.bindings import IMAGE_WORKGROUP
 from ..gpu.buffers import uniform_buffer, write_buffer
 from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL
+from ..kernels.compile import tracing_kernel
 from ..render.renderer import Renderer, RenderStats
 from ..scene import Camera
 
@@ -63,7 +65,7 @@ class BandedRenderer:
     def kernel(self) -> ComputeKernel:
         """The renderer's own path tracer as it is now (material kinds, overrides, guides on or off),
         compiled once more with the band-of-rows entry point (cached per variant)."""
-        return self.renderer.kernel_variant(rows=True)
+        return tracing_kernel(self.context, replace(self.renderer.variant, rows=True))
 
     @property
     def _bind_groups(self) -> dict:
@@ -91,9 +93,7 @@ class BandedRenderer:
                 f"size {width}x{height} must lie within the renderer's {self.full_size[0]}x{self.full_size[1]}"
             )
         self.renderer.scene.camera = camera
-        record = self.renderer._frame_record()
-        record["width"], record["height"] = width, height
-        record["camera_right"], record["camera_up"], record["camera_forward"] = camera.image_plane(width, height)
+        record = self.renderer.frame_record(width, height)
         resources = self.renderer.resources
         write_buffer(self.context, resources["frame"], 0, record)
         encoder = self.context.device.create_command_encoder()

@@ -18,12 +18,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..gpu.bindings import scene_group
 from ..gpu.buffers import uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
 from ..gpu.graphics import copy_texture, image_texture, read_texture
 from ..gpu.kernel import ComputeKernel, Pass, submit
-from ..render.renderer import SceneVariant
+from ..kernels.compile import compute_kernel
+from ..kernels.variant import KernelVariant, SceneFeatures
 from .banded import BandedRenderer
 from .layout import (
     ATROUS_GROUP,
@@ -81,10 +81,10 @@ class Display:
         renderer = banded.renderer
         width, height = banded.full_size
         generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
-        self._resolve_kernel = ComputeKernel(context, "resolve.wgsl", (RESOLVE_GROUP,), generated=generated)
-        self._atrous_kernel = ComputeKernel(context, "atrous.wgsl", (ATROUS_GROUP,), generated=generated)
+        self._resolve_kernel = compute_kernel(context, "resolve.wgsl", (RESOLVE_GROUP,), generated=generated)
+        self._atrous_kernel = compute_kernel(context, "atrous.wgsl", (ATROUS_GROUP,), generated=generated)
         self.guides = image_texture(context, "pixel guides", width, height, GUIDE_FORMAT)
-        self._compile_guides(renderer.scene_variant)
+        self._compile_guides(renderer.variant.scene)
         self.resolved = image_texture(context, "resolved image", width, height, IMAGE_FORMAT)
         self._demodulated = image_texture(context, "demodulated image", width, height, IMAGE_FORMAT)
         self._ping_pong = [image_texture(context, f"filter {k}", width, height, IMAGE_FORMAT) for k in range(2)]
@@ -132,13 +132,13 @@ class Display:
         self._filtered_at = None
         self._resolved_as = None
 
-    def _compile_guides(self, variant: SceneVariant) -> None:
-        """Compile the guides kernel for the renderer's scene `variant` (its traversal, shading
-        normals, textures and see-through surfaces, as the path tracer has them) and trace the
-        guides again with it."""
-        self._guides_kernel = guides_kernel(self.context, variant)
+    def _compile_guides(self, features: SceneFeatures) -> None:
+        """Compile the guides kernel for the renderer's scene `features` (its traversal, shading
+        normals, textures and see-through surfaces, as the renderer's kernel has them) and trace
+        the guides again with it."""
+        self._guides_kernel = guides_kernel(self.context, features)
         self._guides_group = self._guides_kernel.bind("guides", guides=self.guides)
-        self._guides_variant = variant
+        self._guides_features = features
         self._guides_current = False
 
     def _resolve_params_record(
@@ -178,8 +178,8 @@ class Display:
         """Resolve the current samples as `settings` asks; returns the texture holding the image
         (the banded renderer's current size, from the top-left corner; row 0 on top)."""
         renderer = self.banded.renderer
-        if renderer.scene_variant != self._guides_variant:
-            self._compile_guides(renderer.scene_variant)
+        if renderer.variant.scene != self._guides_features:
+            self._compile_guides(renderer.variant.scene)
         if not self._guides_current:
             groups = {name: group for name, group in renderer.bind_groups.items() if name in self._guides_kernel.groups}
             self._guides_kernel.dispatch(self.banded.size, {**groups, "guides": self._guides_group})
@@ -221,14 +221,16 @@ class Display:
 _guides_kernels: dict[tuple, ComputeKernel] = {}
 
 
-def guides_kernel(context: GpuContext, variant: SceneVariant) -> ComputeKernel:
-    """guides.wgsl compiled for a scene `variant`, with its groups besides the scene's (cached per
-    device and variant, as the path tracer's kernels are)."""
-    key = (id(context.device), variant)
+def guides_kernel(context: GpuContext, features: SceneFeatures) -> ComputeKernel:
+    """The guides kernel compiled for a scene's `features`, with their groups (cached per device
+    and features, as the renderer's kernels are)."""
+    key = (id(context.device), features)
     if key not in _guides_kernels:
-        groups = (scene_group(variant.acceleration), GUIDES_GROUP, *variant.groups())
-        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs(), **variant.generated()}
-        _guides_kernels[key] = ComputeKernel(context, "guides.wgsl", groups, generated=generated)
+        scene, *extras = features.groups()
+        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
+        _guides_kernels[key] = compute_kernel(
+            context, "guides.wgsl", (scene, GUIDES_GROUP, *extras), KernelVariant(features), generated=generated
+        )
     return _guides_kernels[key]
 
 

@@ -8,7 +8,7 @@ descriptor, and like pbrt-v4's `Light` it answers what the light sampler and the
 |-------------------------------------------|--------------------------|--------------------------------------------------|
 | the id the GPU switches on                | `kind`                   | `LIGHT_<NAME>` constants, the records' kind      |
 | parameters and their checks               | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)  |
-| its GPU record                            | `fill_record`            | render/scene_sync.py's light source records      |
+| its GPU record                            | `fill_record`            | render/scene_mirror.py's light source records      |
 | its sampling code (and what escaped rays see) | `shader`             | gpu/light_dispatch.py: generated dispatch        |
 | where its light paths start               | `shader.emission_sample` | light_emission.wgsl (bidirectional paths)        |
 | a delta light (only light sampling finds it)? | `delta`              | path_tracer.wgsl: weight 1, under every integrator |

@@ -8,7 +8,7 @@ is the whole descriptor, and like pbrt-v4's `BxDF::Flags()` it answers what the 
 |-----------------------------------------|----------------------------------|-------------------------------------------------|
 | the id the GPU switches on              | `kind`                           | `MATERIAL_<NAME>` constants, the records' kind  |
 | parameters and their checks             | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)          |
-| its GPU record                          | `fill_record`                    | render/scene_buffers.py `material_records`      |
+| its GPU record                          | `fill_record`                    | render/scene_records.py `material_records`      |
 | its BSDF code (sample, eval, pdf)       | `shader`                         | gpu/material_dispatch.py: generated dispatch    |
 | every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
 | can a light sample land in its lobe?    | `samples_lights` (WGSL)          | path_tracer.wgsl's next-event estimation        |

@@ -48,7 +48,9 @@ import numpy as np
 
 from ..bvh import BVH, Refitter
 from ..gpu.layout import LIGHT_SOURCE, LIGHTING
-from ..gpu.light_dispatch import LightFeatures
+from ..kernels.light_dispatch import LightFeatures
+from ..kernels.traversal import BVH_STACK_SIZE, traversal_stack_size
+from ..kernels.variant import SceneFeatures
 from ..scene import Scene, Shape
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_normals, corner_uvs
@@ -56,7 +58,7 @@ from ..scene.tangents import corner_tangents
 from .emission_footprints import footprint_means
 from .environment_records import environment_state, environment_table_words, environment_texels
 from .lights import LUMINANCE_WEIGHTS, LightTable, emitting, light_table
-from .scene_buffers import (
+from .scene_records import (
     SceneRecords,
     build_acceleration,
     corner_attribute_records,
@@ -79,7 +81,7 @@ from .texture_atlas import light_density, material_texture_records, needs_materi
 # to rebuild: bench/big_mesh.py.)
 REBUILD_DEGRADATION = 1.2
 
-TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "nodes", "materials", "lights"
+TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "bvh nodes", "materials", "lights"
 CORNER_ATTRIBUTES = "corner attributes"
 CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
 CORNER_TANGENTS = "corner tangents"
@@ -143,6 +145,41 @@ class SceneMirror:
         return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.corner_attributes)
 
     @property
+    def arrays(self) -> dict[str, np.ndarray | None]:
+        """Every array of records by name (None: the scene has none of it now)."""
+        return {
+            TRIANGLES: self.triangles,
+            NODES: self.nodes,
+            MATERIALS: self.materials,
+            LIGHTS: self.lights.entries,
+            LIGHTING_PARAMETERS: self.lighting,
+            LIGHT_SOURCES: self.sources,
+            ENVIRONMENT_TEXELS: self.environment_texels,
+            ENVIRONMENT_TABLES: self.environment_tables,
+            CORNER_ATTRIBUTES: self.corner_attributes,
+            CORNER_UVS: self.corner_uvs,
+            CORNER_TANGENTS: self.corner_tangents,
+            TEXTURE_ATLAS: self.atlas_texels,
+            TEXTURES: self.texture_records,
+            MATERIAL_TEXTURES: self.material_textures,
+            TRIANGLE_LIGHT_DENSITIES: self.triangle_light_densities,
+        }
+
+    @property
+    def features(self) -> SceneFeatures:
+        """What the scene compiles into every kernel that traces it, as it is now."""
+        return SceneFeatures(
+            acceleration=self.acceleration_kind,
+            stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self.wide.max_stack),
+            material_kinds=self.material_kinds,
+            lights=self.light_features,
+            smooth=self.corner_attributes is not None,
+            textured=self.textured,
+            see_through=self.see_through,
+            emissive_surfaces=self.emissive_surfaces,
+        )
+
+    @property
     def textured(self) -> bool:
         """Whether a material reads a texture or lets rays through some of its surface (and the
         texture records exist)."""
@@ -151,12 +188,12 @@ class SceneMirror:
     @property
     def see_through(self) -> bool:
         """Whether a material lets rays through some of its surface (alpha modes, single-sided), so
-        that every ray's triangle test must ask its material (gpu/alpha.py)."""
+        that every ray's triangle test must ask its material."""
         return any(material.lets_rays_through() for material in self.scene.materials)
 
     @property
     def emissive_surfaces(self) -> bool:
-        """Whether a material emits through its texture record (Principled's emission: gpu/emission.py)."""
+        """Whether a material emits through its texture record (`Material.surface_emission`)."""
         return any(max(material.surface_emission()) > 0 for material in self.scene.materials)
 
     def _surface_light_densities(self) -> np.ndarray:

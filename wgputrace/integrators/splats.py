@@ -1,20 +1,20 @@
-"""Light tracing's splat buffer (shaders/bdpt/splat.wgsl), which only the bidirectional path tracer
-binds: per pixel a 64-bit fixed-point sum per colour channel, summed with integer atomics so that
-the order invocations add in cannot change a bit, and a count of splats refused."""
+"""Light tracing's splat buffer, bound by the integrators that splat (`Integrator.splats`): per
+pixel a 64-bit fixed-point sum per colour channel, summed with integer atomics so that the order
+invocations add in cannot change a bit, and a count of splats refused."""
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..gpu.bindings import ATOMIC_COUNTERS, Binding
+from .integrator import PixelArray
+
 # u32 words per pixel: (low, high) per channel, the refused count, one unused (16-byte rows)
 SPLAT_WORDS = 8
-# Fixed-point scale: a splat's value is rounded to a multiple of 2^-24 (bdpt/splat.wgsl SPLAT_SCALE).
+# Fixed-point scale: a splat's value is rounded to a multiple of 2^-24 (the shader's SPLAT_SCALE).
 SPLAT_SCALE = 2.0**24
 _REFUSED = 6
-
-
-def zeroed_splats(pixels: int) -> np.ndarray:
-    return np.zeros(pixels * SPLAT_WORDS, dtype=np.uint32)
+SPLATS = PixelArray(Binding("splats", ATOMIC_COUNTERS), SPLAT_WORDS)
 
 
 def splat_sums(words: np.ndarray) -> np.ndarray:

@@ -1,0 +1,91 @@
+"""What an integrator is to the renderer, the viewer, the command line and the limits: one
+descriptor, registered by name, that they ask instead of naming it.
+
+| what                                        | field            | asked by                                    |
+|---------------------------------------------|------------------|---------------------------------------------|
+| the WGSL kernel that renders whole images   | `entry`          | `tracing_kernel`                            |
+| a band-of-rows kernel for the viewer        | `rows_entry`     | `KernelVariant` (None: whole images only)   |
+| override constants of its kernel            | `constants`      | `tracing_kernel`                            |
+| generated files of its own                  | `files`          | `KernelVariant.files`                       |
+| per-pixel arrays beside the accumulation    | `pixel_arrays`   | the pixels group, the Renderer, the limits  |
+| light tracing splats into any pixel         | `splats`         | the Renderer's image, tiles (refused)       |
+| the deepest path it can trace               | `max_depth`      | `check_depth`                               |
+
+A new integrator is one module in this package that registers an instance (`register`), plus its
+WGSL entry file: the renderer, the CLI's choices and the limits follow from the descriptor.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from ..gpu.bindings import Binding
+
+if TYPE_CHECKING:
+    from ..kernels.variant import KernelVariant
+
+
+@dataclass(frozen=True)
+class PixelArray:
+    """A buffer of `words_per_pixel` 32-bit words per pixel that an integrator binds in the pixels
+    group as `binding`, zeroed whenever accumulation restarts."""
+
+    binding: Binding
+    words_per_pixel: int
+
+    @property
+    def bytes_per_pixel(self) -> int:
+        return 4 * self.words_per_pixel
+
+
+@dataclass(frozen=True)
+class Integrator:
+    name: str
+    entry: str
+    description: str
+    rows_entry: str | None = None
+    constants: tuple[tuple[str, int], ...] = ()
+    pixel_arrays: tuple[PixelArray, ...] = ()
+    splats: bool = False
+    max_depth: int | None = None
+
+    def files(self, variant: KernelVariant) -> dict[str, str]:
+        """Generated files of its own, for `variant`: none here."""
+        return {}
+
+    def check_depth(self, max_depth: int) -> None:
+        """ValueError unless it can trace paths of `max_depth` (-1: no limit)."""
+        if self.max_depth is not None and not 1 <= max_depth <= self.max_depth:
+            raise ValueError(f"integrator {self.name!r} takes max_depth from 1 to {self.max_depth}, got {max_depth}")
+
+    def check_rows(self) -> None:
+        """ValueError unless it has a band-of-rows kernel for the viewer."""
+        if self.rows_entry is None:
+            raise ValueError(
+                f"the {self.name} integrator renders whole images only: it has no band-of-rows kernel for the viewer"
+            )
+
+
+_registry: dict[str, Integrator] = {}
+
+
+def register(integrator: Integrator) -> Integrator:
+    if integrator.name in _registry:
+        raise ValueError(f"an integrator named {integrator.name!r} is already registered")
+    _registry[integrator.name] = integrator
+    return integrator
+
+
+def integrator_names() -> tuple[str, ...]:
+    """Every registered integrator's name, in registration order."""
+    return tuple(_registry)
+
+
+def integrator(name: str | Integrator) -> Integrator:
+    """The integrator registered as `name` (an Integrator is returned as it is)."""
+    if isinstance(name, Integrator):
+        return name
+    if name not in _registry:
+        raise ValueError(f"integrator must be one of {integrator_names()}, got {name!r}")
+    return _registry[name]

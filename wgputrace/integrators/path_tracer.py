@@ -1,0 +1,25 @@
+"""The unidirectional path tracer, one kernel for its three estimators of direct light (the
+override INTEGRATOR picks one): "bsdf" (BSDF sampling only), "nee" (next-event estimation only)
+and "mis" (both, weighted by the power heuristic), each with a band-of-rows kernel for the viewer."""
+
+from __future__ import annotations
+
+from ..kernels.structs import ESTIMATORS
+from .integrator import Integrator, register
+
+_DESCRIPTIONS = {
+    "bsdf": "path tracing, light found by BSDF sampling alone",
+    "nee": "path tracing with next-event estimation alone",
+    "mis": "path tracing, BSDF and light sampling weighted by multiple importance sampling",
+}
+
+for _index, _name in enumerate(ESTIMATORS):
+    register(
+        Integrator(
+            _name,
+            "path_tracer.wgsl",
+            _DESCRIPTIONS[_name],
+            rows_entry="path_tracer_rows.wgsl",
+            constants=(("INTEGRATOR", _index),),
+        )
+    )

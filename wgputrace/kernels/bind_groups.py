@@ -1,0 +1,132 @@
+"""The bind groups of the kernels that trace a scene, each declared once; a KernelVariant chooses
+which of them, and which of their bindings, a kernel declares (`KernelVariant.groups`).
+
+The scene group is what every ray-tracing kernel shares; the lights and shading groups are their
+own so that the scene group stays the same with or without them (the viewer's guides read it as
+declared). Group indices 4 and 5 need max-bind-groups >= 5 and 6 (`check_scene_size` asks).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..gpu.bindings import (
+    ATOMIC_COUNTERS,
+    STORAGE_READ,
+    STORAGE_READ_WRITE,
+    TEXTURE_F32,
+    TEXTURE_U32,
+    UNIFORM,
+    BindGroup,
+    Binding,
+)
+from ..gpu.layout import (
+    ACCUMULATED_PIXEL,
+    BVH_NODE,
+    CORNER_ATTRIBUTES,
+    CORNER_TANGENTS,
+    CORNER_UVS,
+    FRAME,
+    LIGHT,
+    LIGHT_SOURCE,
+    LIGHTING,
+    MATERIAL,
+    MATERIAL_TEXTURES,
+    TEXTURE,
+)
+from ..scene.lights.environment import ENVIRONMENT_MAP
+from .light_dispatch import LightFeatures
+
+# Triangles are texels (TrackedTexels: faster loads on lavapipe); the nodes are declared per
+# traversal (`scene_group`): texels of 4-wide records for the BVH, a storage array of boxes for the
+# flat list.
+SCENE_GROUP = BindGroup(
+    "scene",
+    0,
+    (
+        Binding("frame", UNIFORM, FRAME),
+        Binding("triangles", TEXTURE_U32),
+        Binding("nodes", TEXTURE_U32),
+        Binding("materials", STORAGE_READ, MATERIAL),
+        Binding("lights", STORAGE_READ, LIGHT),
+    ),
+)
+_NODES = {"bvh": Binding("nodes", TEXTURE_U32), "flat": Binding("nodes", STORAGE_READ, BVH_NODE)}
+ACCELERATIONS = tuple(_NODES)
+
+
+def scene_group(acceleration: str) -> BindGroup:
+    """The scene group with the nodes as `acceleration`'s traversal reads them."""
+    if acceleration not in _NODES:
+        raise ValueError(f"acceleration must be one of {ACCELERATIONS}, got {acceleration!r}")
+    return SCENE_GROUP.with_binding(_NODES[acceleration])
+
+
+# Each pixel's random state and running sum: what every integrator writes. An integrator's own
+# per-pixel arrays (`Integrator.pixel_arrays`) and the denoiser's guides extend it.
+PIXELS_GROUP = BindGroup(
+    "pixels",
+    1,
+    (
+        Binding("rng_states", STORAGE_READ_WRITE, "vec4<u32>"),
+        Binding("accumulation", STORAGE_READ_WRITE, ACCUMULATED_PIXEL),
+    ),
+)
+# The denoiser's guides: two Kahan sums per pixel, the albedo's at 2 * pixel and the normal's at
+# 2 * pixel + 1, bound only in the variants that make them.
+GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
+
+# The viewer's band of rows: the first row of this dispatch.
+BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
+# Rays counted by kind (`ray_count_hook`), only in the counting variants.
+RAY_COUNT_GROUP = BindGroup("ray_count", 3, (Binding("ray_counts", ATOMIC_COUNTERS),))
+
+# The lights besides emissive triangles, each binding only where the scene needs it: the parameters
+# (the environment's, the light source count) with any such light, the light sources' records with
+# any, the environment map (rgba32float texels, read with textureLoad: float32 filtering is an
+# optional feature) and its sampling tables (32-bit words in one buffer) with a map.
+LIGHTS_GROUP_INDEX = 4
+_LIGHTING = Binding("lighting", UNIFORM, LIGHTING)
+_LIGHT_SOURCES = Binding("light_sources", STORAGE_READ, LIGHT_SOURCE)
+_ENVIRONMENT_MAP = Binding("environment_map", TEXTURE_F32)
+_ENVIRONMENT_TABLES = Binding("environment_tables", STORAGE_READ, "u32")
+
+
+def lights_group(features: LightFeatures) -> BindGroup:
+    """The lights group of a kernel compiled for `features` (which have some light)."""
+    if not features.any:
+        raise ValueError("a scene lit by emissive triangles alone binds no lights group")
+    group = BindGroup("lights", LIGHTS_GROUP_INDEX, (_LIGHTING,))
+    if features.kinds:
+        group = group.extended(_LIGHT_SOURCES)
+    if features.environment == ENVIRONMENT_MAP:
+        group = group.extended(_ENVIRONMENT_MAP).extended(_ENVIRONMENT_TABLES)
+    return group
+
+
+# The triangles' corner attributes (shading normals) in BVH order, for scenes with per-vertex normals.
+SHADING_GROUP_INDEX = 5
+SHADING_GROUP = BindGroup(
+    "shading", SHADING_GROUP_INDEX, (Binding("corner_attributes", STORAGE_READ, CORNER_ATTRIBUTES),)
+)
+# What textured scenes add to it: the corner texture coordinates, the atlas (linear rgba32float
+# texels read with textureLoad and filtered by hand, as the environment map), the textures'
+# rectangles in it, each material's textures, the corner tangents of normal maps, and the light
+# table's weight per unit area of each triangle emitting through a texture record.
+_TEXTURE_BINDINGS = (
+    Binding("corner_uvs", STORAGE_READ, CORNER_UVS),
+    Binding("corner_tangents", STORAGE_READ, CORNER_TANGENTS),
+    Binding("texture_atlas", TEXTURE_F32),
+    Binding("textures", STORAGE_READ, TEXTURE),
+    Binding("material_textures", STORAGE_READ, MATERIAL_TEXTURES),
+    Binding("triangle_light_densities", STORAGE_READ, "f32"),
+)
+
+
+def shading_group(smooth: bool, textured: bool) -> BindGroup:
+    """The shading group of a scene with per-vertex normals (`smooth`), textures (`textured`) or
+    both; its file is SHADING_GROUP.file in every variant."""
+    if not (smooth or textured):
+        raise ValueError("a flat, untextured scene binds no shading group")
+    bindings = (SHADING_GROUP.bindings if smooth else ()) + (_TEXTURE_BINDINGS if textured else ())
+    return replace(SHADING_GROUP, bindings=bindings)

@@ -1,0 +1,154 @@
+"""What a kernel compiles in, stated once: a KernelVariant is the cache key of a compiled kernel,
+its label in errors and provenance, the choice of its bind groups and the source of its generated
+files. SceneFeatures is the part a scene decides (`SceneMirror.features` makes it); the renderer
+adds the integrator, the sampler and what it is asked for (guides, counters, rows).
+
+A boolean feature is one field here, with its label; the hook that reads it (a function of the
+variant, listed in HOOKS) and the shader that the hook includes are all that change with it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields, replace
+from typing import TYPE_CHECKING
+
+from ..scene.materials import material_class, material_classes
+from .bind_groups import BAND_GROUP, GUIDE_SUMS, PIXELS_GROUP, RAY_COUNT_GROUP, lights_group, scene_group, shading_group
+from .hooks import HOOKS
+from .light_dispatch import NO_LIGHTS, LightFeatures
+from .sampler import DEFAULT_SAMPLER, check_sampler
+from .traversal import BVH_STACK_SIZE
+
+if TYPE_CHECKING:
+    from ..gpu.bindings import BindGroup
+    from ..integrators import Integrator
+
+
+def flag(label: str) -> bool:
+    """A boolean feature, off by default, named `label` in a kernel's label when on."""
+    return field(default=False, metadata={"label": label})
+
+
+def shaded_kinds(kinds) -> tuple[int, ...]:
+    """Material `kinds` in id order, each a registered kind: what the generated code covers."""
+    return tuple(material_class(kind).kind for kind in sorted(set(kinds)))
+
+
+# every registered material kind: a kernel that draws no particular scene compiles them all
+ALL_KINDS = shaded_kinds(cls.kind for cls in material_classes())
+
+
+def _flag_labels(value) -> list[str]:
+    return [f.metadata["label"] for f in fields(value) if "label" in f.metadata and getattr(value, f.name)]
+
+
+@dataclass(frozen=True)
+class SceneFeatures:
+    """What a scene compiles into every kernel that traces it."""
+
+    acceleration: str = "bvh"
+    # entries of the BVH traversal's stack: as many as the scene's tree needs, rounded up
+    stack_size: int = BVH_STACK_SIZE
+    # the material kinds whose BSDF code is compiled in
+    material_kinds: tuple[int, ...] = ALL_KINDS
+    # the lights besides emissive triangles
+    lights: LightFeatures = NO_LIGHTS
+    # per-vertex normals
+    smooth: bool = flag("smooth shading")
+    # materials that read textures or have a texture record
+    textured: bool = flag("textured")
+    # surfaces that let rays through (alpha modes, single-sided), asked by every ray's triangle test
+    see_through: bool = flag("see-through")
+    # materials that emit through their texture record
+    emissive_surfaces: bool = flag("emissive surfaces")
+
+    def __post_init__(self) -> None:
+        scene_group(self.acceleration)  # refuses an unknown acceleration
+        object.__setattr__(self, "material_kinds", shaded_kinds(self.material_kinds))
+
+    @property
+    def labels(self) -> list[str]:
+        return ([self.lights.description] if self.lights.any else []) + _flag_labels(self)
+
+    def groups(self) -> tuple[BindGroup, ...]:
+        """The bind groups a kernel tracing this scene declares besides its own: the scene group,
+        the lights group and the shading group where used."""
+        lights = (lights_group(self.lights),) if self.lights.any else ()
+        shading = (shading_group(self.smooth, self.textured),) if self.smooth or self.textured else ()
+        return (scene_group(self.acceleration), *lights, *shading)
+
+
+@dataclass(frozen=True)
+class KernelVariant:
+    """A tracing kernel: a scene's features, the integrator (None: a kernel that traces but does not
+    integrate, such as the viewer's guides or a test harness), the sampler, and the extras."""
+
+    scene: SceneFeatures = SceneFeatures()
+    integrator: Integrator | None = None
+    sampler: str = DEFAULT_SAMPLER
+    # the entry point that renders a band of rows (the viewer's)
+    rows: bool = flag("rows")
+    # the ray counters
+    count_rays: bool = flag("counting rays")
+    # the denoiser's albedo and normal guides
+    guides: bool = flag("guides")
+    # other override constants of the entry file, sorted (name, value) pairs (for measurements)
+    overrides: tuple[tuple[str, float], ...] = ()
+
+    def __post_init__(self) -> None:
+        check_sampler(self.sampler)
+        if self.rows:
+            self.require_integrator().check_rows()
+        object.__setattr__(self, "overrides", tuple(sorted(dict(self.overrides).items())))
+
+    def require_integrator(self) -> Integrator:
+        if self.integrator is None:
+            raise ValueError("this kernel variant names no integrator")
+        return self.integrator
+
+    def with_scene(self, scene: SceneFeatures) -> KernelVariant:
+        return replace(self, scene=scene)
+
+    @property
+    def label(self) -> str:
+        """How errors, compile messages and provenance name it."""
+        integrator = [] if self.integrator is None else [self.integrator.name]
+        parts = [self.scene.acceleration, *integrator, *_flag_labels(self), *self.scene.labels]
+        return f"{', '.join(parts)}, {self.sampler} sampler"
+
+    @property
+    def entry(self) -> tuple[str, str]:
+        """The integrator's entry file and entry point for this variant."""
+        integrator = self.require_integrator()
+        return (integrator.rows_entry, "main_rows") if self.rows else (integrator.entry, "main")
+
+    @property
+    def constants(self) -> dict[str, float]:
+        """The override constants its entry file is compiled with: the integrator's and `overrides`."""
+        return {**dict(self.require_integrator().constants), **dict(self.overrides)}
+
+    def pixels_group(self) -> BindGroup:
+        """The pixels group: the guide sums where guides are on, and the integrator's own arrays."""
+        extra = ((GUIDE_SUMS,) if self.guides else ()) + tuple(
+            array.binding for array in (self.integrator.pixel_arrays if self.integrator else ())
+        )
+        group = PIXELS_GROUP
+        for binding in extra:
+            group = group.extended(binding)
+        return group
+
+    def groups(self) -> tuple[BindGroup, ...]:
+        """Every bind group the integrator's kernel for this variant declares."""
+        scene, *scene_extras = self.scene.groups()
+        own = (self.pixels_group(), *((BAND_GROUP,) if self.rows else ()))
+        own += (RAY_COUNT_GROUP,) if self.count_rays else ()
+        return (scene, *own, *scene_extras)
+
+    def files(self) -> dict[str, str]:
+        """Its generated files by name: every hook's, and the integrator's own."""
+        files = {name: hook(self) for name, hook in HOOKS.items()}
+        return files | (self.integrator.files(self) if self.integrator else {})
+
+
+# A kernel that draws no particular scene: every material kind, no lights, flat and untextured.
+DEFAULT_VARIANT = KernelVariant()
