@@ -31,7 +31,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from bench.common import RESULTS_DIR, SETTINGS_KEYS, Run, mitsuba_missing, result_stem, write_result
+from bench.mitsuba import mitsuba_missing
+from bench.provenance import RESULTS_DIR, Run
+from bench.result_files import SETTINGS_KEYS, result_stem, write_result
 from wgputrace.denoise import INSTALL_HINT, denoiser_available
 
 

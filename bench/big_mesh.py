@@ -22,7 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import BIG_MESH_CELLS, Run, argument_parser, height_field, image_failures, log, parse, write_result
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.scenes import BIG_MESH_CELLS, height_field
+from bench.validation import image_failures
 from wgputrace import Camera, Emitter, Renderer, load_scene, make_plane, model_matrix
 
 

@@ -25,18 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    TRIANGLE_COUNTS,
-    Run,
-    argument_parser,
-    bvh_failures,
-    figure,
-    log,
-    parse,
-    save_figure,
-    sheet_scene,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.scenes import TRIANGLE_COUNTS, sheet_scene
+from bench.validation import bvh_failures
 from wgputrace.bvh import build_bvh
 from wgputrace.bvh.forked_subtrees import available_workers
 

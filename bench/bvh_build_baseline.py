@@ -27,18 +27,11 @@ from functools import partial
 
 import numpy as np
 
-from bench.common import (
-    BIG_MESH_CELLS,
-    Run,
-    argument_parser,
-    bvh_failures,
-    git,
-    height_field,
-    log,
-    parse,
-    sheet_scene,
-    write_result,
-)
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run, git
+from bench.result_files import write_result
+from bench.scenes import BIG_MESH_CELLS, height_field, sheet_scene
+from bench.validation import bvh_failures
 from wgputrace import Renderer, default_scene
 from wgputrace.bvh import BVH, build_bvh
 from wgputrace.render import scene_buffers

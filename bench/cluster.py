@@ -36,7 +36,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import REPO_ROOT, Run, argument_parser, figure, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import REPO_ROOT, Run
+from bench.result_files import write_result
 
 SEED = 1
 MAX_DEPTH = 9
@@ -156,7 +159,7 @@ def _measure(address: str, width: int, height: int, batch_spp: int, batches: int
     import ray
 
     import wgputrace as wt
-    from bench.common import sheet_scene
+    from bench.scenes import sheet_scene
     from wgputrace.cluster import render_batches
     from wgputrace.cluster.batches import split_samples
     from wgputrace.cluster.worker import RenderSettings

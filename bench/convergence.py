@@ -60,30 +60,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    FIT_MIN_SPP,
-    MitsubaSide,
-    Run,
-    add_max_spp,
-    agreement,
-    argument_parser,
-    checkpoints,
-    curves,
-    errors,
-    figure,
-    fit_power_law,
-    image_failures,
-    log,
-    mitsuba_missing,
-    parse,
-    save_figure,
-    seconds_to_reach,
-    sidak_critical_z,
-    threads,
-    write_csv,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import add_max_spp, argument_parser, log, parse
+from bench.error_curves import FIT_MIN_SPP, checkpoints, curves, errors, fit_power_law, seconds_to_reach
+from bench.mitsuba import MitsubaSide, mitsuba_missing, threads
+from bench.provenance import Run
+from bench.result_files import write_csv, write_result
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer, Scene, load_scene
 from wgputrace.scenes.caustic import caustic_mask
 from wgputrace.testing.image_statistics import Estimate

@@ -48,23 +48,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    Run,
-    agreement,
-    argument_parser,
-    checkpoints,
-    errors,
-    figure,
-    fresh_image,
-    image_failures,
-    log,
-    parse,
-    record_skip,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.error_curves import checkpoints, errors
+from bench.provenance import Run
+from bench.result_files import record_skip, write_result
+from bench.timing import fresh_image
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer
 from wgputrace.cli_arguments import parse_size
 from wgputrace.denoise import INSTALL_HINT, QUALITIES, denoise, denoiser_available, denoiser_device

@@ -45,22 +45,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    REPO_ROOT,
-    Run,
-    agreement,
-    argument_parser,
-    errors,
-    figure,
-    fresh_image,
-    git,
-    image_failures,
-    log,
-    parse,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.error_curves import errors
+from bench.provenance import REPO_ROOT, Run, git
+from bench.result_files import write_result
+from bench.timing import fresh_image
+from bench.validation import agreement, image_failures, sidak_critical_z
 from wgputrace import Camera, Diffuse, Environment, Renderer, Scene, make_icosphere, make_plane
 from wgputrace.scene.environment import local_of_uv
 

@@ -37,22 +37,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    RELATIVE_MSE_EPSILON,
-    Run,
-    agreement,
-    argument_parser,
-    errors,
-    figure,
-    load_average,
-    log,
-    parse,
-    pixel_centre_rays,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.error_curves import RELATIVE_MSE_EPSILON, errors
+from bench.provenance import Run, load_average
+from bench.result_files import write_result
+from bench.scenes import pixel_centre_rays
+from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Diffuse, Glossy, Renderer, Scene, load_scene
 from wgputrace.bvh.binned_sah import build_bvh
 from wgputrace.gpu.generated import NO_TRIANGLE

@@ -18,7 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, image_failures, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.validation import image_failures
 from wgputrace import Camera, Emitter, Glossy, Renderer, Scene, make_icosphere, make_plane
 
 ROUGHNESSES = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5)

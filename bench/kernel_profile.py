@@ -28,18 +28,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    agreement,
-    argument_parser,
-    environment,
-    git_revision,
-    load_average,
-    parse,
-    sidak_critical_z,
-    slug,
-    write_json,
-)
+from bench.command_line import argument_parser, parse
+from bench.provenance import environment, git_revision, load_average
+from bench.result_files import slug, write_json
+from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Renderer, default_scene, make_icosphere
 from wgputrace.gpu.bindings import IMAGE_WORKGROUP, PIXELS_GROUP, STORAGE_READ, Binding, scene_group
 from wgputrace.gpu.buffers import read_buffer, storage_buffer

@@ -24,7 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
 from wgputrace import Diffuse, Renderer, default_scene, make_icosphere, model_matrix
 from wgputrace.render import scene_sync
 

@@ -36,22 +36,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    TRIANGLE_COUNTS,
-    Run,
-    agreement,
-    argument_parser,
-    figure,
-    fresh_image,
-    image_failures,
-    log,
-    parse,
-    save_figure,
-    sheet_scene,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.scenes import TRIANGLE_COUNTS, sheet_scene
+from bench.timing import fresh_image
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer
 from wgputrace.gpu.device import DeviceLimitError
 

@@ -27,23 +27,12 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    Run,
-    Timed,
-    agreement,
-    argument_parser,
-    counted_rays,
-    figure,
-    fresh_image,
-    image_failures,
-    log,
-    parse,
-    ray_rates,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.timing import Timed, counted_rays, fresh_image, ray_rates
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer, default_scene
 from wgputrace.scenes import DEFAULT_SCENE
 

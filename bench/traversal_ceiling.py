@@ -46,27 +46,14 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    MitsubaSide,
-    Run,
-    Timed,
-    agreement,
-    argument_parser,
-    counted_rays,
-    figure,
-    fresh_image,
-    log,
-    mitsuba_missing,
-    parse,
-    pixel_centre_rays,
-    ray_rates,
-    record_skip,
-    save_figure,
-    sidak_critical_z,
-    threads,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.mitsuba import MitsubaSide, mitsuba_missing, threads
+from bench.provenance import Run
+from bench.result_files import record_skip, write_result
+from bench.scenes import pixel_centre_rays
+from bench.timing import Timed, counted_rays, fresh_image, ray_rates
+from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Renderer, load_scene
 from wgputrace.gpu.generated import NO_TRIANGLE
 from wgputrace.reference.mitsuba_scene import (

@@ -49,32 +49,14 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    FIT_MIN_SPP,
-    MITSUBA_SEED_START,
-    MitsubaSide,
-    Run,
-    Timed,
-    add_max_spp,
-    argument_parser,
-    checkpoints,
-    curves,
-    errors,
-    figure,
-    fit_power_law,
-    fresh_image,
-    image_failures,
-    log,
-    mitsuba_missing,
-    parse,
-    record_skip,
-    result_stem,
-    save_figure,
-    seconds_to_reach,
-    threads,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import add_max_spp, argument_parser, log, parse
+from bench.error_curves import FIT_MIN_SPP, checkpoints, curves, errors, fit_power_law, seconds_to_reach
+from bench.mitsuba import MITSUBA_SEED_START, MitsubaSide, mitsuba_missing, threads
+from bench.provenance import Run
+from bench.result_files import record_skip, result_stem, write_result
+from bench.timing import Timed, fresh_image
+from bench.validation import CHANNELS, image_failures
 from wgputrace import Renderer, load_scene
 from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, libllvm_path, load_mitsuba
 from wgputrace.testing.image_statistics import Estimate, compare_blocks

@@ -22,7 +22,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
 from wgputrace.app.viewer import REST_SECONDS, Viewer, ViewerOptions
 from wgputrace.app.window import create_canvas, has_display
 from wgputrace.cli_arguments import parse_size

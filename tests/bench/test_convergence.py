@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bench.common import checkpoints
 from bench.convergence import BASELINE, MITSUBA, Strategy, away_from_lamp, gains, read_off, scene_spp
+from bench.error_curves import checkpoints
 from wgputrace import load_scene
 from wgputrace.testing.references import load_reference
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bench.common import pixel_centre_rays
+from bench.scenes import pixel_centre_rays
 from wgputrace.scenes import scene_by_name
 from wgputrace.testing.harness import frame_record, run_kernel
 

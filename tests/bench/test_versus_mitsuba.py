@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bench.common import checkpoints
+from bench.error_curves import checkpoints
 from bench.versus_mitsuba import MITSUBA, OURS, time_to_equal_rmse
 
 # Exact power laws: only floating-point rounding separates the fit from the truth.
