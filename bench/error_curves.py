@@ -79,6 +79,11 @@ def fit_power_law(curve: dict, metric: str) -> tuple[float, float]:
     return float(slope), float(intercept)
 
 
+def error_at(slope: float, intercept: float, seconds: float) -> float:
+    """The power law log error = intercept + slope log seconds at `seconds`."""
+    return float(np.exp(intercept + slope * np.log(seconds)))
+
+
 def seconds_to_reach(slope: float, intercept: float, error: float) -> float:
     """Where the power law log error = intercept + slope log seconds reaches `error`."""
     return float(np.exp((np.log(error) - intercept) / slope))

@@ -2,13 +2,12 @@
 
     python -m bench.glossy_light_sampling
 
-For each roughness, a glossy sphere lit by one small area light (nothing else in the scene, so
-every pixel's error comes from the glossy vertex) is rendered with MIS twice: light sampling at
-the glossy vertex on (threshold 0) and off (threshold above every roughness: BSDF sampling
-only). Both are unbiased, so the reference is a long render averaging both. The efficiency of
-each is 1 / (relative MSE x seconds); the threshold to choose is the smallest roughness from
-which light sampling is at least as efficient. Writes bench/results/glossy_light_sampling_<adapter>.json
-and .png; the value in shaders/path_tracer.wgsl (GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS) comes from it.
+For each roughness, a glossy sphere lit by one small area light (nothing else, so every pixel's
+error comes from the glossy vertex) is rendered with MIS with light sampling at the glossy vertex
+on and off. Both are unbiased, so the reference is a long render averaging both. The threshold to
+choose is the smallest roughness from which light sampling is at least as efficient (1 / (relative
+MSE x seconds)): the shader's GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS comes from it. Writes
+bench/results/glossy_light_sampling_<adapter>.json and .png.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""bench/convergence.py's read-off on synthetic curves (no renderer, no Mitsuba): the fixed RMSE,
+"""bench.convergence's read-off on synthetic curves (no renderer, no Mitsuba): the fixed RMSE,
 each strategy's time to reach it, efficiencies and the issue's ratios; and its pixel regions."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""bench/traversal_ceiling.py times Embree on rays bench/common.py makes in numpy: they must be the rays our
-shipped camera_ray traces through the pixel centres."""
+"""bench.traversal_ceiling times Embree on rays `pixel_centre_rays` makes in numpy: they must be the
+rays our shipped camera_ray traces through the pixel centres."""
 
 from __future__ import annotations
 

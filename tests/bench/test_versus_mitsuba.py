@@ -1,4 +1,4 @@
-"""bench/versus_mitsuba.py's time-to-equal-RMSE arithmetic on synthetic curves (no Mitsuba needed)."""
+"""bench.versus_mitsuba's time-to-equal-RMSE arithmetic on synthetic curves (no Mitsuba needed)."""
 
 from __future__ import annotations
 
