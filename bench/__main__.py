@@ -10,12 +10,10 @@ on the current adapter, and a summary of every target.
 Run from the checkout's root (bench/ is not in the wheel); each benchmark also runs alone as
 `python -m bench.<name>`.
 
-Each benchmark validates its output before timing it and writes its own JSON (and chart) to
-bench/results/; the suite adds bench/results/suite_<adapter>.json with the summary table: every
+Each benchmark writes its own JSON (and chart) to --out; the suite adds suite_<adapter>.json: every
 target with its measured value and whether it was met. A benchmark that fails (its validation, or
-an error) is recorded as failed and the suite goes on; the exit status is 1 if any failed.
-versus_mitsuba and traversal_ceiling are skipped, with the reason recorded, where mitsuba is not
-importable; convergence (issue 18's error against time) then leaves out Mitsuba's rows, saying why.
+an error) is recorded as failed and the rest still run (exit status 1). Without mitsuba,
+versus_mitsuba and traversal_ceiling skip and convergence leaves out Mitsuba's rows, saying why.
 """
 
 from __future__ import annotations
@@ -31,7 +29,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from bench.common import RESULTS_DIR, SETTINGS_KEYS, Run, mitsuba_missing, result_stem, write_result
+from bench.mitsuba import mitsuba_missing
+from bench.provenance import RESULTS_DIR, Run
+from bench.result_files import SETTINGS_KEYS, result_stem, write_result
 from wgputrace.denoise import INSTALL_HINT, denoiser_available
 
 

@@ -3,13 +3,11 @@
     python -m bench.big_mesh
     python -m bench.big_mesh --cells 708 --size 256x256 --spp 1
 
-The mesh is bench/common.py's wavy height field of 2 x cells^2 triangles (708 cells: 1,002,528 triangles), written
-once as binary PLY (through trimesh) and as OBJ (our own reader), lit by a lamp above it. Each
-file is loaded into a Scene and checked (triangle count, finite vertices); the PLY scene is then
-rendered: the Renderer's setup is split into the BVH build and the rest (buffers, upload,
-pipeline); the image is validated (finite, lit) before the render is timed; last, the mesh is
-moved and the renderer refits (the timing of one update). Load times are the median of
-`repeats`; the rest are single runs (seconds each). Writes bench/results/big_mesh_<adapter>.json.
+The mesh is `height_field` with 2 x cells^2 triangles (708 cells: 1,002,528), written once as
+binary PLY (through trimesh) and as OBJ (our own reader), lit by a lamp above it. Each file is
+loaded and checked; the PLY scene's renderer setup is timed as BVH build and the rest, its image
+validated before the render is timed, and last the mesh is moved and refit. Load times are medians
+of `repeats`, the rest single runs. Writes bench/results/big_mesh_<adapter>.json.
 """
 
 from __future__ import annotations
@@ -22,7 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import BIG_MESH_CELLS, Run, argument_parser, height_field, image_failures, log, parse, write_result
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.scenes import BIG_MESH_CELLS, height_field
+from bench.validation import image_failures
 from wgputrace import Camera, Emitter, Renderer, load_scene, make_plane, model_matrix
 
 
@@ -94,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
             "bvh": {
                 "build_seconds": build_seconds,
                 "nodes": renderer.records.acceleration.node_count,
-                "wide_records": len(renderer.records.nodes),  # what the GPU holds (bvh/wide.py)
+                "wide_records": len(renderer.records.nodes),  # what the GPU holds (`wgputrace.bvh.wide`)
                 "depth": renderer.records.acceleration.depth,
                 "sah_cost": mirror.refitter.built_cost,
             },

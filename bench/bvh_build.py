@@ -3,17 +3,13 @@
     python -m bench.bvh_build
     python -m bench.bvh_build --triangles 1000 100000 --repeats 3
 
-The triangles are bench/scaling.py's height field (the same sheet that is rendered there), built
-by `wgputrace.bvh.build_bvh` with its default parameters. Each count: one build validated first
-(triangle_order a permutation, leaves covering every triangle exactly once, the root box equal to
-the mesh's bounds), then `repeats` timed builds with the default worker count (every CPU) and as
-many with one worker, alternating so that both see the same load; the medians count. SAH cost is
-the tree's own `BVH.sah_cost()` (traversal and intersection cost 1). The build runs on the CPU in
-numpy, so it does not depend on the adapter, but results are filed by adapter like every
-benchmark's.
-
-Target (issue 8): 1,000,000 triangles built in under 2 s on the 2-core development machine.
-Writes bench/results/bvh_build_<adapter>.json and .png.
+The triangles are `sheet_scene`'s, the sheet `bench.scaling` renders, built by
+`wgputrace.bvh.build_bvh` with its default parameters. Each count: one build validated
+(`bvh_failures`), then `repeats` timed builds with every CPU and as many with one worker,
+alternating so that both see the same load; medians. SAH cost is `BVH.sah_cost()`. The build runs
+in numpy on the CPU, but results are filed by adapter like every benchmark's. Target (issue 8):
+1,000,000 triangles built in under 2 s on the 2-core development machine. Writes
+bench/results/bvh_build_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -25,18 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    TRIANGLE_COUNTS,
-    Run,
-    argument_parser,
-    bvh_failures,
-    figure,
-    log,
-    parse,
-    save_figure,
-    sheet_scene,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.scenes import TRIANGLE_COUNTS, sheet_scene
+from bench.validation import bvh_failures
 from wgputrace.bvh import build_bvh
 from wgputrace.bvh.forked_subtrees import available_workers
 

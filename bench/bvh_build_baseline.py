@@ -4,13 +4,11 @@ cost, and the render time per sample of their trees.
     python -m bench.bvh_build_baseline
     python -m bench.bvh_build_baseline --cells 224 --repeats 3 --baseline 82b407f
 
-The baseline is wgputrace/bvh/binned_sah.py as it was at `--baseline` (default 82b407f, the last
-revision before the per-triangle records), loaded from git. Both builders build every scene
-(the 1,002,528-triangle height field of bench/big_mesh.py, a random soup, the Cornell box),
-interleaved, `repeats` times each, after validating each tree (bench/common.py's `bvh_failures`); the
-median build times, their ratio, the SAH costs and node counts are reported. Then both trees of
-the Cornell box and of a 100,000-triangle height field (bench/scaling.py's) are rendered at
-128x128 with the same renderer settings and seed; the pictures must agree, and a few samples per
+The baseline is `wgputrace.bvh.binned_sah` as it was at `--baseline` (default 82b407f, the last
+revision before the per-triangle records), loaded from git. Both build every scene (the
+1,002,528-triangle `height_field`, a random soup, the Cornell box) interleaved, `repeats` times
+each, after validating each tree (`bvh_failures`). Then both trees of the Cornell box and of a
+100,000-triangle `sheet_scene` are rendered alike; the pictures must agree, and a few samples per
 pixel of each are timed, interleaved: the render time per sample is what a tree's quality buys.
 Writes bench/results/bvh_build_baseline_<adapter>.json.
 """
@@ -27,18 +25,11 @@ from functools import partial
 
 import numpy as np
 
-from bench.common import (
-    BIG_MESH_CELLS,
-    Run,
-    argument_parser,
-    bvh_failures,
-    git,
-    height_field,
-    log,
-    parse,
-    sheet_scene,
-    write_result,
-)
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run, git
+from bench.result_files import write_result
+from bench.scenes import BIG_MESH_CELLS, height_field, sheet_scene
+from bench.validation import bvh_failures
 from wgputrace import Renderer, default_scene
 from wgputrace.bvh import BVH, build_bvh
 from wgputrace.render import scene_records
@@ -63,7 +54,7 @@ def soup(count: int) -> np.ndarray:
 
 
 def baseline_builder(revision: str) -> Callable[..., BVH]:
-    """build_bvh as wgputrace/bvh/binned_sah.py defined it at `revision`."""
+    """build_bvh as `wgputrace.bvh.binned_sah` defined it at `revision`."""
     try:
         source = git("show", f"{revision}:wgputrace/bvh/binned_sah.py")
     except subprocess.CalledProcessError as error:

@@ -4,25 +4,12 @@ workers, and what those overheads give at 8, 64 and 512 GPUs.
     python -m bench.cluster
     python -m bench.cluster --size 128x128 --batch-spp 4 --batches 16 --repeats 3
 
-Everything runs inside a network namespace of its own (wgputrace.cluster.sandbox: two Ray nodes of
-one CPU each on 127.0.0.1, so two workers run on two nodes), like tests/cluster: this needs root or
-unprivileged user namespaces. Workers render on lavapipe, one thread each.
-
-Validation first: every job's image must equal, bit for bit, its batches rendered one after the
-other in one process and merged in batch order. Then:
-- phases, on one worker (`repeats` fresh workers, medians): the worker's start (process, imports,
-  device), scene transfer (the prepare call's round trip, less its Renderer build and less a no-op
-  call's round trip), pipeline build (the Renderer: BVH, buffers, pipeline compile), and per batch:
-  rendering, read-back, the call's own overhead (round trip less rendering and read-back), the
-  driver's fetch of the result and its merge; the per-batch phases again for batches of one spp at
-  the model's 512x512; and a 1,000,000-triangle scene's transfer to a task on the other node;
-- jobs of `batches` batches of `batch_spp` spp on 1 and 2 workers (`repeats` each): wall time and
-  efficiency (render seconds summed over batches / (workers x wall)), worker starts included;
-- the model (bench/README.md, "Rendering on a cluster") from the measured overheads, at 8, 64 and
-  512 workers, for lavapipe workers and for GPUs at the speed bench/results/throughput_nvidia-*
-  measured: efficiency against batch size, and the smallest batch that keeps overhead under 5%.
-
-Writes bench/results/cluster_<adapter>.json and .png.
+Everything runs inside a network namespace of its own (`wgputrace.cluster.sandbox`: two Ray nodes
+of one CPU each on 127.0.0.1), which needs root or unprivileged user namespaces. Every job's image
+must first equal its batches rendered one after the other here and merged in order; then
+`_measure` times each phase of a worker's life and jobs on one and two workers, and `model`
+carries the measured overheads to 8, 64 and 512 workers (bench/README.md, "Rendering on a
+cluster"). Writes bench/results/cluster_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -36,7 +23,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import REPO_ROOT, Run, argument_parser, figure, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import REPO_ROOT, Run
+from bench.result_files import write_result
 
 SEED = 1
 MAX_DEPTH = 9
@@ -53,7 +43,7 @@ IMAGE_BYTES = MODEL_SIZE[0] * MODEL_SIZE[1] * 3 * 4
 # overhead under this share of the time is the target the batch size is chosen for
 OVERHEAD_TARGET = 0.05
 MODEL_BATCH_SPP = tuple(2**power for power in range(0, 17))
-# the scene whose transfer to another node is timed: a height field (bench/common.py sheet_scene)
+# the scene whose transfer to another node is timed: a height field (`sheet_scene`)
 LARGE_SCENE_TRIANGLES = 1_000_000
 # a GPU's speed for the model: the throughput benchmark on a lent H100 (Cornell box, 512x512)
 GPU_THROUGHPUT = REPO_ROOT / "bench" / "results" / "throughput_nvidia-h100-80gb-hbm3-vulkan.json"
@@ -156,7 +146,7 @@ def _measure(address: str, width: int, height: int, batch_spp: int, batches: int
     import ray
 
     import wgputrace as wt
-    from bench.common import sheet_scene
+    from bench.scenes import sheet_scene
     from wgputrace.cluster import render_batches
     from wgputrace.cluster.batches import split_samples
     from wgputrace.cluster.worker import RenderSettings

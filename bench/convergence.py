@@ -2,48 +2,16 @@
 Mitsuba 3 reference as a function of render time, for each integrator x sampler of ours and for
 Mitsuba 3's `path` integrator with its `independent` and `multijitter` samplers, in one run.
 
-    /tmp/mvenv/bin/python -m bench.convergence          (mitsuba importable: Mitsuba's rows too)
+    python -m bench.convergence          (Mitsuba's rows too where mitsuba imports: the `reference` extra)
     python -m bench.convergence --scenes caustic --integrators mis bdpt --runs 1
     python -m bench --only convergence
 
-Strategies: every integrator (mis, nee, bsdf, bdpt) with every sampler (independent, sobol) of
-ours, and Mitsuba's `llvm_ad_rgb` variant where mitsuba is importable (bench/common.py
-`mitsuba_missing`). A combination the installed renderer does not have (an integrator or sampler
-still to come) is skipped and the reason recorded under "skipped"; so is Mitsuba without mitsuba.
-
-For each scene and strategy: a validation render first (finite, no dropped samples, image mean
-equal to the reference's within a z-test; its first dispatch is the shader compile or Mitsuba's
-JIT, so it is the warm-up too), then `runs` renders read back at checkpoints 1, 2, 4, ... spp.
-Ours renders progressively and only Renderer.render is timed (read-backs are not); Mitsuba
-renders each checkpoint fresh at that spp (its usual use and its fastest), timed with evaluation.
-Errors are bench/common.py's: MSE against the reference minus the reference's own variance.
-
-The reference is tests/references/<scene>.npz (128x128), or bench/references/<scene>.npz where
-that exists: the Cornell box's there is 256x256, the issue's setting, made with
-
-    /tmp/mvenv/bin/python -c "import sys; sys.path.insert(0, 'scripts'); import make_references as m; \\
-        from pathlib import Path; m.WIDTH = m.HEIGHT = 256; settings = m.ReferenceSettings(9, 128, 16); \\
-        m.make_reference('cornell', settings, 'llvm_ad_rgb', Path('bench/references'))"
-
-Each scene renders at its reference's size; `--max-spp` is the last checkpoint at 128x128, and a
-larger image stops at as many paths (256x256: a quarter of the spp). The caustic scene is measured
-twice: on the whole image, and on the floor pixels its caustic falls on (scenes/caustic.py
-`caustic_mask`), as the scene "caustic:caustic_pixels"; tiny_light also without the dozen pixels
-around its directly seen, sub-pixel lamp ("tiny_light:away_from_lamp"), which otherwise decide its
-whole image's error.
-
-Read off each curve, from a power law fitted to RMSE against time (checkpoints from FIT_MIN_SPP
-on): the time to reach a fixed RMSE per scene (what ours as shipped reaches at its last checkpoint;
-where another curve does not pass that RMSE between its fitted checkpoints, its power law carried
-on, flagged "extrapolated") and the efficiency 1 / (MSE x seconds) at the last checkpoint. For
-an unbiased strategy RMSE falls as time^-1/2, so time ratios at a common RMSE equal inverse
-efficiency ratios. Ratios compare with ours at the default integrator and sampler, and with
-Mitsuba's independent sampler; all of it by wall-clock time ("table", "gains") and by process CPU
-time, both renderers' worker threads included ("table_process_cpu", "gains_process_cpu"), which
-the suite judges the targets by: other work on the two shared cores swung single wall-clock ratios
-up to 2x. Writes bench/results/convergence_<adapter>.csv (every checkpoint),
-.json (settings, versions, validation, curves, the table) and .png (one panel per scene, and the
-efficiencies).
+Each strategy is validated against the reference, then rendered `runs` times and read back at
+checkpoints 1, 2, 4, ... spp (`measure_ours`, `measure_mitsuba`); a strategy the installed code
+lacks is skipped, its reason recorded. `read_off` takes each curve's time to a common RMSE and its
+efficiency from power laws fitted to RMSE against time, by wall-clock and by process CPU time,
+which the suite judges the targets by: other work on shared cores swings wall-clock ratios.
+Writes bench/results/convergence_<adapter>.csv, .json and .png.
 """
 
 from __future__ import annotations
@@ -60,30 +28,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    FIT_MIN_SPP,
-    MitsubaSide,
-    Run,
-    add_max_spp,
-    agreement,
-    argument_parser,
-    checkpoints,
-    curves,
-    errors,
-    figure,
-    fit_power_law,
-    image_failures,
-    log,
-    mitsuba_missing,
-    parse,
-    save_figure,
-    seconds_to_reach,
-    sidak_critical_z,
-    threads,
-    write_csv,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import add_max_spp, argument_parser, log, parse
+from bench.error_curves import FIT_MIN_SPP, checkpoints, curves, error_at, errors, fit_power_law, seconds_to_reach
+from bench.mitsuba import MitsubaSide, mitsuba_missing, threads
+from bench.provenance import Run
+from bench.result_files import write_csv, write_result
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer, Scene, load_scene
 from wgputrace.scenes.caustic import caustic_mask
 from wgputrace.testing.image_statistics import Estimate
@@ -120,10 +71,15 @@ def away_from_lamp(scene: Scene, width: int, height: int) -> np.ndarray:
     return keep
 
 
+# Measured apart as "<scene>:<region>": the floor pixels the caustic falls on decide how well a
+# strategy renders caustics, and tiny_light's lamp pixels otherwise decide its whole image's error.
 REGIONS: dict[str, dict[str, Callable[[Scene, int, int], np.ndarray]]] = {
     "caustic": {"caustic_pixels": caustic_pixels},
     "tiny_light": {"away_from_lamp": away_from_lamp},
 }
+# References larger than the tests' (the Cornell box at 256x256, the issue's setting), made with
+#   PYTHONPATH=scripts python -c "import make_references as m; from pathlib import Path; m.WIDTH = m.HEIGHT = 256; \
+#       m.make_reference('cornell', m.ReferenceSettings(9, 128, 16), 'llvm_ad_rgb', Path('bench/references'))"
 BENCH_REFERENCES = Path(__file__).resolve().parent / "references"
 # --max-spp counts samples per pixel at this size; larger references stop at as many paths.
 BASE_PIXELS = 128 * 128
@@ -182,7 +138,7 @@ def renderer_options(strategy: Strategy) -> dict:
 
 
 def bench_reference(scene: str) -> Reference:
-    """bench/references/<scene>.npz where there is one (larger than the test's), else the test's."""
+    """BENCH_REFERENCES' <scene>.npz where there is one, else the test's (`load_reference`)."""
     path = BENCH_REFERENCES / f"{scene}.npz"
     if not path.exists():
         return load_reference(scene)
@@ -256,7 +212,9 @@ def new_renderer(setup: SceneSetup, strategy: Strategy, seed: int) -> Renderer:
 def measure_ours(
     setup: SceneSetup, strategy: Strategy, args: argparse.Namespace, z_critical: float
 ) -> tuple[list[dict], dict]:
-    """Progressive renders of `runs` seeds, read back at every checkpoint."""
+    """Progressive renders of `runs` seeds, read back at every checkpoint; only Renderer.render is
+    timed. The first render validates (finite, nothing dropped, image mean equal to the
+    reference's by a z-test) and, compiling the shader, is the warm-up."""
     rows, checked = [], None
     for run in range(args.runs):
         seed = args.seed + run
@@ -308,7 +266,8 @@ def mitsuba_sampler(mi, sampler: str):
 def measure_mitsuba(
     mitsuba: tuple, setup: SceneSetup, strategy: Strategy, args: argparse.Namespace, z_critical: float
 ) -> tuple[list[dict], dict]:
-    """Each checkpoint a fresh Mitsuba render at that spp, `runs` times; the first render compiles."""
+    """Each checkpoint a fresh Mitsuba render at that spp (its usual use and its fastest), timed with
+    evaluation, `runs` times; the first render validates and compiles."""
     if isinstance(mitsuba, str):
         raise Unavailable(mitsuba)
     mi, dr = mitsuba
@@ -352,8 +311,7 @@ def load_mitsuba_pair():
 
 
 def fitted_rmse(curve: dict, seconds: float) -> float:
-    slope, intercept = fit_power_law(curve, "rmse")
-    return float(np.exp(intercept + slope * np.log(seconds)))
+    return error_at(*fit_power_law(curve, "rmse"), seconds)
 
 
 def read_off(curves_by_name: dict) -> dict:
@@ -362,7 +320,8 @@ def read_off(curves_by_name: dict) -> dict:
     efficiency 1 / (MSE x seconds) at its last checkpoint, and both as ratios to BASELINE and
     MITSUBA_BASELINE where those ran. A time read outside the curve's fitted checkpoints is the
     power law carried on, flagged "extrapolated"; a curve whose fitted RMSE does not fall with
-    time has no time to reach (None)."""
+    time has no time to reach (None). For an unbiased strategy RMSE falls as time^-1/2, so time
+    ratios at a common RMSE are inverse efficiency ratios."""
     table = {}
     for scene in dict.fromkeys(curve["scene"] for curve in curves_by_name.values()):
         mine = {c["integrator"]: c for c in curves_by_name.values() if c["scene"] == scene}

@@ -6,34 +6,12 @@ picture guided OIDN makes from 4 spp; the denoiser's cost; and its bias on a con
     python -m bench.denoise
     python -m bench.denoise --scenes cornell glass_grazing --repeats 1 --bias-spp 256 --cap-spp 256
 
-Per scene (SCENES by default, or any with a reference: tests/references/<scene>.npz gives its size
-and max depth), two renderers, guides on and off, each validated before anything is timed (its
-first render compiles: finite, no dropped sample, mean radiance equal to the reference's by a
-paired z-test). Then:
-
-- Cost of the guides in the render: fresh renders of `round-spp` samples, guides on and off
-  alternating (ABBA), `rounds` of each; medians of seconds per sample, and the median of each
-  round's ratio (its two renders ran back to back, so a change of load between rounds cancels).
-- Pictures: `repeats` progressive renders with guides on (new samples each), read at every --spp
-  level as the raw mean, the viewer's filter (headless, as bench/filter_psnr.py runs it: at the
-  weight the viewer gives it at that many samples, fading out at 256 spp), OIDN on the colour and
-  OIDN with the guides (quality "high", as `wgputrace render --denoise` uses it). PSNR on the
-  displayed picture (clipped, sRGB, peak 1) and relative MSE (the reference's variance taken out,
-  bench/common.py's `errors`). The last repeat's raw PSNR is read at every power of two, and it
-  goes on past the levels: to `bias-spp`, and on (at most to `cap-spp`) until its raw picture
-  reaches the PSNR guided OIDN reaches at 4 spp (mean over repeats).
-- Time to a usable picture: the samples the raw render needs for that PSNR, interpolated in
-  log2(spp) on that raw curve (not reached by cap-spp: said so), times the raw render's seconds
-  per sample; against 4 samples with guides plus the denoiser's median time at this size.
-- Bias: at bias-spp, every 32x32 block's mean of the denoised picture against the reference's and
-  against the raw picture of the same samples (the denoiser's own shift), relative, per channel;
-  the issue's limit is 1%. The raw picture's own difference from the reference, and the noise of
-  its block means, are reported beside it.
-
-And once: the denoiser's seconds per megapixel on the Cornell box at --denoise-size, colour only
-and guided, at each OIDN quality (a warm-up call per configuration first, which sets OIDN's
-filter up). Without pyoidn (the `denoise` extra) this skips, recording why. Writes
-bench/results/denoise_<adapter>.json and .png (PSNR against spp per scene, one line per method).
+Per scene (`measure_scene`): renderers with guides on and off validated before anything is timed,
+the guides' cost per sample (`guide_cost`), every method's PSNR and relative MSE at each --spp
+level, the time to a usable picture (`usable_picture`) and the bias at --bias-spp (`bias`, the
+issue's limit 1%); once, OIDN's seconds per megapixel at each quality (`denoiser_cost`). Without
+pyoidn (the `denoise` extra) this skips, recording why. Writes bench/results/denoise_<adapter>.json
+and .png.
 """
 
 from __future__ import annotations
@@ -48,23 +26,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    Run,
-    agreement,
-    argument_parser,
-    checkpoints,
-    errors,
-    figure,
-    fresh_image,
-    image_failures,
-    log,
-    parse,
-    record_skip,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.error_curves import checkpoints, errors
+from bench.provenance import Run
+from bench.result_files import record_skip, write_result
+from bench.timing import fresh_image
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer
 from wgputrace.cli_arguments import parse_size
 from wgputrace.denoise import INSTALL_HINT, QUALITIES, denoise, denoiser_available, denoiser_device
@@ -137,7 +105,8 @@ def validation_failures(renderer: Renderer, reference: Reference, z_critical: fl
 
 
 class AtrousFilter:
-    """The viewer's pre-convergence filter on a Renderer's samples, headless."""
+    """The viewer's pre-convergence filter on a Renderer's samples, headless, at the weight the viewer
+    gives it at that many samples per pixel (as `bench.filter_psnr` measures it)."""
 
     def __init__(self, renderer: Renderer) -> None:
         self.banded = BandedRenderer(renderer)
@@ -303,6 +272,10 @@ def summary(values: list[float]) -> dict:
 
 
 def measure_scene(scene: str, args: argparse.Namespace, z_critical: float) -> dict:
+    """Both renderers validated, the guides' cost, then `repeats` progressive renders with guides on
+    (new samples each): every method's PSNR on the displayed picture and relative MSE (`errors`) at
+    each --spp level. The last repeat's raw picture is read at every power of two and goes on to
+    --bias-spp, and on (at most to --cap-spp) until it reaches guided OIDN's PSNR at USABLE_SPP."""
     reference = load_reference(scene)
     mean, variance = reference.estimate.mean, reference.estimate.variance
     with_guides = new_renderer(scene, reference, args.seed, guides=True)
@@ -509,7 +482,7 @@ def main(argv: list[str] | None = None) -> int:
         "quality": QUALITY,
         "denoiser_device": denoiser_device(),
         "psnr_definition": "10 log10(1 / MSE) of the clipped, sRGB-encoded images (peak 1)",
-        "relative_mse_definition": "bench/common.py errors: mean((ours - reference)^2 - reference variance) "
+        "relative_mse_definition": "bench.error_curves.errors: mean((ours - reference)^2 - reference variance) "
         "/ (reference^2 + 0.01)",
         "atrous": {"viewer_weight_at_spp": {str(spp): viewer_display.filter_weight(spp) for spp in args.spp}},
         "usable_spp": USABLE_SPP,

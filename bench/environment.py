@@ -4,32 +4,12 @@ the environment costs per sample, and whether a scene without the new lights run
     python -m bench.environment
     python -m bench.environment --size 64 --reference-spp 1024 --cornell-rounds 5
 
-The sunny scene: a diffuse sphere on a diffuse plane under a generated map (512x256: a sky from a
-pale horizon to a blue zenith over a dark ground, and a sun 3 degrees across whose texels are
-3,000 times the sky's), rendered with MIS at max depth 9.
-
-1. Efficiency. The map sampled by its tables (importance sampled) and uniformly over the sphere
-   (environment_map.wgsl's ENVIRONMENT_UNIFORM_SAMPLING, pdf 1 / 4 pi, still weighted by MIS
-   against BSDF sampling, as pbrt's UniformInfiniteLight), each 1 / (MSE x seconds), MSE against a
-   long importance-sampled render from another seed in batches whose variance is subtracted
-   (bench/common.py's `errors`). Validation first: each method's render is finite, drops no
-   sample and has the reference's mean radiance (paired z-test), and the two differ at the same
-   seed (the override took effect). Then `repeats` renders of each, alternating; MSE is averaged
-   over them (uniform sampling's error comes in rare bright samples: a median would hide them),
-   seconds are the median. Issue 15's target: importance sampling at least 20x as efficient.
-2. Cost per sample: the same scene under the map, under a constant environment and under none
-   (black: no light, no shadow ray), alternating round by round; the median time per sample of
-   each and the medians of the per-round ratios to no environment.
-3. The Cornell box against the commit before the lights work (`--baseline`, bdd5644): one process
-   per checkout (the baseline a git worktree in a temporary folder; each process starts in its
-   checkout, so it imports that checkout's wgputrace before the editable install's), each holding
-   a renderer. Both pictures must be equal bit for bit from the same seed; then `cornell-rounds`
-   mirrored rounds time both, and the median of the per-round ratios current / baseline is the
-   speed change (issue 15: within 3%), judged by the processes' CPU time (llvmpipe's threads
-   included): on two cores shared with other work the wall-clock ratio of a round ranged from 0.79
-   to 1.29 where the CPU-time ratio stayed within 0.89 to 1.01 (bench/README.md's log). Both are
-   recorded.
-Writes bench/results/environment_<adapter>.json and .png.
+On the sunny scene (a diffuse sphere on a plane under a generated sky map with a small, bright sun;
+MIS): the efficiency 1 / (MSE x seconds) of the map importance sampled and sampled uniformly
+(`efficiency`; issue 15's target 20x), and the cost per sample under the map, a constant and no
+environment (`cost_per_sample`). Then the Cornell box against the commit before the lights work
+(`cornell_against_baseline`; issue 15: within 3%), judged by process CPU time, which other work on
+shared cores moves far less than wall time. Writes bench/results/environment_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -45,22 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    REPO_ROOT,
-    Run,
-    agreement,
-    argument_parser,
-    errors,
-    figure,
-    fresh_image,
-    git,
-    image_failures,
-    log,
-    parse,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.error_curves import errors
+from bench.provenance import REPO_ROOT, Run, git
+from bench.result_files import write_result
+from bench.timing import fresh_image
+from bench.validation import agreement, image_failures, sidak_critical_z
 from wgputrace import Camera, Diffuse, Environment, Renderer, Scene, make_icosphere, make_plane
 from wgputrace.scene.lights.environment import local_of_uv
 
@@ -70,6 +41,8 @@ SUN_DIAMETER_DEGREES = 3.0
 SUN_RADIANCE = 3000.0
 HORIZON, ZENITH, GROUND = (0.9, 0.95, 1.0), (0.25, 0.45, 0.9), (0.12, 0.1, 0.08)
 MAX_DEPTH = 9
+# The shader override that samples the map uniformly over the sphere (pdf 1 / 4 pi), still weighted
+# by MIS against BSDF sampling, as pbrt's UniformInfiniteLight.
 UNIFORM_SAMPLING = "ENVIRONMENT_UNIFORM_SAMPLING"
 METHODS = {"importance sampled": None, "uniform sphere": {UNIFORM_SAMPLING: 1}}
 EFFICIENCY_TARGET = 20.0
@@ -122,7 +95,7 @@ for line in sys.stdin:
 def sunny_map() -> np.ndarray:
     """Texels (H, W, 3): the sky's gradient by elevation, dark ground below the horizon, the sun a disc."""
     width, height = MAP_SIZE
-    # where each texel sits in Mitsuba's convention (scene/lights/environment.py), and the way it looks
+    # where each texel sits in Mitsuba's convention (`local_of_uv`), and the way it looks
     u, v = np.meshgrid((np.arange(width) + 0.5) / width, np.arange(height) / (height - 1))
     directions = local_of_uv(np.stack([u, v], axis=-1).reshape(-1, 2)).reshape(height, width, 3)
     elevation = directions[..., 1:2]
@@ -216,7 +189,8 @@ def validate_methods(renderers: dict[str, Renderer], reference_mean: np.ndarray,
 def efficiency(
     renderers: dict[str, Renderer], reference_mean: np.ndarray, reference_variance: np.ndarray, spp: int, repeats: int
 ) -> dict:
-    """Per method: MSE per repeat, seconds per repeat, and 1 / (mean MSE x median seconds)."""
+    """Per method: MSE per repeat, seconds per repeat, and 1 / (mean MSE x median seconds). The MSE
+    is a mean, not a median: uniform sampling's error comes in rare bright samples."""
     runs = {name: {"mse": [], "relative_mse": [], "seconds": []} for name in renderers}
     for _ in range(repeats):
         for name, renderer in renderers.items():
@@ -326,6 +300,10 @@ class CornellWorker:
 
 
 def cornell_against_baseline(revision: str, size: int, spp: int, rounds: int) -> dict:
+    """The Cornell box in one process per checkout (the baseline a git worktree of `revision`): both
+    pictures equal bit for bit from the same seed, then `rounds` mirrored rounds time both; the
+    medians of the per-round ratios current / baseline by process CPU time (llvmpipe's threads
+    included) and by wall time."""
     with worktree(revision) as baseline:
         workers = {}
         try:

@@ -3,27 +3,13 @@
     python -m bench.error_breakdown
     python -m bench.error_breakdown --batches 8 --spp 32 --variants mis bsdf
 
-Every variant (an integrator, shader overrides, optionally the glass sphere made diffuse as a
-diagnostic) renders the 128x128 Cornell box as `batches` independent images of `spp` samples; the
-variants take turns batch by batch, so load from other processes slows them alike. Per pixel, the
-spread of the batches gives the variance of one sample; divided by (reference^2 + eps) as in
-bench/convergence.py (bench/common.py's `errors`) it is the relative variance, whose mean over pixels is the relative MSE of a
-one-sample image (all variants are unbiased: the mean of the batches is z-tested against the
-Mitsuba reference first). Efficiency = 1 / (relative variance x seconds per sample); a variant
-reaches BSDF sampling's error in (efficiency of bsdf / its efficiency) of BSDF sampling's time,
-the quantity bench/convergence.py fits from its curves.
-
-Variants: MIS, NEE and BSDF sampling; MIS and NEE with light points uniform in area rather than
-in solid angle; MIS without light sampling at the glossy (alpha 0.09) vertices; Russian roulette
-from depth 2, 5 or never, for MIS and BSDF sampling; the glass sphere made diffuse (a diagnostic:
-how much of the gap the caustic makes); Mitsuba 3's `path` integrator on the same scene (variance
-per sample only: its time is another engine's).
-
-Regions (by what the centre of each pixel sees first, numpy ray cast): the lamp; the glass
-sphere; the floor in the glass sphere's shadow from some point of the lamp (its caustic); glossy
-surfaces whose mirror direction meets the lamp (its reflections) and the rest of the glossy
-surfaces; the ceiling (beside the lamp); everything else. Writes
-bench/results/error_breakdown_<adapter>.json and .png (error maps and per-region shares).
+Every variant (an integrator with shader overrides, the glass sphere made diffuse as a diagnostic,
+or Mitsuba 3's `path` integrator) renders the 128x128 Cornell box as `batches` independent images,
+taking turns batch by batch so that load slows them alike; the spread of the batches gives each
+pixel's relative variance of one sample (as `errors` weighs it), summed per region of what the
+pixel centre sees. Efficiency = 1 / (relative variance x seconds per sample): the time to BSDF
+sampling's error that `bench.convergence` fits from its curves. Every variant's mean is z-tested
+against the reference first. Writes bench/results/error_breakdown_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -37,22 +23,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    RELATIVE_MSE_EPSILON,
-    Run,
-    agreement,
-    argument_parser,
-    errors,
-    figure,
-    load_average,
-    log,
-    parse,
-    pixel_centre_rays,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.error_curves import RELATIVE_MSE_EPSILON, errors
+from bench.provenance import Run, load_average
+from bench.result_files import write_result
+from bench.scenes import pixel_centre_rays
+from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Diffuse, Glossy, Renderer, Scene, load_scene
 from wgputrace.bvh.binned_sah import build_bvh
 from wgputrace.kernels.structs import NO_TRIANGLE

@@ -4,14 +4,12 @@ pre-convergence filter, at 1, 4, 16 and 64 samples per pixel (default scene).
     python -m bench.filter_psnr
     python -m bench.filter_psnr --repeats 8 --spp 1 4 16 64
 
-The picture is what the viewer shows at rest: the mean of the samples (through its GPU resolve),
-or the filtered one (wgputrace/view/display.py) at the weight the viewer gives it at that many
-samples per pixel; a third column shows the filter at full weight, which the fade gives up for
-the converged image's sake. PSNR is taken on what a person sees: linear radiance clipped to
-[0, 1], sRGB-encoded, peak 1. Each repeat renders with its own seed; the mean and spread over
-repeats are reported. The reference is tests/references/cornell.npz (scripts/make_references.py);
-without it, a long render of our own stands in, and the results say so.
-Writes bench/results/filter_psnr_<adapter>.json, .csv and .png.
+The picture is what the viewer shows at rest: the mean of the samples, or the filtered one at the
+weight the viewer gives it at that many samples per pixel; a third column shows the filter at full
+weight, which the fade gives up for the converged image's sake. PSNR is taken on what a person
+sees (clipped to [0, 1], sRGB-encoded, peak 1), over repeats with their own seeds. Without the
+test reference a long render of our own stands in, and the results say so. Writes
+bench/results/filter_psnr_<adapter>.json, .csv and .png.
 """
 
 from __future__ import annotations
@@ -22,7 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_csv, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_csv, write_result
 from wgputrace import Renderer, default_scene
 from wgputrace.scenes import DEFAULT_SCENE
 from wgputrace.testing.image_statistics import displayed_psnr

@@ -2,13 +2,12 @@
 
     python -m bench.glossy_light_sampling
 
-For each roughness, a glossy sphere lit by one small area light (nothing else in the scene, so
-every pixel's error comes from the glossy vertex) is rendered with MIS twice: light sampling at
-the glossy vertex on (threshold 0) and off (threshold above every roughness: BSDF sampling
-only). Both are unbiased, so the reference is a long render averaging both. The efficiency of
-each is 1 / (relative MSE x seconds); the threshold to choose is the smallest roughness from
-which light sampling is at least as efficient. Writes bench/results/glossy_light_sampling_<adapter>.json
-and .png; the value in shaders/path_tracer.wgsl (GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS) comes from it.
+For each roughness, a glossy sphere lit by one small area light (nothing else, so every pixel's
+error comes from the glossy vertex) is rendered with MIS with light sampling at the glossy vertex
+on and off. Both are unbiased, so the reference is a long render averaging both. The threshold to
+choose is the smallest roughness from which light sampling is at least as efficient (1 / (relative
+MSE x seconds)): the shader's GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS comes from it. Writes
+bench/results/glossy_light_sampling_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -18,7 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, image_failures, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.validation import image_failures
 from wgputrace import Camera, Emitter, Glossy, Renderer, Scene, make_icosphere, make_plane
 
 ROUGHNESSES = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5)

@@ -4,20 +4,12 @@
     python -m bench.kernel_profile --size 128x128 --repeats 5 --variants function_stack
 
 Every variant is the shipped megakernel with a shipped file rewritten in one named place (generated
-here from the file as shipped, so it cannot fall behind it), another declared binding, another
-workgroup size, or another renderer setting, bound to the same scene and seeded alike. Earlier
-kernels kept as copies (binary, storage, uniform and paired nodes) are retired; their figures
-stand in bench/README.md's optimization log.
-Order of work: compile and warm up every variant (lavapipe compiles at the first dispatch), check
-each one's image after CHECK_SPP samples against the shipped kernel's (bit for bit where the
-arithmetic is the same: a layout or workgroup change must not alter a single sample; in mean
-radiance, by a paired z-test, where only the order of the work differs, as in a traversal that
-resolves exact ties of hit distances its own way), then time
-`repeats` rounds, each one dispatch of every variant in turn (the order rotating from round to
-round). Speed-ups are medians of ratios taken within a round, because other jobs on a shared CPU
-change the load between rounds. Times are GPU timestamps around each dispatch where the adapter
-has "timestamp-query" (nanoseconds, as WebGPU resolves them), wall time around submit and finish
-otherwise. Prints a table and writes bench/results/kernel_profile_<adapter>.json.
+from the file as shipped, so it cannot fall behind it), another binding, workgroup size or
+renderer setting, on the same scene and seed. Each variant's image is first checked against the
+shipped kernel's (bit for bit where the arithmetic is the same, by a paired z-test where only the
+order of the work differs); then rounds of one dispatch per variant, the order rotating, and
+speed-ups as medians of in-round ratios, which load changing between rounds does not move. Times
+are GPU timestamps where the adapter has them. Writes bench/results/kernel_profile_<adapter>.json.
 """
 
 from __future__ import annotations
@@ -28,18 +20,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    agreement,
-    argument_parser,
-    environment,
-    git_revision,
-    load_average,
-    parse,
-    sidak_critical_z,
-    slug,
-    write_json,
-)
+from bench.command_line import argument_parser, parse
+from bench.provenance import environment, git_revision, load_average
+from bench.result_files import slug, write_json
+from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Renderer, default_scene, make_icosphere
 from wgputrace.gpu.bindings import IMAGE_WORKGROUP, STORAGE_READ, Binding
 from wgputrace.gpu.buffers import read_buffer, storage_buffer
@@ -129,7 +113,7 @@ class Variant:
     same_arithmetic: bool = True  # whether its image must equal the shipped kernel's bit for bit
     # Whether it computes the shipped kernel's image by other arithmetic (a traversal visiting
     # nodes in another order resolves exact ties of hit distances its own way): then its mean
-    # radiance must agree with the shipped kernel's (paired z-test, bench/common.py agreement).
+    # radiance must agree with the shipped kernel's (paired z-test, `agreement`).
     same_image: bool = False
     what: str = ""
 

@@ -4,16 +4,12 @@ wgputrace.render.scene_mirror.REBUILD_DEGRADATION.
     python -m bench.refit_threshold
     python -m bench.refit_threshold --size 64x64 --spp 4 --steps 16 --repeats 7
 
-The scene is the default Cornell box with SPHERES small spheres inside. Step by step every sphere
-takes a random walk (seeded); one renderer keeps refitting the BVH it built at step 0 (rebuilds
-disabled), and at each step a fresh Renderer builds a new BVH over the same geometry. Both render
-with the same seed. Order of work per step: validate (the two images must be equal bit for bit:
-an edited renderer promises the picture of a fresh one), then time `repeats` renders of `spp`
-samples per pixel each, interleaved, after a discarded warm-up, and keep the fastest of each: on a
-shared CPU adapter other processes only ever add time, which a median still carries. Recorded per
-step: the refit tree's degradation (SAH cost / cost when built), seconds per sample per pixel of both, their ratio,
-and what a rebuild costs (BVH build plus full upload). Writes bench/results/refit_threshold_<adapter>.json
-and .png.
+SPHERES small spheres take a seeded random walk through the Cornell box; one renderer keeps
+refitting the BVH it built at step 0, and at each step a fresh Renderer builds a new one. Per step
+both pictures must be equal bit for bit, then both are timed, interleaved, keeping the fastest of
+`repeats` (other processes on a shared CPU only ever add time). Recorded per step: the refit tree's
+SAH cost over its cost when built, seconds per sample of both, their ratio, and what a rebuild
+costs. Writes bench/results/refit_threshold_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -24,7 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
 from wgputrace import Diffuse, Renderer, default_scene, make_icosphere, model_matrix
 from wgputrace.render import scene_mirror
 

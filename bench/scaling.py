@@ -4,26 +4,13 @@ redone), and GPU memory per triangle at each count.
     python -m bench.scaling
     python -m bench.scaling --triangles 10 1000 100000 --size 128x128 --flat-budget 5
 
-The scene is a gently waving height field (bench/common.py's `sheet_scene`) seen from straight
-above, so it fills the whole view at every triangle count; only the sheet's subdivision changes.
-For each count and acceleration: a warm-up render (compiles the shader once per acceleration,
-discarded), a validation render (finite, no dropped samples, mean radiance in a sane band; BVH and
-flat images from the same random numbers must agree by the paired z-test), then `repeats` renders
-of `spp` samples, each from the seed (Renderer.restart), interleaved across accelerations; time
-per sample = median seconds / spp.
-
-The flat list is one box holding the whole sheet, so every ray tests every triangle: its time grows
-linearly. It runs while its predicted time for the point (warm-up, validation and timed renders; the
-last measured time per sample scaled by the triangle count) fits --flat-budget, and never where a
-path could pass the adapter's shader loop budget (the renderer refuses it); the result records why
-each missing point is missing.
-
-Memory, at each count: the scene's GPU buffers (triangles, BVH nodes, materials, light table) as
-allocated (with TrackedBuffer's spare capacity) and as used, per triangle; the image's buffers
-(random states, accumulation, frame) grow with pixels, not triangles, and are reported apart.
-
-Targets (issue 8): time per sample at 1,000,000 triangles at most 3x that at 1,000; at most 80 GPU
-bytes per triangle, BVH included. Writes bench/results/scaling_<adapter>.json and .png.
+The scene is `sheet_scene`, a waving height field seen from straight above, so it fills the view
+at every count and only its subdivision changes. Each count and acceleration is warmed up,
+validated and timed from the seed, interleaved across accelerations (`measure_count`); the flat
+list, whose time grows linearly, runs only while it fits --flat-budget and the driver's loop
+budget. Memory is the scene's GPU buffers per triangle, as allocated and as used. Targets (issue
+8): time per sample at 1,000,000 triangles at most 3x that at 1,000; at most 80 GPU bytes per
+triangle, BVH included. Writes bench/results/scaling_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -36,22 +23,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    TRIANGLE_COUNTS,
-    Run,
-    agreement,
-    argument_parser,
-    figure,
-    fresh_image,
-    image_failures,
-    log,
-    parse,
-    save_figure,
-    sheet_scene,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.scenes import TRIANGLE_COUNTS, sheet_scene
+from bench.timing import fresh_image
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer
 from wgputrace.gpu.device import DeviceLimitError
 
@@ -70,6 +48,8 @@ AGREEMENT_SIGNIFICANCE = 1e-3  # family-wise, over every count where both accele
 
 
 def memory(renderer: Renderer) -> dict:
+    """The scene's GPU buffers as allocated (spare capacity included) and as used, per triangle; the
+    image's buffers grow with pixels, not triangles, and are reported apart."""
     records = renderer.records
     used = {
         "triangles": records.triangles.nbytes,

@@ -4,27 +4,12 @@ and the library through thousands of render/edit cycles; memory and GPU allocati
     python -m bench --only soak                  (about 10 minutes of viewer plus the 10,000 cycles)
     python -m bench.soak --minutes 1 --cycles 500
 
-Not part of the default `python -m bench` run: it measures staying power, not speed.
-
-Viewer: `python app.py SCENE.py` in its own process, on a virtual X display started for the run
-where there is no DISPLAY. Every ACTION_SECONDS one action, in turn: rewrite the scene file (a
-material colour and a box's position change, so it reloads), write a broken file (the viewer must
-report it and keep the scene it had), resize the window, press a key (views, filter, boxes,
-pause, exposure, screenshot, a move). Its resident memory (VmRSS in /proc/<pid>/status) is read
-every SAMPLE_SECONDS. Checked: every rewrite is reloaded, every broken file reported, no
-traceback on its console, and it exits with status 0 on Escape at the end.
-
-Library: one Renderer (the default scene, CYCLE_SIZE pixels) through `cycles` edits, each one
-sample per pixel: a diffuse material's colour, or box1 moved (a BVH refit, or a rebuild where the
-refit degraded), alternately. Every image must be finite. Every SAMPLE_CYCLES cycles: this
-process's VmRSS and the live wgpu buffers and textures (count and bytes, wgpu.diagnostics'
-object_counts).
-
-Reported: the least-squares slope of memory against time (viewer) and cycles (library) after the
-first WARMUP_FRACTION of the run (kernel compilation, caches, the allocator finding its size), its
-growth over the measured part against FLAT_GROWTH_MIB, any exception or non-finite pixel. A
-process whose memory passes --memory-cap-mib is stopped there, and that is a failure. Writes
-bench/results/soak_<adapter>.json and .png.
+Not part of the default `python -m bench` run: it measures staying power, not speed. The viewer
+(`soak_viewer`) gets one action every ACTION_SECONDS and must reload every rewrite, report every
+broken file, print no traceback and exit cleanly; the library (`soak_library`) renders one sample
+per edit and every image must be finite. Memory is read as it goes; `memory_trend` fits its slope
+after the first WARMUP_FRACTION of the run against FLAT_GROWTH_MIB, and a process passing
+--memory-cap-mib is stopped, a failure. Writes bench/results/soak_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -40,7 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
 from wgputrace import Renderer, default_scene
 from wgputrace.app.window import has_display
 from wgputrace.testing.display import virtual_display
@@ -148,6 +136,9 @@ def rewrite(path: Path, text: str, version: int) -> None:
 
 
 def soak_viewer(minutes: float, workdir: Path, cap_kib: int) -> dict:
+    """`python app.py SCENE.py` in its own process for `minutes`, one of ACTIONS every ACTION_SECONDS
+    in turn (rewrite the scene, press a key, resize, write a broken file, move), its resident memory read
+    every SAMPLE_SECONDS; it exits on Escape at the end."""
     from wgputrace.testing.running_app import START_SECONDS, RunningApp
     from wgputrace.testing.xdriver import XDriver
 
@@ -258,6 +249,9 @@ def gpu_objects() -> dict:
 
 
 def soak_library(cycles: int, cap_kib: int) -> dict:
+    """One Renderer through `cycles` edits of one sample per pixel each, alternately a material's
+    colour and a box moved (a refit, or a rebuild where the refit degraded); this process's memory
+    and the live wgpu buffers and textures every SAMPLE_CYCLES cycles."""
     rng = np.random.default_rng(SEED)
     scene = default_scene()
     material = next(m for m in scene.materials if m.name == EDITED_MATERIAL)

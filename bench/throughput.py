@@ -3,20 +3,11 @@
     python -m bench.throughput
     python -m bench.throughput --size 256x256 --spp 8 --repeats 5
 
-Each acceleration gets its own renderer with the same seed, so both trace the same random
-numbers. Order of work: warm up (the first dispatch compiles the shader on lavapipe; discarded),
-validate two images per acceleration (finite, sane brightness, Cornell structure, and the two
-accelerations statistically equal), and only then time `repeats` renders of `spp` samples per
-acceleration, interleaved so that background load drifting during the run hits both alike. Every
-timed render starts from the seed (Renderer.restart), so all repeats trace the same rays.
-Writes bench/results/throughput_<adapter>.json and .png.
-
-Paths/s counts camera paths (pixels x samples); a path is one sample of one pixel, up to
-`max_depth` vertices. Rays/s: after timing, the same render is run once more through the path
-tracer with ray counters compiled in (wgputrace/render/ray_count.py; the timed kernel has none),
-and its image must equal the timed image bit for bit, which shows it traced the same paths; then
-rays/s = counted rays / median timed seconds, for camera rays (one per path) and for all rays
-(camera, extension and shadow rays).
+Both accelerations render from the same seed: a discarded warm-up, then `validate`, then `repeats`
+renders of `spp` from the seed, interleaved so that drifting load hits both alike. Paths/s counts
+camera paths (pixels x samples). Rays/s: the timed render is replayed through the ray-counting
+path tracer (`counted_rays`, which must give the timed image bit for bit), its rays over the median
+timed seconds. Writes bench/results/throughput_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -27,23 +18,12 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    Run,
-    Timed,
-    agreement,
-    argument_parser,
-    counted_rays,
-    figure,
-    fresh_image,
-    image_failures,
-    log,
-    parse,
-    ray_rates,
-    save_figure,
-    sidak_critical_z,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
+from bench.timing import Timed, counted_rays, fresh_image, ray_rates
+from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
 from wgputrace import Renderer, default_scene
 from wgputrace.scenes import DEFAULT_SCENE
 

@@ -4,34 +4,13 @@
     python -m bench.traversal_ceiling
     python -m bench.traversal_ceiling --spp 2 --primary-spp 8 --repeats 3
 
-Issue 8 asks for our paths/s on the Cornell box at 512x512 to equal Mitsuba's path tracer's. One
-run, one process, same scene (wgputrace/reference/mitsuba_scene.py builds Mitsuba's from ours),
-same image size, measures:
-
-  a) ours, the full path tracer (MIS) at the reference's max depth: paths/s, and rays/s from the
-     ray-counting variant of the same samples (bench/common.py's counted_rays);
-  b) ours at max depth 1: one closest hit per camera ray and nothing else (the emission of a lamp
-     seen directly); the ray counters must show one closest-hit ray per path and no other ray;
-  c) Embree: Mitsuba's `scene.ray_intersect` (a full SurfaceInteraction) and
-     `scene.ray_intersect_preliminary` (distance and primitive only, the analogue of our
-     closest_hit) of one ray through every pixel centre, `primary_spp` launches per run, all of
-     drjit's outputs evaluated;
-  d) Mitsuba's `path` integrator at the same max depth, and at max depth 1 (b's picture): paths/s.
-
-Ratios: b / c, our traversal engine against Embree on the most coherent rays there are; and the
-ceiling b / (a's rays per path), the paths/s of a path tracer whose every ray (extension and shadow
-rays included, which are less coherent and for shadow rays any-hit) cost what a camera ray costs
-and whose shading cost nothing, against d; and the same with shadow rays free (b / closest-hit
-rays per path), a bound that no cheaper any-hit traversal could pass.
-
-Validated before timing: the pixel-centre rays through our shipped closest_hit (the test harness's
-kernel) and through Embree hit the same fraction of rays at the same distances; (a) and (d), and
-(b) and (d at depth 1), agree in mean radiance per channel (paired z-test, bench/common.py's
-agreement); every image is finite. The first render of each kind is a discarded warm-up (lavapipe
-compiles at the first dispatch, drjit traces and JIT-compiles); timed Mitsuba launches must
-compile nothing (drjit's kernel history). Timed runs are interleaved round by round; medians.
-Writes bench/results/traversal_ceiling_<adapter>.json and .png. Without mitsuba or LLVM >= 16 this
-skips as bench/versus_mitsuba.py does.
+Issue 8 asks for our paths/s on the Cornell box at 512x512 to equal Mitsuba's path tracer's; this
+asks whether a path tracer on our traversal could reach it at all. In one process, on the same
+scene (`mitsuba_scene` builds Mitsuba's from ours), `measure` times each kind of work in WHAT:
+ours at full depth and at max depth 1 (each camera ray's closest hit and nothing else), Embree's
+queries of one ray per pixel centre, and Mitsuba's path tracer at both depths, after validating
+both traversals and both pictures. Without mitsuba or LLVM >= 16 this skips, recording why.
+Writes bench/results/traversal_ceiling_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -46,27 +25,14 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    MitsubaSide,
-    Run,
-    Timed,
-    agreement,
-    argument_parser,
-    counted_rays,
-    figure,
-    fresh_image,
-    log,
-    mitsuba_missing,
-    parse,
-    pixel_centre_rays,
-    ray_rates,
-    record_skip,
-    save_figure,
-    sidak_critical_z,
-    threads,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.mitsuba import MitsubaSide, mitsuba_missing, threads
+from bench.provenance import Run
+from bench.result_files import record_skip, write_result
+from bench.scenes import pixel_centre_rays
+from bench.timing import Timed, counted_rays, fresh_image, ray_rates
+from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Renderer, load_scene
 from wgputrace.kernels.structs import NO_TRIANGLE
 from wgputrace.reference.mitsuba_scene import (
@@ -93,7 +59,7 @@ AGREEMENT_TESTS = 2 * len(CHANNELS)
 # triangles, so they differ by float32 rounding (about 1e-7 relative) unless the engines pick
 # different surfaces, which a ray through a shared edge or a corner may. A ray counts as agreeing
 # within this relative difference (plus, on a lamp, the distance along the ray to Mitsuba's copy of
-# it wound the other way, which mitsuba_scene.py moves EMITTER_BACK_OFFSET_RELATIVE behind it),
+# it wound the other way, which `mitsuba_scene` moves EMITTER_BACK_OFFSET_RELATIVE behind it),
 # and at most this fraction of rays may disagree.
 DISTANCE_RTOL = 1e-4
 MAX_DISAGREEING_FRACTION = 1e-3
@@ -146,7 +112,7 @@ def allowed_distance_difference(records, triangle: np.ndarray, t: np.ndarray, di
     normals = np.cross(mine[:, 1] - mine[:, 0], mine[:, 2] - mine[:, 0])
     cos = np.abs(np.sum(normals * directions, axis=1)) / np.linalg.norm(normals, axis=1)
     kinds = records.materials["kind"][records.triangles["material"][np.where(hit, triangle, 0)]]
-    # the magnitude mitsuba_scene.py scales the offset by: the largest corner coordinate
+    # the magnitude `mitsuba_scene` scales the offset by: the largest corner coordinate
     offset = EMITTER_BACK_OFFSET_RELATIVE * float(np.max(np.abs(corners)))
     lamp = hit & np.isin(kinds, emitting_kinds())
     return DISTANCE_RTOL * t + np.where(lamp, offset / np.maximum(cos, np.finfo(np.float64).tiny), 0.0)
@@ -231,6 +197,9 @@ def check_camera_rays_only(renderer: Renderer) -> dict:
 
 
 def measure(args: argparse.Namespace, mitsuba: MitsubaSide, mitsuba_primary: MitsubaSide) -> dict:
+    """Warm-ups (the first render of each kind compiles; their images are validated), validation of
+    traversal and pictures, then `repeats` rounds of every kind of work in WHAT; medians, and the
+    ratios three ways: of medians, median of per-round ratios, of process CPU time."""
     scene = load_scene(SCENE)
     depth = args.max_depth
     full = Renderer(scene, SIZE, SIZE, seed=args.seed, max_depth=depth)
@@ -307,7 +276,9 @@ def measure(args: argparse.Namespace, mitsuba: MitsubaSide, mitsuba_primary: Mit
     closest_hit_rays_per_path = (full_rays["rays"]["camera"] + full_rays["rays"]["extension"]) / paths
 
     def ratios(rate: Callable[[str], float]) -> dict:
-        """The comparisons, from each measured kind's units of work per second."""
+        """The comparisons, from each measured kind's units of work per second. The ceiling is the
+        paths/s of a path tracer whose every ray cost what our camera rays cost (the most coherent
+        rays there are) and whose shading cost nothing."""
         ceiling = rate(OURS_PRIMARY) / rays_per_path
         free_shadow_rays = rate(OURS_PRIMARY) / closest_hit_rays_per_path
         return {
@@ -420,7 +391,7 @@ def main(argv: list[str] | None = None) -> int:
         help="camera rays per pixel of each timed camera-ray run (max depth 1, Embree launches; default 8)",
     )
     args = parse(parser, argv, "primary_spp")
-    # the suite's max depth: the reference's, as bench/versus_mitsuba.py
+    # the suite's max depth: the reference's, as `bench.versus_mitsuba`'s
     args.max_depth = load_reference(SCENE).metadata["max_depth"]
     settings = {"scene": SCENE, "width": SIZE, "height": SIZE, "spp": args.spp, "max_depth": args.max_depth}
     reason = mitsuba_missing()

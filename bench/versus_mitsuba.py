@@ -4,36 +4,12 @@ each renderer needs to reach the same RMSE against the reference at 128x128.
     python -m bench.versus_mitsuba
     python -m bench.versus_mitsuba --spp 4 --repeats 3 --max-spp 256 --runs 1
 
-Mitsuba runs its `llvm_ad_rgb` variant (drjit's LLVM backend: needs libLLVM >= 16, Debian's
-libllvm19) with its `path` integrator on the scene wgputrace/reference/mitsuba_scene.py builds
-from ours; ours runs Renderer (MIS) on whatever adapter wgpu picks. Same scene, resolution,
-samples per pixel and max depth (the reference's). Without mitsuba or LLVM >= 16 this skips,
-printing why and recording it in bench/results/versus_mitsuba_skipped_<adapter>.json.
-
-Compilation, apart: each renderer's first render minus its second at 8x8 pixels, 1 spp (the first
-dispatch compiles the WGSL on lavapipe; Mitsuba's first render traces and JIT-compiles its
-kernels), with drjit's kernel history (kernels compiled, LLVM time). Both compile caches (drjit's,
-Mesa's) point at an empty temporary folder when this process has not started drjit or the GPU
-before, so the first render compiles for real. Then, per part and renderer, a warm-up render at
-the timed size and spp (discarded); validation: VALIDATION_BATCHES independent images, averaged
-down to the reference's 128x128 where larger (exact for a box filter), Welch-tested per block and
-channel against the reference as the render tests do; then the timed renders. Mitsuba's seeds
-start at MITSUBA_SEED_START, far from the reference's seeds (0 .. passes - 1), and every render
-takes a new one; its kernel does not depend on seed, spp or size (drjit passes them in), which the
-kernel history confirms: timed renders compile nothing.
-
-Paths/s: `repeats` renders of `spp` samples per pixel at 512x512, interleaved (ours, Mitsuba, ours,
-...) so that drifting background load hits both; a fresh image each time, the median counts.
-
-Error against time: ours renders progressively (checkpoints at 1, 2, 4, ... max-spp samples per
-pixel, render time summed); Mitsuba renders each checkpoint as one fresh render at that spp (its
-usual use, and its fastest). Errors as bench/convergence.py measures them (RMSE with the
-reference's variance subtracted); power laws fitted to RMSE against time give each renderer's
-time to reach a common RMSE, the larger of the two final (fitted) RMSEs, so neither curve is
-extrapolated.
-
-Both renderers share the machine's cores: llvmpipe runs LP_NUM_THREADS threads (default: one per
-core), drjit its own pool of drjit.thread_count(); both counts are recorded. Writes
+Mitsuba runs its `llvm_ad_rgb` variant (drjit's LLVM backend: libLLVM >= 16) with its `path`
+integrator on the scene `mitsuba_scene` builds from ours; ours runs Renderer (MIS). Same scene,
+resolution, samples per pixel and max depth (the reference's). Compilation is measured apart
+(`measure_compile`); each part validates both renderers against the reference before it times
+(`validate_both`), and interleaves their timed renders so that drifting load hits both alike.
+Without mitsuba or LLVM >= 16 this skips, recording why. Writes
 bench/results/versus_mitsuba_<adapter>.json and .png.
 """
 
@@ -49,32 +25,14 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import (
-    CHANNELS,
-    FIT_MIN_SPP,
-    MITSUBA_SEED_START,
-    MitsubaSide,
-    Run,
-    Timed,
-    add_max_spp,
-    argument_parser,
-    checkpoints,
-    curves,
-    errors,
-    figure,
-    fit_power_law,
-    fresh_image,
-    image_failures,
-    log,
-    mitsuba_missing,
-    parse,
-    record_skip,
-    result_stem,
-    save_figure,
-    seconds_to_reach,
-    threads,
-    write_result,
-)
+from bench.charts import figure, save_figure
+from bench.command_line import add_max_spp, argument_parser, log, parse
+from bench.error_curves import FIT_MIN_SPP, checkpoints, curves, error_at, errors, fit_power_law, seconds_to_reach
+from bench.mitsuba import MITSUBA_SEED_START, MitsubaSide, mitsuba_missing, threads
+from bench.provenance import Run
+from bench.result_files import record_skip, result_stem, write_result
+from bench.timing import Timed, fresh_image
+from bench.validation import CHANNELS, image_failures
 from wgputrace import Renderer, load_scene
 from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, libllvm_path, load_mitsuba
 from wgputrace.testing.image_statistics import Estimate, compare_blocks
@@ -111,7 +69,9 @@ def empty_compile_caches(folder: Path) -> dict:
 
 
 def validate(label: str, batches: list[np.ndarray], reference: Reference, per_test: float) -> dict:
-    """`batches` (independent images) against the reference, per block and channel; exits on failure."""
+    """`batches` (independent images), averaged down to the reference's size where larger (exact
+    for a box filter), Welch-tested against the reference per block and channel as the render tests
+    do; exits on failure."""
     estimate = Estimate.from_batches(np.stack(batches))
     factor = estimate.mean.shape[0] // reference.estimate.mean.shape[0]
     if factor > 1:
@@ -174,6 +134,8 @@ def measure_compile(mitsuba: MitsubaSide, args: argparse.Namespace) -> dict:
 
 
 def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float) -> dict:
+    """Paths/s at THROUGHPUT_SIZE: a discarded warm-up each, validation, then `repeats` fresh renders
+    of `spp`, ours and Mitsuba's in turn; medians."""
     size, depth = THROUGHPUT_SIZE, args.max_depth
     ours = Renderer(load_scene(SCENE), size, size, seed=args.seed, max_depth=depth)
     first = {OURS: fresh_image(ours, args.spp)[2], MITSUBA: mitsuba.render(size, depth, args.spp)[1]}
@@ -210,6 +172,9 @@ def measure_throughput(mitsuba: MitsubaSide, reference: Reference, args: argpars
 
 
 def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argparse.Namespace, per_test: float):
+    """RMSE against time at the reference's size: ours renders progressively (render time summed
+    over the checkpoints), Mitsuba each checkpoint as one fresh render at that spp (its usual use
+    and its fastest); `time_to_equal_rmse` reads the two curves."""
     size, depth = CONVERGENCE_SIZE, args.max_depth
     mean, variance = reference.estimate.mean, reference.estimate.variance
     ours = Renderer(load_scene(SCENE), size, size, seed=args.seed, max_depth=depth)
@@ -271,11 +236,11 @@ def measure_convergence(mitsuba: MitsubaSide, reference: Reference, args: argpar
 
 def time_to_equal_rmse(ours: dict, theirs: dict) -> dict:
     """Times for both curves to reach a common RMSE, from power laws fitted to RMSE against time
-    (bench/common.py's fit); the level is the larger of the two fitted final RMSEs, which both
+    (`fit_power_law`); the level is the larger of the two fitted final RMSEs, which both
     curves reach inside their measured time range."""
     fits = {OURS: fit_power_law(ours, "rmse"), MITSUBA: fit_power_law(theirs, "rmse")}
     final = {
-        name: float(np.exp(intercept + slope * np.log(curve["seconds"][-1])))
+        name: error_at(slope, intercept, curve["seconds"][-1])
         for (name, (slope, intercept)), curve in zip(fits.items(), (ours, theirs), strict=True)
     }
     level = max(final.values())

@@ -3,13 +3,12 @@
     python -m bench.viewer_fps
     python -m bench.viewer_fps --sizes 640x480 --seconds 10
 
-Opens the viewer's glfw window (on a virtual X display started for the run when there is no
-DISPLAY) on the default scene. Each size runs: a warm-up (kernels compile, the first frames),
-then a moving phase in which the camera turns a little every frame, as a steady mouse drag does
-(each frame restarts the accumulation: the reduced-resolution path; it turns right and left in
-turn, so the view stays on the scene), then a resting phase at full resolution. Reported per phase: frames per second (frames over wall time), median and 90th
-percentile frame times, the traced resolution, and at rest samples per second and the samples per
-pixel reached. Writes bench/results/viewer_fps_<adapter>.json and .png.
+The viewer's glfw window (on a virtual X display started for the run where there is no DISPLAY)
+on the default scene. Each size: a warm-up, then a moving phase in which the camera turns a little
+every frame as a steady mouse drag does (the reduced-resolution path), then a resting phase at full
+resolution. Reported per phase: frames per second, median and 90th percentile frame times, the
+traced resolution, and at rest samples per second and the samples per pixel reached. Writes
+bench/results/viewer_fps_<adapter>.json and .png.
 """
 
 from __future__ import annotations
@@ -22,7 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.common import Run, argument_parser, figure, log, parse, save_figure, write_result
+from bench.charts import figure, save_figure
+from bench.command_line import argument_parser, log, parse
+from bench.provenance import Run
+from bench.result_files import write_result
 from wgputrace.app.viewer import REST_SECONDS, Viewer, ViewerOptions
 from wgputrace.app.window import create_canvas, has_display
 from wgputrace.cli_arguments import parse_size

@@ -1,4 +1,4 @@
-"""bench/convergence.py's read-off on synthetic curves (no renderer, no Mitsuba): the fixed RMSE,
+"""bench.convergence's read-off on synthetic curves (no renderer, no Mitsuba): the fixed RMSE,
 each strategy's time to reach it, efficiencies and the issue's ratios; and its pixel regions."""
 
 from __future__ import annotations
@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bench.common import checkpoints
 from bench.convergence import BASELINE, MITSUBA, Strategy, away_from_lamp, gains, read_off, scene_spp
+from bench.error_curves import checkpoints
 from wgputrace import load_scene
 from wgputrace.testing.references import load_reference
 

@@ -1,4 +1,4 @@
-"""bench/soak.py: its trend measure and its place outside the default benchmark run."""
+"""bench.soak: its trend measure and its place outside the default benchmark run."""
 
 from __future__ import annotations
 

@@ -1,12 +1,12 @@
-"""bench/traversal_ceiling.py times Embree on rays bench/common.py makes in numpy: they must be the rays our
-shipped camera_ray traces through the pixel centres."""
+"""bench.traversal_ceiling times Embree on rays `pixel_centre_rays` makes in numpy: they must be the
+rays our shipped camera_ray traces through the pixel centres."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from bench.common import pixel_centre_rays
+from bench.scenes import pixel_centre_rays
 from wgputrace.scenes import scene_by_name
 from wgputrace.testing.harness import frame_record, run_kernel
 

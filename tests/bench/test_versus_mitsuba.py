@@ -1,11 +1,11 @@
-"""bench/versus_mitsuba.py's time-to-equal-RMSE arithmetic on synthetic curves (no Mitsuba needed)."""
+"""bench.versus_mitsuba's time-to-equal-RMSE arithmetic on synthetic curves (no Mitsuba needed)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from bench.common import checkpoints
+from bench.error_curves import checkpoints
 from bench.versus_mitsuba import MITSUBA, OURS, time_to_equal_rmse
 
 # Exact power laws: only floating-point rounding separates the fit from the truth.

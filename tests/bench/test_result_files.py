@@ -1,5 +1,4 @@
-"""bench/common.py: every result file carries the same metadata and the picture's settings; every
-benchmark's counts are checked alike."""
+"""bench.result_files: every result file carries the same metadata and the picture's settings."""
 
 from __future__ import annotations
 
@@ -7,7 +6,8 @@ import json
 
 import pytest
 
-from bench.common import SETTINGS_KEYS, Run, argument_parser, parse, write_result
+from bench.provenance import Run
+from bench.result_files import SETTINGS_KEYS, write_result
 
 SETTINGS = {"scene": "cornell", "width": 8, "height": 4, "spp": 2, "max_depth": 9}
 METADATA_KEYS = ("benchmark", "git_revision", "adapter", "environment", "load_average_at_write")
@@ -40,13 +40,3 @@ def test_a_result_without_its_settings_is_refused(gpu_context, tmp_path):
     with pytest.raises(ValueError, match="lacks spp, max_depth"):
         write_result("example", {"scene": "cornell", "width": 8, "height": 4}, out=tmp_path)
     assert not list(tmp_path.iterdir())
-
-
-def test_counts_below_one_are_refused(capsys):
-    parser = argument_parser("A benchmark.\n\nMore.", spp=4, repeats=3)
-    parser.add_argument("--runs", type=int, default=1)
-    assert parse(parser, ["--spp", "2"], "runs").spp == 2
-    for argv in (["--spp", "0"], ["--repeats", "-1"], ["--runs", "0"]):
-        with pytest.raises(SystemExit):
-            parse(parser, argv, "runs")
-        assert f"{argv[0]} {argv[1]}" in capsys.readouterr().err
