@@ -15,15 +15,14 @@ from wgputrace import DirectionalLight
 from wgputrace.render.renderer import Renderer
 from wgputrace.render.scene_sync import SceneMirror
 from wgputrace.scene import Camera, Principled, Scene, Shape, Texture
+from wgputrace.testing.scenes import uv_square
 
 pytestmark = pytest.mark.gpu
 
 SIZE = 16
 SPP = 8
-# a quad in z = 0 facing the camera at z = -3 (normal -z); uv (0, 0) at corner A, u along +x, v down
-A, B, C, D = (-1.0, 1.0, 0.0), (1.0, 1.0, 0.0), (1.0, -1.0, 0.0), (-1.0, -1.0, 0.0)
-QUAD = np.array([[A, B, C], [A, C, D]], np.float32)
-QUAD_UVS = np.array([[(0, 0), (1, 0), (1, 1)], [(0, 0), (1, 1), (0, 1)]], np.float32)
+# a quad in z = 0 facing the camera at z = -3 (normal -z); u along +x, v down
+QUAD, QUAD_UVS = uv_square(normal_z=-1)
 CAMERA = Camera.looking_at((0, 0, -3), (0, 0, 0), vfov_degrees=30.0)
 # light from the +x side, 11 degrees above the quad's plane: cos 0.2 on the flat quad
 LIGHT_DIRECTION = (-1.0, 0.0, 0.2)
