@@ -115,33 +115,33 @@ class ReferenceCase:
 # --- The path tracer on the test scenes -------------------------------------------------------
 # Sample counts: these cases took 100 s (172 s of CPU) on the 2-core lavapipe machine, with the
 # other reference-related tests of the time; the budget is about four minutes.
-path_tracer = partial(ReferenceCase, family="path_tracer", size=64, seed=20261123)
+_path_tracer = partial(ReferenceCase, family="path_tracer", size=64, seed=20261123)
 # Where mis finds much of the light only in rare paths (the caustic's light reaching the floor
 # through the glass, a small lamp after two glossy bounces), the blocks' means at these sample
 # counts are heavy-tailed: typical runs fall 20 to 40% short on some 8x8 blocks, which a t-test
 # reads as a difference. Larger blocks pool enough paths; at 32x32 a 3 to 5% error still shows.
 HEAVY_TAILED_BLOCKS = (32, 64)
 PATH_TRACER_CASES = (
-    path_tracer("cornell", batches=16, spp=32),
-    path_tracer("tiny_light", batches=16, spp=32),
-    path_tracer("glass_grazing", batches=16, spp=32),
-    path_tracer("glossy_spheres", batches=16, spp=32),
-    path_tracer("slivers", batches=16, spp=16),
-    path_tracer("axis_boxes", batches=16, spp=24),
+    _path_tracer("cornell", batches=16, spp=32),
+    _path_tracer("tiny_light", batches=16, spp=32),
+    _path_tracer("glass_grazing", batches=16, spp=32),
+    _path_tracer("glossy_spheres", batches=16, spp=32),
+    _path_tracer("slivers", batches=16, spp=16),
+    _path_tracer("axis_boxes", batches=16, spp=24),
     # scenes that break path tracers (issue 18): their light comes in rare, bright paths
-    path_tracer("door_ajar", batches=16, spp=16),
-    path_tracer("caustic", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
-    path_tracer("glossy_through_glossy", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
+    _path_tracer("door_ajar", batches=16, spp=16),
+    _path_tracer("caustic", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
+    _path_tracer("glossy_through_glossy", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
     # the same box scaled, camera included: the same image, tested against the same reference
     # and, sample for sample, against the unscaled box's first batches (same seed)
-    path_tracer("cornell_1e-4", batches=8, spp=32, reference="cornell", same_paths_as="cornell"),
-    path_tracer("cornell_1e4", batches=8, spp=32, reference="cornell", same_paths_as="cornell"),
+    _path_tracer("cornell_1e-4", batches=8, spp=32, reference="cornell", same_paths_as="cornell"),
+    _path_tracer("cornell_1e4", batches=8, spp=32, reference="cornell", same_paths_as="cornell"),
     # The other direct-light strategies converge to the same picture as mis. BSDF sampling alone
     # on the tiny light is left out: a lamp that small is hit so rarely that its estimates are too
     # heavy-tailed for a t-test at any affordable sample count.
-    path_tracer("cornell", batches=8, spp=32, integrator="bsdf"),
-    path_tracer("cornell", batches=8, spp=32, integrator="nee"),
-    path_tracer("tiny_light", batches=8, spp=32, integrator="nee"),
+    _path_tracer("cornell", batches=8, spp=32, integrator="bsdf"),
+    _path_tracer("cornell", batches=8, spp=32, integrator="nee"),
+    _path_tracer("tiny_light", batches=8, spp=32, integrator="nee"),
 )
 
 # --- Lights: the environment (Mitsuba's `envmap`, `constant`) and point, spot and directional ---
@@ -152,14 +152,14 @@ PATH_TRACER_CASES = (
 # seen by Mitsuba: a map black but for one texel lights one side of a sphere, and Mitsuba must
 # light the same side as brightly (tests/render/test_light_closed_form.py pins the same map
 # against a closed form).
-lights = partial(ReferenceCase, family="lights", size=64, batches=8, seed=20261123)
+_lights = partial(ReferenceCase, family="lights", size=64, batches=8, seed=20261123)
 LIGHT_CASES = (
-    lights("env_sun_spheres", spp=32),
-    lights("env_sun_spheres", spp=32, integrator="nee"),
-    lights("constant_env", spp=32),
-    lights("constant_env", spp=32, integrator="bsdf"),
-    lights("env_one_texel", spp=16),
-    lights("point_spot_directional", spp=32),
+    _lights("env_sun_spheres", spp=32),
+    _lights("env_sun_spheres", spp=32, integrator="nee"),
+    _lights("constant_env", spp=32),
+    _lights("constant_env", spp=32, integrator="bsdf"),
+    _lights("env_one_texel", spp=16),
+    _lights("point_spot_directional", spp=32),
 )
 
 # --- Issue 14's materials and assets ---------------------------------------------------------
@@ -182,14 +182,14 @@ LIGHT_CASES = (
 # - alpha_blend (the quad BLEND, its alpha ramping across it): stochastic transparency for camera
 #   and shadow rays against its expectation, Mitsuba's `mask` of that alpha.
 # Each scene has a seed of its own, so the scenes' noise is independent.
-materials = partial(ReferenceCase, family="materials", size=64, batches=16, spp=32)
+_materials = partial(ReferenceCase, family="materials", size=64, batches=16, spp=32)
 MATERIAL_CASES = (
-    materials("principled_spheres", seed=20261201),
-    materials("textured_quads", seed=20261202),
-    materials("alpha_cutout", seed=20261203),
-    materials("textured_asset", seed=20261204),
-    materials("principled_transmission", seed=20261209),
-    materials("alpha_blend", seed=20261206),
+    _materials("principled_spheres", seed=20261201),
+    _materials("textured_quads", seed=20261202),
+    _materials("alpha_cutout", seed=20261203),
+    _materials("textured_asset", seed=20261204),
+    _materials("principled_transmission", seed=20261209),
+    _materials("alpha_blend", seed=20261206),
 )
 
 # --- Shading normals without our terms -------------------------------------------------------
@@ -205,12 +205,12 @@ MATERIAL_CASES = (
 # silhouette's geometric normal 12 of 192 blocks along the smooth sphere's outline are brighter
 # (measured, the term off). tests/render/test_shading_normal_terms.py tests what the terms do.
 MITSUBA_TERMS = tuple(MITSUBA_SHADING_NORMALS.items())
-shading_normals = partial(
+_shading_normals = partial(
     ReferenceCase, family="shading_normals", size=64, batches=16, spp=32, shader_overrides=MITSUBA_TERMS
 )
 SHADING_NORMAL_CASES = (
-    shading_normals("smooth_sphere", seed=20261205),
-    shading_normals("normal_mapped_plane", seed=20261207),
+    _shading_normals("smooth_sphere", seed=20261205),
+    _shading_normals("normal_mapped_plane", seed=20261207),
 )
 
 # --- Bidirectional path tracing ----------------------------------------------------------------
@@ -231,18 +231,18 @@ SHADING_NORMAL_CASES = (
 # tests/render/test_bdpt_weights.py weighs paths on some of them, tests/render/test_bdpt.py checks
 # others for non-finite samples.
 # 32x32 and 8 batches: weaker statistics than the path tracer's at 64x64, the price of CI time.
-bdpt = partial(ReferenceCase, family="bdpt", size=32, batches=8, spp=16, integrator="bdpt")
+_bdpt = partial(ReferenceCase, family="bdpt", size=32, batches=8, spp=16, integrator="bdpt")
 BDPT_CASES = (
-    bdpt("cornell", seed=20261211),
-    bdpt("cornell_1e-4", seed=20261212, reference="cornell"),
-    bdpt("env_sun_spheres", seed=20261215),
-    bdpt("point_spot_directional", seed=20261216),
-    bdpt("principled_transmission", seed=20261218),
-    bdpt("textured_asset", seed=20261220),
-    bdpt("normal_mapped_plane", seed=20261224, shader_overrides=MITSUBA_TERMS),
-    bdpt("door_ajar", seed=20261225),
-    bdpt("caustic", seed=20261226),
-    bdpt("glossy_through_glossy", seed=20261227),
+    _bdpt("cornell", seed=20261211),
+    _bdpt("cornell_1e-4", seed=20261212, reference="cornell"),
+    _bdpt("env_sun_spheres", seed=20261215),
+    _bdpt("point_spot_directional", seed=20261216),
+    _bdpt("principled_transmission", seed=20261218),
+    _bdpt("textured_asset", seed=20261220),
+    _bdpt("normal_mapped_plane", seed=20261224, shader_overrides=MITSUBA_TERMS),
+    _bdpt("door_ajar", seed=20261225),
+    _bdpt("caustic", seed=20261226),
+    _bdpt("glossy_through_glossy", seed=20261227),
 )
 
 CASES: tuple[ReferenceCase, ...] = PATH_TRACER_CASES + LIGHT_CASES + MATERIAL_CASES + SHADING_NORMAL_CASES + BDPT_CASES
