@@ -3,11 +3,14 @@
     pip install -e ".[reference]"                     # mitsuba>=3.5
     python scripts/make_references.py                 # every reference scene
     python scripts/make_references.py cornell --passes 8 --variant scalar_rgb
+    python scripts/make_references.py --list          # the references and the cases compared with each
 
 It imports wgputrace as installed (editable, from this checkout) and writes into that checkout.
+Which references there are and how each is rendered is wgputrace.testing.reference_cases'
+REFERENCES, the registry the reference tests read their cases from.
 
 Each scene is built in Mitsuba from our own triangles, materials and camera
-(wgputrace/reference/mitsuba_scene.py) and rendered with Mitsuba's `path` integrator at the same
+(wgputrace.reference.mitsuba_scene) and rendered with Mitsuba's `path` integrator at the same
 max depth and a box pixel filter; its environment and lights become Mitsuba's `constant`,
 `envmap`, `point`, `spot` and `directional` emitters. Several passes with different seeds give a per-pixel mean and
 its standard error; both are stored as float16 with the settings and versions used.
@@ -23,7 +26,7 @@ import argparse
 import json
 import sys
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -32,45 +35,11 @@ import numpy as np
 from wgputrace import load_scene
 from wgputrace.reference.mitsuba_scene import choose_variant, load_mitsuba, mitsuba_scene
 from wgputrace.testing.checkout import checkout_root
+from wgputrace.testing.reference_cases import CASES, REFERENCE_SIZE, REFERENCES, ReferenceSettings
 
 REFERENCE_DIR = checkout_root() / "tests" / "references"
-WIDTH = HEIGHT = 128
+WIDTH = HEIGHT = REFERENCE_SIZE
 FLOAT16_MAX = float(np.finfo(np.float16).max)
-
-
-@dataclass(frozen=True)
-class ReferenceSettings:
-    max_depth: int
-    spp: int  # samples per pixel in one pass
-    passes: int  # independent passes (seeds 0 .. passes - 1), for the standard error
-
-
-# The scenes with a reference of their own (the scaled Cornell boxes are tested against `cornell`).
-REFERENCES = {
-    "cornell": ReferenceSettings(max_depth=9, spp=256, passes=16),
-    "tiny_light": ReferenceSettings(max_depth=9, spp=256, passes=16),
-    "glass_grazing": ReferenceSettings(max_depth=12, spp=256, passes=16),
-    "glossy_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "principled_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "principled_transmission": ReferenceSettings(max_depth=10, spp=256, passes=16),
-    "textured_quads": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "textured_asset": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "alpha_cutout": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "smooth_sphere": ReferenceSettings(max_depth=4, spp=256, passes=16),
-    "alpha_blend": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "normal_mapped_plane": ReferenceSettings(max_depth=4, spp=256, passes=16),
-    "slivers": ReferenceSettings(max_depth=5, spp=256, passes=16),
-    "axis_boxes": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    # lit by the environment and by point, spot and directional lights (wgputrace/scenes/)
-    "env_sun_spheres": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "constant_env": ReferenceSettings(max_depth=6, spp=256, passes=16),
-    "env_one_texel": ReferenceSettings(max_depth=3, spp=256, passes=16),
-    "point_spot_directional": ReferenceSettings(max_depth=5, spp=256, passes=16),
-    # scenes that break path tracers (issue 18): mostly indirect light, a caustic, glossy seen in glossy
-    "door_ajar": ReferenceSettings(max_depth=10, spp=4096, passes=16),
-    "caustic": ReferenceSettings(max_depth=8, spp=4096, passes=16),
-    "glossy_through_glossy": ReferenceSettings(max_depth=8, spp=4096, passes=16),
-}
 
 
 def render_passes(mi, scene, name: str, settings: ReferenceSettings) -> tuple[np.ndarray, np.ndarray]:
@@ -135,6 +104,19 @@ def make_reference(name: str, settings: ReferenceSettings, variant: str, out_dir
     return path
 
 
+def list_references(names: list[str]) -> str:
+    """One line per reference: its settings and the cases compared with it."""
+    lines = []
+    for name in names:
+        settings = REFERENCES[name]
+        cases = ", ".join(f"{case.family}:{case.name}" for case in CASES if case.reference == name)
+        lines.append(
+            f"{name}: max depth {settings.max_depth}, {settings.passes} x {settings.spp} spp at {WIDTH}x{HEIGHT}; "
+            f"cases {cases}"
+        )
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("scenes", nargs="*", default=list(REFERENCES), help=f"default: {' '.join(REFERENCES)}")
@@ -142,10 +124,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--spp", type=int, help="samples per pixel per pass (default: per scene)")
     parser.add_argument("--passes", type=int, help="independent passes (default: per scene)")
     parser.add_argument("--out", type=Path, default=REFERENCE_DIR, help=f"output folder (default {REFERENCE_DIR})")
+    parser.add_argument("--list", action="store_true", help="list the references and their cases, render nothing")
     args = parser.parse_args(argv)
     unknown = [name for name in args.scenes if name not in REFERENCES]
     if unknown:
         parser.error(f"no reference settings for {', '.join(unknown)}; known: {', '.join(REFERENCES)}")
+    if args.list:
+        print(list_references(args.scenes))
+        return 0
     variant = choose_variant(args.variant)
     for name in args.scenes:
         settings = REFERENCES[name]

@@ -48,10 +48,10 @@ SPP = 8
 FAMILY_SIGNIFICANCE = 1e-3
 # (s, t) of every strategy for paths of 3 edges
 STRATEGIES = ((0, 4), (1, 3), (2, 2), (3, 1))
-# Built-in scenes that no other bdpt test renders to radiance (tests/render/test_bdpt_references.py
-# asserts no non-finite sample on its own): the tiny lamp, the box 1e4 times its size, zero-area
-# triangles, an environment black but for one texel (densities that round to 0), and glass at
-# grazing angles (total internal reflection on light paths).
+# Built-in scenes that no other bdpt test renders to radiance (the bdpt reference cases,
+# tests/render/test_references.py, assert no non-finite sample on their own): the tiny lamp, the
+# box 1e4 times its size, zero-area triangles, an environment black but for one texel (densities
+# that round to 0), and glass at grazing angles (total internal reflection on light paths).
 NAN_SCENES = ("tiny_light", "cornell_1e4", "slivers", "env_one_texel", "glass_grazing")
 BLOCK_TESTS = sum((SIZE // block) ** 2 for block in BLOCKS) * 3
 PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, BLOCK_TESTS * len(STRATEGIES))

@@ -42,17 +42,17 @@ FLOAT_RTOL = 1e-5
 # The expected value is computed (quadrature, interpolation over the pixels' angles) to within
 # this fraction of the standard error: it moves z by at most this much.
 INTEGRATION_FRACTION = 0.1
+# A(cos theta) is computed at this many Chebyshev nodes spanning the image's angles and
+# interpolated; the parabola through three of them bounds the error.
+ALBEDO_NODES = 5
+# Camera rays per pixel, uniform like the renderer's jitter, over which A is averaged.
+SUBPIXELS = 4
 
 # The plane at the origin, turned so the camera, 2 units away, sees it at these cosines through
 # a field of view this narrow: across the image cos theta varies by at most ~0.02.
 INCIDENT_COSINES = (1.0, 0.5, 0.1)
 VFOV_DEGREES = 1.0
 PLANE_SIZE = 4.0
-# A(cos theta) is computed at this many Chebyshev nodes spanning the image's angles and
-# interpolated; the parabola through three of them bounds the error.
-ALBEDO_NODES = 5
-# Camera rays per pixel, uniform like the renderer's jitter, over which A is averaged.
-SUBPIXELS = 4
 
 DIFFUSE = Diffuse("diffuse", color=(1, 1, 1))
 GLOSSY = [Glossy(f"glossy {r}", color=(1, 1, 1), roughness=r) for r in (0.01, 0.1, 0.5, 1.0)]

@@ -6,6 +6,7 @@ from __future__ import annotations
 import _thread
 import signal
 import threading
+from dataclasses import dataclass, field
 
 import numpy as np
 import pytest
@@ -89,39 +90,48 @@ def assert_mean_of_complete_samples(renderer: wt.Renderer, scene) -> None:
     np.testing.assert_array_equal(renderer.image(), fresh.image())
 
 
+@dataclass
+class SigintProgress:
+    """A progress callback that records each batch and raises SIGINT `signals` times inside its
+    call for batch number `at_batch`; `went_on` says whether that call ran on after the signals."""
+
+    at_batch: int
+    signals: int
+    batches: list[int] = field(default_factory=list)
+    went_on: bool = False
+
+    def __call__(self, samples: int) -> None:
+        self.batches.append(samples)
+        if len(self.batches) == self.at_batch:
+            for _ in range(self.signals):
+                signal.raise_signal(signal.SIGINT)
+            self.went_on = True
+
+
+def interrupted_render(scene, progress: SigintProgress, raises: type[BaseException]) -> wt.Renderer:
+    """A renderer whose endless render `progress` stopped with `raises`, every batch counted."""
+    renderer = wt.Renderer(scene, SIZE, SIZE, seed=SEED)
+    with pytest.raises(raises):
+        renderer.render(ENDLESS_SPP, progress)
+    assert renderer.samples_per_pixel == sum(progress.batches)
+    return renderer
+
+
 @pytest.mark.gpu
 def test_sigint_stops_after_the_submit_in_flight(scene):
-    renderer = wt.Renderer(scene, SIZE, SIZE, seed=SEED)
-    batches = []
-
-    def progress(samples: int) -> None:
-        batches.append(samples)
-        if len(batches) == 3:
-            signal.raise_signal(signal.SIGINT)
-
-    with pytest.raises(Interrupted):
-        renderer.render(ENDLESS_SPP, progress)
-    # the signal came inside the third callback: the render ended there, every batch counted
-    assert len(batches) == 3 and renderer.samples_per_pixel == sum(batches)
+    progress = SigintProgress(at_batch=3, signals=1)
+    renderer = interrupted_render(scene, progress, Interrupted)
+    # the signal came inside the third callback: the render ended there
+    assert len(progress.batches) == 3
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     assert_mean_of_complete_samples(renderer, scene)
 
 
 @pytest.mark.gpu
 def test_a_second_sigint_aborts_and_leaves_the_renderer_consistent(scene):
-    renderer = wt.Renderer(scene, SIZE, SIZE, seed=SEED)
-    batches = []
-
-    def progress(samples: int) -> None:
-        batches.append(samples)
-        if len(batches) == 2:
-            signal.raise_signal(signal.SIGINT)
-            signal.raise_signal(signal.SIGINT)
-            batches.append("not reached")
-
-    with pytest.raises(Aborted):
-        renderer.render(ENDLESS_SPP, progress)
-    assert renderer.samples_per_pixel == sum(batches)
+    progress = SigintProgress(at_batch=2, signals=2)
+    renderer = interrupted_render(scene, progress, Aborted)
+    assert not progress.went_on  # the second signal aborted at once, inside the callback
     assert_mean_of_complete_samples(renderer, scene)
     # and it renders on from there like any renderer
     renderer.render(3)

@@ -15,15 +15,14 @@ from wgputrace import DirectionalLight
 from wgputrace.render.renderer import Renderer
 from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.scene import Camera, Principled, Scene, Shape, Texture
+from wgputrace.testing.scenes import uv_square
 
 pytestmark = pytest.mark.gpu
 
 SIZE = 16
 SPP = 8
-# a quad in z = 0 facing the camera at z = -3 (normal -z); uv (0, 0) at corner A, u along +x, v down
-A, B, C, D = (-1.0, 1.0, 0.0), (1.0, 1.0, 0.0), (1.0, -1.0, 0.0), (-1.0, -1.0, 0.0)
-QUAD = np.array([[A, B, C], [A, C, D]], np.float32)
-QUAD_UVS = np.array([[(0, 0), (1, 0), (1, 1)], [(0, 0), (1, 1), (0, 1)]], np.float32)
+# a quad in z = 0 facing the camera at z = -3 (normal -z); u along +x, v down
+QUAD, QUAD_UVS = uv_square(normal_z=-1)
 CAMERA = Camera.looking_at((0, 0, -3), (0, 0, 0), vfov_degrees=30.0)
 # light from the +x side, 11 degrees above the quad's plane: cos 0.2 on the flat quad
 LIGHT_DIRECTION = (-1.0, 0.0, 0.2)
@@ -105,7 +104,7 @@ def test_grazing_views_noisy_maps_and_degenerate_uvs_give_no_nan():
 
 def test_the_mitsuba_export_wraps_the_map_flipping_green_for_left_handed_tangents():
     """Mitsuba's `normalmap` reads green along n x dP/du, glTF's along the bitangent w (n x t); the
-    scale multiplies x and y (tests/render/test_material_references.py renders it against Mitsuba)."""
+    scale multiplies x and y (tests/render/test_references.py renders it against Mitsuba)."""
     tilted = material(normal_texture=normal_texture((0.0, 0.6, 0.8)), normal_scale=0.5)
     right, left = tilted.mitsuba_bsdf(tangent_handedness=1.0), tilted.mitsuba_bsdf(tangent_handedness=-1.0)
     assert right["type"] == "normalmap" and right["bsdf"]["type"] == "principled"

@@ -24,15 +24,14 @@ from wgputrace.render.texture_atlas import TextureWarning, pack_atlas
 from wgputrace.scene import Camera, Principled, Scene, SceneError, Shape, Texture, TextureTransform, cornell_box
 from wgputrace.scene.texture import WRAP_MODES, srgb_to_linear
 from wgputrace.testing.harness import run_kernel
+from wgputrace.testing.scenes import SQUARE_CORNERS, uv_square
 
 pytestmark = pytest.mark.gpu
 
 SEED = 20_261_202
 SIZE = 24
-# a unit quad in z = 0 seen head-on from z = -3: corner A carries uv (0, 0), the image's top-left
-A, B, C, D = (-1.0, 1.0, 0.0), (1.0, 1.0, 0.0), (1.0, -1.0, 0.0), (-1.0, -1.0, 0.0)
-QUAD = np.array([[A, C, B], [A, D, C]], np.float32)
-QUAD_UVS = np.array([[(0, 0), (1, 1), (1, 0)], [(0, 0), (0, 1), (1, 1)]], np.float32)
+# a unit quad in z = 0 seen head-on from z = -3: its corner (-1, 1) carries uv (0, 0), the image's top-left
+QUAD, QUAD_UVS = uv_square(normal_z=1)
 CAMERA = Camera.looking_at((0, 0, -3), (0, 0, 0), vfov_degrees=45.0)
 
 KERNEL = """
@@ -180,12 +179,12 @@ def brightest_quadrant(image: np.ndarray) -> tuple[int, int]:
 
 def test_a_marked_corner_renders_where_gltf_puts_it():
     marked = np.zeros((16, 16, 3), np.uint8)
-    marked[:8, :8] = 255  # the image's top-left quarter: uv in [0, 1/2]^2, at corner A
+    marked[:8, :8] = 255  # the image's top-left quarter: uv in [0, 1/2]^2, at the corner (-1, 1)
     textured = quad_image(Principled("marked", base_color=(1, 1, 1), roughness=1.0, base_color_texture=Texture(marked)))
-    # the same quarter made of geometry: the quad's quarter at corner A, white, the rest black
+    # the same quarter made of geometry: the quad's quarter at that corner, white, the rest black
     white, black = Principled("white", base_color=(1, 1, 1), roughness=1.0), Principled("black", base_color=(0, 0, 0))
-    a, centre = np.array(A, np.float32), np.zeros(3, np.float32)
-    ab, ad = (a + np.array(B, np.float32)) / 2, (a + np.array(D, np.float32)) / 2
+    (a, b, _, d), centre = SQUARE_CORNERS, np.zeros(3, np.float32)
+    ab, ad = (a + b) / 2, (a + d) / 2
     quarter = np.array([[a, centre, ab], [a, ad, centre]], np.float32)
     scene = Scene([Shape("mark", quarter, white), Shape("rest", QUAD, black)], CAMERA)
     scene.environment = Environment(1.0)

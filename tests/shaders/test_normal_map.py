@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgputrace.testing.harness import run_kernel
+from wgputrace.testing.harness import run_per_case
+from wgputrace.testing.oracles import normalized
 
 pytestmark = pytest.mark.gpu
 
@@ -17,41 +18,15 @@ COUNT = 4096
 ATOL = 1e-4
 # cases this close to a decision (a side, a horizon, a degenerate length) may fall either way in f32
 DECISION_MARGIN = 1e-3
-KERNEL = """
-//! include "normal_map.wgsl"
-fn compute(i: u32) -> vec4<f32> {
-    let shading = inputs_0[6u * i].xyz;
-    let tangent = inputs_0[6u * i + 1u];
-    let texel = inputs_0[6u * i + 2u].xyz;
-    let scale = inputs_0[6u * i + 3u].x;
-    let geometric = inputs_0[6u * i + 4u].xyz;
-    let towards_viewer = inputs_0[6u * i + 5u].xyz;
-    return vec4<f32>(normal_mapped(shading, tangent, texel, scale, geometric, towards_viewer), 0.0);
-}
-"""
+# a case's fields, in normal_mapped's order
+ARGUMENTS = ("shading", "tangent", "texel", "scale", "geometric", "towards_viewer")
 Z, X = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])
 
 
-def unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
-
-
 def run(gpu_context, case: dict[str, np.ndarray]) -> np.ndarray:
-    count = len(case["shading"])
-    inputs = np.zeros((count, 6, 4), np.float32)
-    inputs[:, 0, :3], inputs[:, 1], inputs[:, 2, :3] = case["shading"], case["tangent"], case["texel"]
-    inputs[:, 3, 0] = np.reshape(case["scale"], count)
-    inputs[:, 4, :3], inputs[:, 5, :3] = case["geometric"], case["towards_viewer"]
-    result = run_kernel(
-        gpu_context,
-        KERNEL,
-        [inputs.reshape(-1, 4)],
-        np.dtype((np.float32, 4)),
-        count,
-        input_types=["vec4<f32>"],
-        output_type="vec4<f32>",
-    )
-    return result[:, :3].astype(np.float64)
+    arguments = {name: case[name] for name in ARGUMENTS}
+    body = f"return vec4<f32>(normal_mapped({', '.join(ARGUMENTS)}), 0.0);"
+    return run_per_case(gpu_context, ["normal_map.wgsl"], arguments, body)[:, :3].astype(np.float64)
 
 
 def one_case(**fields) -> dict[str, np.ndarray]:
@@ -61,8 +36,8 @@ def one_case(**fields) -> dict[str, np.ndarray]:
 
 
 def cases(rng: np.random.Generator) -> dict[str, np.ndarray]:
-    geometric = unit(rng.normal(size=(COUNT, 3)))
-    shading = unit(geometric + 0.4 * rng.normal(size=(COUNT, 3)))
+    geometric = normalized(rng.normal(size=(COUNT, 3)))
+    shading = normalized(geometric + 0.4 * rng.normal(size=(COUNT, 3)))
     tangent = np.concatenate([rng.normal(size=(COUNT, 3)), rng.choice([-1.0, 1.0], (COUNT, 1))], axis=1)
     case = {
         "shading": shading,
@@ -71,7 +46,7 @@ def cases(rng: np.random.Generator) -> dict[str, np.ndarray]:
         "texel": np.concatenate([rng.random((COUNT, 2)), rng.uniform(0.3, 1.0, (COUNT, 1))], axis=1),
         "scale": rng.uniform(0.0, 2.0, COUNT),
         "geometric": geometric,
-        "towards_viewer": unit(geometric + 1.2 * rng.normal(size=(COUNT, 3))),
+        "towards_viewer": normalized(geometric + 1.2 * rng.normal(size=(COUNT, 3))),
     }
     return {name: values.astype(np.float32).astype(np.float64) for name, values in case.items()}
 
@@ -113,13 +88,13 @@ HAND_WORKED = [
     # the flat texel (0.5, 0.5, 1) leaves the shading normal as it is, at any scale
     ({"scale": 3.0}, Z),
     # +X of the texture tilts towards the tangent; scale 0 flattens it again
-    ({"texel": (1.0, 0.5, 1.0)}, unit(np.array([1.0, 0.0, 1.0]))),
+    ({"texel": (1.0, 0.5, 1.0)}, normalized(np.array([1.0, 0.0, 1.0]))),
     ({"texel": (1.0, 0.5, 1.0), "scale": 0.0}, Z),
     # +Y tilts towards the bitangent cross(z, x) = +y, or -y where w = -1
-    ({"texel": (0.5, 1.0, 1.0)}, unit(np.array([0.0, 1.0, 1.0]))),
-    ({"texel": (0.5, 1.0, 1.0), "tangent": (1.0, 0.0, 0.0, -1.0)}, unit(np.array([0.0, -1.0, 1.0]))),
+    ({"texel": (0.5, 1.0, 1.0)}, normalized(np.array([0.0, 1.0, 1.0]))),
+    ({"texel": (0.5, 1.0, 1.0), "tangent": (1.0, 0.0, 0.0, -1.0)}, normalized(np.array([0.0, -1.0, 1.0]))),
     # a tangent with a component along the normal is made perpendicular first
-    ({"texel": (1.0, 0.5, 1.0), "tangent": (1.0, 0.0, 5.0, 1.0)}, unit(np.array([1.0, 0.0, 1.0]))),
+    ({"texel": (1.0, 0.5, 1.0), "tangent": (1.0, 0.0, 5.0, 1.0)}, normalized(np.array([1.0, 0.0, 1.0]))),
     # degenerate tangents: zero, along the normal, NaN
     ({"texel": (1.0, 0.5, 1.0), "tangent": (0.0, 0.0, 0.0, 1.0)}, Z),
     ({"texel": (1.0, 0.5, 1.0), "tangent": (0.0, 0.0, 1.0, 1.0)}, Z),
@@ -128,7 +103,7 @@ HAND_WORKED = [
     ({"texel": (0.5, 0.5, 0.5)}, Z),
     # a texel pointing below the surface, and one that hides a grazing viewer
     ({"texel": (1.0, 0.5, 0.0)}, Z),
-    ({"texel": (0.0, 0.5, 0.75), "towards_viewer": unit(np.array([1.0, 0.0, 0.05]))}, Z),
+    ({"texel": (0.0, 0.5, 0.75), "towards_viewer": normalized(np.array([1.0, 0.0, 0.05]))}, Z),
 ]
 
 

@@ -12,7 +12,8 @@ from wgputrace.gpu.buffers import storage_buffer
 from wgputrace.gpu.layout import CORNER_ATTRIBUTES
 from wgputrace.kernels.bind_groups import SHADING_GROUP
 from wgputrace.kernels.variant import KernelVariant, SceneFeatures
-from wgputrace.testing.harness import run_kernel
+from wgputrace.testing.harness import run_per_case
+from wgputrace.testing.oracles import normalized
 
 pytestmark = pytest.mark.gpu
 
@@ -23,30 +24,20 @@ COUNT = 4096
 ATOL = 1e-3
 # cases this close to a decision (a side, a horizon) may fall either way in float32: not compared
 DECISION_MARGIN = 1e-3
-KERNEL = """
-//! include "generated/structs.wgsl"
-//! include "generated/shading_normals.wgsl"
-fn compute(i: u32) -> vec4<f32> {
-    let triangle = Triangle(inputs_0[6u * i].xyz, 0u, inputs_0[6u * i + 1u].xyz, inputs_0[6u * i + 2u].xyz);
-    let p = inputs_0[6u * i + 3u].xyz;
-    let towards_viewer = inputs_0[6u * i + 4u].xyz;
-    let direction = inputs_0[6u * i + 5u].xyz;
+INCLUDES = ("generated/structs.wgsl", "generated/shading_normals.wgsl")
+BODY = """
+    let triangle = Triangle(corner0, 0u, corner1, corner2);
     let geometric = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
     let shading = shading_normal(i, triangle, p, geometric, towards_viewer);
     return vec4<f32>(shading, shading_weight(shading, geometric, towards_viewer, direction));
-}
 """
-
-
-def unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 def cases(rng: np.random.Generator) -> dict[str, np.ndarray]:
     corners = rng.normal(size=(COUNT, 3, 3))
-    geometric = unit(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
+    geometric = normalized(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
     # corner normals near the geometric one, some flipped against it, some of triangles shaded flat
-    normals = unit(geometric[:, None, :] + 0.6 * rng.normal(size=(COUNT, 3, 3)))
+    normals = normalized(geometric[:, None, :] + 0.6 * rng.normal(size=(COUNT, 3, 3)))
     normals *= np.where(rng.random(COUNT) < 0.1, -1.0, 1.0)[:, None, None]
     normals[rng.random(COUNT) < 0.1] = 0.0
     # corner normals that cancel at the centroid (the records need not be unit length)
@@ -59,8 +50,8 @@ def cases(rng: np.random.Generator) -> dict[str, np.ndarray]:
         "corners": corners,
         "normals": normals,
         "p": p,
-        "towards_viewer": unit(rng.normal(size=(COUNT, 3))),
-        "direction": unit(rng.normal(size=(COUNT, 3))),
+        "towards_viewer": normalized(rng.normal(size=(COUNT, 3))),
+        "direction": normalized(rng.normal(size=(COUNT, 3))),
     }
     # the oracle works on the float32 values the shader reads
     return {name: values.astype(np.float32).astype(np.float64) for name, values in case.items()}
@@ -69,7 +60,7 @@ def cases(rng: np.random.Generator) -> dict[str, np.ndarray]:
 def oracle(case: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Expected shading normals and weights, and which cases sit clear of every decision."""
     v0, v1, v2 = (case["corners"][:, k] for k in range(3))
-    geometric = unit(np.cross(v1 - v0, v2 - v0))
+    geometric = normalized(np.cross(v1 - v0, v2 - v0))
     e1, e2, d = v1 - v0, v2 - v0, case["p"] - v0
     d11, d12, d22 = (np.einsum("nd,nd->n", a, b) for a, b in ((e1, e1), (e1, e2), (e2, e2)))
     d1, d2 = np.einsum("nd,nd->n", d, e1), np.einsum("nd,nd->n", d, e2)
@@ -99,21 +90,16 @@ def oracle(case: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 def test_shading_normal_and_weight_match_the_oracle(gpu_context):
     case = cases(np.random.default_rng(SEED))
-    inputs = np.zeros((COUNT, 6, 4), np.float32)
-    for k in range(3):
-        inputs[:, k, :3] = case["corners"][:, k]
-    inputs[:, 3, :3], inputs[:, 4, :3], inputs[:, 5, :3] = case["p"], case["towards_viewer"], case["direction"]
+    arguments = {f"corner{k}": case["corners"][:, k] for k in range(3)}
+    arguments.update((name, case[name]) for name in ("p", "towards_viewer", "direction"))
     records = CORNER_ATTRIBUTES.zeros(COUNT)
     for k in range(3):
         records[f"normal{k}"] = case["normals"][:, k]
-    result = run_kernel(
+    result = run_per_case(
         gpu_context,
-        KERNEL,
-        [inputs.reshape(-1, 4)],
-        np.dtype((np.float32, 4)),
-        COUNT,
-        input_types=["vec4<f32>"],
-        output_type="vec4<f32>",
+        INCLUDES,
+        arguments,
+        BODY,
         groups={SHADING_GROUP: {"corner_attributes": storage_buffer(gpu_context, "corners", records)}},
         variant=KernelVariant(SceneFeatures(smooth=True)),
     )

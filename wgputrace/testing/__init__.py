@@ -6,6 +6,8 @@ python-xlib for the X driver). One concept per module:
   the power a sample count buys, histogram images.
 - image_statistics: Monte Carlo images as estimates with variances; Welch's test per block,
   z-scores of two images' difference per block.
+- reference_cases: every comparison with a Mitsuba 3 reference (the tests' cases) and how Mitsuba
+  renders each reference (scripts/make_references.py).
 - references: the Mitsuba 3 reference images of tests/references/, batched renders of ours,
   images and lines describing a failed comparison.
 - oracles: float64 numpy ray oracles (Moller-Trumbore, slabs, brute-force and BVH closest hits,

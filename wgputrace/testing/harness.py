@@ -10,6 +10,8 @@ The shipped code is what is tested.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import wgpu
 
@@ -29,6 +31,8 @@ WORKGROUP = ARRAY_WORKGROUP[0]
 # BVH's nodes, a buffer for the rest).
 _SCENE_RECORDS = {"triangles": TRIANGLE, "materials": MATERIAL, "lights": LIGHT}
 _NODE_RECORDS = {"bvh": WIDE_BVH_NODE, "flat": BVH_NODE}
+# The swizzle that reads an argument of n components from its vec4 row.
+_ARGUMENT_COMPONENTS = {1: ".x", 2: ".xy", 3: ".xyz", 4: ""}
 
 
 def harness_group(input_types: list[str], output_type: str) -> BindGroup:
@@ -98,6 +102,28 @@ def run_kernel(
     return read_buffer(context, result, output_dtype, count)
 
 
+def run_per_case(
+    context, includes: Sequence[str], arguments: dict[str, np.ndarray], body: str, **options
+) -> np.ndarray:
+    """Run `body` (WGSL statements that return a vec4<f32>; `i` is the case's index) once per case.
+    Each of `arguments` holds one value per case, (count,) or (count, n) with n <= 4, and is a `let`
+    of its name in the body (f32 or vecn<f32>, read from one vec4 row of inputs_0). `includes` are
+    the files the body calls, `options` run_kernel's. Returns (count, 4) float32."""
+    count = len(next(iter(arguments.values())))
+    rows = np.zeros((count, len(arguments), 4), np.float32)
+    lines = [f'//! include "{path}"' for path in includes] + ["fn compute(i: u32) -> vec4<f32> {"]
+    for k, (name, values) in enumerate(arguments.items()):
+        columns = np.reshape(values, (count, -1))
+        rows[:, k, : columns.shape[1]] = columns
+        components = _ARGUMENT_COMPONENTS[columns.shape[1]]
+        lines.append(f"    let {name} = inputs_0[{len(arguments)}u * i + {k}u]{components};")
+    wgsl = "\n".join([*lines, body, "}"])
+    vec4 = np.dtype((np.float32, 4))
+    return run_kernel(
+        context, wgsl, [rows.reshape(-1, 4)], vec4, count, input_types=["vec4<f32>"], output_type="vec4<f32>", **options
+    )
+
+
 def _scene_resources(context, scene: dict[str, object], acceleration: str) -> dict[str, object]:
     records = {**_SCENE_RECORDS, "nodes": _NODE_RECORDS[acceleration]}
     given = {"frame": frame_record(), **{name: struct.zeros(1) for name, struct in records.items()}, **scene}
@@ -138,4 +164,12 @@ def frame_record(node_count: int = 0) -> np.ndarray:
     return record
 
 
-__all__ = ["WORKGROUP", "frame_record", "harness_group", "node_binding", "read_binding", "run_kernel"]
+__all__ = [
+    "WORKGROUP",
+    "frame_record",
+    "harness_group",
+    "node_binding",
+    "read_binding",
+    "run_kernel",
+    "run_per_case",
+]

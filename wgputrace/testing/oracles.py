@@ -64,6 +64,11 @@ def record_corners(records: np.ndarray) -> np.ndarray:
     return np.stack([records["v0"], records["v1"], records["v2"]], axis=1)
 
 
+def normalized(v: np.ndarray) -> np.ndarray:
+    """`v` divided by its length along the last axis."""
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
 def unit_vectors(rng: np.random.Generator, count: int) -> np.ndarray:
     """Directions uniform on the sphere, rounded to float32 (the rounded vectors are the rays)."""
     v = rng.normal(size=(count, 3))

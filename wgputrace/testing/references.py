@@ -1,6 +1,6 @@
 """Mitsuba 3 references (tests/references/<scene>.npz in the checkout, made by
-scripts/make_references.py), batched renders of ours, the per-block comparison of two estimates,
-and images of a failed comparison for a person to look at."""
+scripts/make_references.py), batched renders of ours (of a `ReferenceCase` too), the per-block
+comparison of two estimates, and images of a failed comparison for a person to look at."""
 
 from __future__ import annotations
 
@@ -17,6 +17,8 @@ from wgputrace.scene import DegenerateTrianglesWarning
 from wgputrace.scenes import scene_by_name
 from wgputrace.testing.checkout import checkout_file
 from wgputrace.testing.image_statistics import BlockComparison, Estimate, compare_blocks
+from wgputrace.testing.reference_cases import FAMILY_SIGNIFICANCE, ReferenceCase, family_block_tests
+from wgputrace.testing.stats import sidak
 
 # References are stored as float16, whose 11 significant bits move a value by at most this fraction
 # when rounding. Pixels of one value all round alike, so this is a bias bound, not noise.
@@ -72,6 +74,18 @@ def render_batches(
         nonfinite += renderer.nonfinite_samples
         renderer.reset()
     return BatchedRender(np.stack(images), nonfinite)
+
+
+def render_case(case: ReferenceCase) -> BatchedRender:
+    """`case`'s batches, rendered as it says."""
+    return render_batches(
+        case.scene, case.size, batches=case.batches, spp=case.spp, seed=case.seed, **case.renderer_options
+    )
+
+
+def block_test_significance(case: ReferenceCase) -> float:
+    """The level of each block test of `case`: Sidak's share of FAMILY_SIGNIFICANCE over its family."""
+    return sidak(FAMILY_SIGNIFICANCE, family_block_tests(case.family))
 
 
 def severity_image(comparison: BlockComparison, per_test_significance: float, size: int) -> np.ndarray:
@@ -161,9 +175,11 @@ def assert_matches_reference(
     blocks: Sequence[int],
     per_test_significance: float,
 ) -> None:
-    """`render` has no non-finite sample and the expectation of `reference` (Mitsuba's, averaged
-    down to the render's size) block by block, up to the reference's float16 storage."""
+    """`render` has no non-finite sample or pixel and the expectation of `reference` (Mitsuba's,
+    averaged down to the render's size) block by block, up to the reference's float16 storage."""
     assert render.nonfinite_samples == 0, f"{label}: {render.nonfinite_samples} non-finite samples"
+    # a NaN block would pass the t-test below (its p-value is NaN, never below the level)
+    assert np.isfinite(render.batches).all(), f"{label}: {(~np.isfinite(render.batches)).sum()} non-finite pixels"
     expected = reference.estimate.downsampled(reference.metadata["width"] // render.batches.shape[2])
     assert_same_expectation(
         label,

@@ -1,5 +1,5 @@
-"""Scenes the tests build: small scenes with closed-form images, random triangle soups and rays
-around them, and a soup whose binned-SAH tree is far deeper than logarithmic."""
+"""Scenes the tests build: small scenes with closed-form images, a textured square, random triangle
+soups and rays around them, and a soup whose binned-SAH tree is far deeper than logarithmic."""
 
 from __future__ import annotations
 
@@ -8,6 +8,10 @@ import numpy as np
 from wgputrace import Camera, Diffuse, Emitter, Glass, Scene, make_box, make_icosphere
 
 ENCLOSURE_RADIANCE = (0.8, 1.6, 2.4)
+# The square |x|, |y| <= 1 in z = 0, corner by corner around it, with glTF texture coordinates:
+# uv (0, 0) at (-1, 1, 0), u along +x, v along -y (seen from -z: the top-left, right and down).
+SQUARE_CORNERS = np.array([(-1, 1, 0), (1, 1, 0), (1, -1, 0), (-1, -1, 0)], np.float32)
+SQUARE_UVS = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], np.float32)
 # Triangle soups live in [-1, 1]^3; corners scatter around a centre with this standard deviation.
 TRIANGLE_SIZE = 0.08
 
@@ -26,6 +30,13 @@ def diffuse_sphere_in_emitter(albedo) -> Scene:
 
 def glass_sphere_in_emitter(ior: float = 1.5) -> Scene:
     return inside_emitter(make_icosphere((0, 0, 0), (0, 0, 0), 1.0, 2, Glass("ball", color=(1, 1, 1), ior=ior), "ball"))
+
+
+def uv_square(normal_z: int) -> tuple[np.ndarray, np.ndarray]:
+    """The square as two (2, 3, 3) triangles wound so that their normal is (0, 0, normal_z), -1 or 1,
+    and their corners' (2, 3, 2) texture coordinates."""
+    faces = np.array([[0, 1, 2], [0, 2, 3]]) if normal_z < 0 else np.array([[0, 2, 1], [0, 3, 2]])
+    return SQUARE_CORNERS[faces], SQUARE_UVS[faces]
 
 
 def random_soup(rng: np.random.Generator, count: int, size: float = TRIANGLE_SIZE) -> np.ndarray:

@@ -1,21 +1,11 @@
-"""Shading normals against Mitsuba 3 and against the geometry: a smooth low-poly sphere
-(wgputrace/scenes/smooth_sphere.py: an 80-triangle icosphere with the sphere's normals at its
+"""What our shading normals add to Mitsuba's, on the scenes the reference cases compare without
+it (wgputrace.testing.reference_cases, family shading_normals): a smooth low-poly sphere
+(wgputrace.scenes.smooth_sphere: an 80-triangle icosphere with the sphere's normals at its
 corners, above its flat version, lit from the side) and a normal-mapped plane under a grazing
-light (wgputrace/scenes/normal_mapped.py).
+light (wgputrace.scenes.normal_mapped).
 
-Against Mitsuba: Mitsuba shades with the interpolated and mapped normals as we do, but has no
-terminator term for vertex normals, another one for normal maps (Estevez et al. 2019, which the
-export turns off), and shades a point seen from between the shading and geometric horizons (at
-silhouettes) with the shading normal as well (dark: the viewer is below it), where we take the
-geometric one. Ours is compared with our term and that rule off (gpu/shading_normals.py
-MITSUBA_SHADING_NORMALS), per block of pixels as tests/render/test_material_references.py compares
-its scenes (block Welch tests, Sidak over both scenes). With either on, ours differs where it
-should: with the term on the smooth sphere is darker near its terminator (3.7%) and the plane's
-bumps far darker on their lit sides (mean 0.126 against 0.165); with the silhouette's geometric
-normal 12 of 192 blocks along the smooth sphere's outline are brighter (measured, the term off).
-
-What the term is for, tested with it on: a shading normal can tilt a facet towards a light its
-own plane barely faces (geometric cosine near 0); without the term that facet is lit by the larger
+What the terminator term is for: a shading normal can tilt a facet towards a light its own plane
+barely faces (geometric cosine near 0); without the term that facet is lit by the larger
 shading cosine and goes black at once where the light passes its plane, a hard facet-shaped step
 at the shadow terminator. Chiang et al. 2019's weight G' = G (1 + G - G^2) of G = min(1, cos_g /
 (cos_s n_s.n_g)) is at most 1.25 G, so a Lambertian facet's radiance rho/pi E cos_s G' is at most
@@ -35,7 +25,7 @@ import numpy as np
 import pytest
 
 from wgputrace import DirectionalLight, Environment, Renderer
-from wgputrace.kernels.shading_normals import MITSUBA_SHADING_NORMALS, SHADOW_TERMINATOR_TERM
+from wgputrace.kernels.shading_normals import SHADOW_TERMINATOR_TERM
 from wgputrace.scene import Camera
 from wgputrace.scenes.normal_mapped import (
     HALF_SIZE,
@@ -45,20 +35,11 @@ from wgputrace.scenes.normal_mapped import (
     normal_mapped_plane,
 )
 from wgputrace.scenes.smooth_sphere import CENTRE_Y, RADIUS, smooth_sphere
-from wgputrace.testing.references import assert_matches_reference, load_reference, render_batches
-from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
 
-# scene: the seed of its batches
-SCENES = {"smooth_sphere": 20261205, "normal_mapped_plane": 20261207}
 SEED = 20261208
 SIZE = 64
-BLOCKS = (8, SIZE)
-BATCHES = 16
-SPP = 32  # per batch
-FAMILY_SIGNIFICANCE = 1e-3
-PER_TEST_SIGNIFICANCE = sidak(FAMILY_SIGNIFICANCE, sum((SIZE // block) ** 2 for block in BLOCKS) * 3 * len(SCENES))
 
 # The direct-light comparison: camera and light samples only (a point light: no noise but the
 # pixel's jitter, the same in both renders at one seed).
@@ -70,29 +51,6 @@ TERM_GAIN_MAX = 1.25
 RADIANCE_ATOL = 1e-5
 # The smooth sphere's radiance with the term over that without: measured 0.963.
 DARKENING_MIN = 0.9
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("scene", SCENES)
-def test_without_our_terms_matches_mitsuba(gpu_context, failure_dir, scene):
-    reference = load_reference(scene)
-    render = render_batches(
-        scene,
-        SIZE,
-        batches=BATCHES,
-        spp=SPP,
-        seed=SCENES[scene],
-        max_depth=reference.metadata["max_depth"],
-        shader_overrides=MITSUBA_SHADING_NORMALS,
-    )
-    assert_matches_reference(
-        f"{scene}_without_our_terms_vs_mitsuba",
-        render,
-        reference,
-        failure_dir,
-        blocks=BLOCKS,
-        per_test_significance=PER_TEST_SIGNIFICANCE,
-    )
 
 
 @cache
