@@ -368,7 +368,7 @@ def sheet_scene(triangles: int) -> Scene:
 
 
 def pixel_centre_rays(camera: Camera, width: int, height: int, dtype=np.float32) -> tuple[np.ndarray, np.ndarray]:
-    """(origins, unit directions), (width * height, 3), row 0 at the top: camera.wgsl's
+    """(origins, unit directions), (width * height, 3), row 0 at the top: camera/camera_ray.wgsl's
     camera_ray with the jitter at the pixel centre."""
     right, up, forward = camera.image_plane(width, height)
     x = (np.arange(width) + 0.5) / width * 2.0 - 1.0

@@ -8,7 +8,7 @@ the glossy vertex on (threshold 0) and off (threshold above every roughness: BSD
 only). Both are unbiased, so the reference is a long render averaging both. The efficiency of
 each is 1 / (relative MSE x seconds); the threshold to choose is the smallest roughness from
 which light sampling is at least as efficient. Writes bench/results/glossy_light_sampling_<adapter>.json
-and .png; the value in shaders/path_tracer.wgsl (GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS) comes from it.
+and .png; the value in shaders/integrators/path_tracer.wgsl (GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS) comes from it.
 """
 
 from __future__ import annotations

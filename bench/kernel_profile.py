@@ -72,11 +72,11 @@ def rewritten(file: str, replacements: dict[str, str]) -> str:
 
 
 def function_stack_traversal() -> str:
-    """The shipped traverse_bvh.wgsl with its stack a function variable: WGSL then zero-fills it at
+    """The shipped geometry/traverse_bvh.wgsl with its stack a function variable: WGSL then zero-fills it at
     every traversal instead of once per invocation."""
     first_local = "    var stack_size = 0u;\n"
     return rewritten(
-        "traverse_bvh.wgsl",
+        "geometry/traverse_bvh.wgsl",
         {
             "var<private> stack: array<u32, TRAVERSAL_STACK_SIZE>;\n": "",
             first_local: "    var stack: array<u32, TRAVERSAL_STACK_SIZE>;\n" + first_local,
@@ -85,9 +85,9 @@ def function_stack_traversal() -> str:
 
 
 def nearest_first_child_order() -> str:
-    """The shipped bvh_child_order.wgsl putting only the nearest child first, the others unsorted."""
+    """The shipped geometry/bvh_child_order.wgsl putting only the nearest child first, the others unsorted."""
     return rewritten(
-        "bvh_child_order.wgsl",
+        "geometry/bvh_child_order.wgsl",
         {
             "    order_pair(c2, c3);\n    order_pair(c0, c2);\n    order_pair(c1, c3);\n    order_pair(c1, c2);\n": (
                 "    order_pair(c0, c2);\n    order_pair(c0, c3);\n"
@@ -97,9 +97,9 @@ def nearest_first_child_order() -> str:
 
 
 def storage_triangles_bindings() -> str:
-    """The shipped scene_bindings.wgsl reading triangles from a storage buffer (the scene group's
+    """The shipped geometry/scene_bindings.wgsl reading triangles from a storage buffer (the scene group's
     `triangles` declared as one: STORAGE_TRIANGLES)."""
-    return rewritten("scene_bindings.wgsl", {"load_Triangle(triangles, index)": "triangles[index]"})
+    return rewritten("geometry/scene_bindings.wgsl", {"load_Triangle(triangles, index)": "triangles[index]"})
 
 
 STORAGE_TRIANGLES = Binding("triangles", STORAGE_READ, TRIANGLE)
@@ -140,14 +140,14 @@ VARIANTS = [
     Variant("no_shadow_rays", integrator="bsdf", same_arithmetic=False, what="BSDF sampling alone: no shadow rays"),
     Variant(
         "nearest_child_first",
-        sources={"bvh_child_order.wgsl": nearest_first_child_order()},
+        sources={"geometry/bvh_child_order.wgsl": nearest_first_child_order()},
         same_arithmetic=False,
         same_image=True,
         what="4-wide BVH, only the nearest child first (the others unsorted)",
     ),
     Variant(
         "function_stack",
-        sources={"acceleration.wgsl": function_stack_traversal()},
+        sources={"generated/acceleration.wgsl": function_stack_traversal()},
         what="the traversal stack a function variable, zero-filled at every traversal",
     ),
     Variant(
@@ -157,7 +157,7 @@ VARIANTS = [
     ),
     Variant(
         "storage_triangles",
-        sources={"scene_bindings.wgsl": storage_triangles_bindings()},
+        sources={"geometry/scene_bindings.wgsl": storage_triangles_bindings()},
         storage_triangles=True,
         what="triangles in a storage buffer instead of texels",
     ),
@@ -175,7 +175,7 @@ class Run:
         width, height = renderer.width, renderer.height
         self.context, self.variant, self.width, self.height = context, variant, width, height
         generated = {
-            "acceleration.wgsl": '//! include "traverse_bvh.wgsl"\n',
+            "generated/acceleration.wgsl": '//! include "geometry/traverse_bvh.wgsl"\n',
             # the stack the renderer compiles for this scene's tree, unless the variant sizes its own
             GENERATED_TRAVERSAL_STACK: traversal_stack(renderer.traversal_stack_size),
             GENERATED_MATERIALS: material_dispatch(shaded_kinds(frozenset(m.kind for m in renderer.scene.materials))),
@@ -188,7 +188,7 @@ class Run:
             resources["triangles"] = storage_buffer(context, "triangles", renderer.records.triangles)
         self.kernel = ComputeKernel(
             context,
-            "path_tracer.wgsl",
+            "integrators/path_tracer.wgsl",
             (scene, PIXELS_GROUP),
             workgroup_size=variant.workgroup,
             generated=generated,

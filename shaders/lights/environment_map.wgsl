@@ -1,6 +1,6 @@
 // An environment map: Mitsuba 3's envmap convention, bilinear lookup by hand, alias-table sampling by cells.
 //! include "lights/environment.wgsl"
-//! include "sampling.wgsl"
+//! include "sampling/warps.wgsl"
 //
 // The numpy references are scene/environment.py's (its docstring pins the convention): a direction
 // of the map's own frame has u = atan2(x, -z) / 2 pi, v = acos(y) / pi; column i's texels sit at

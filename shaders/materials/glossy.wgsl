@@ -1,7 +1,7 @@
 // Glossy: GGX microfacet reflection with Fresnel = color, Smith's separable shadowing, and
 // sampling of visible normals (Heitz 2018). eval, sample and pdf share the same D and G1.
-//! include "sampling.wgsl"
-//! include "bsdf_sample.wgsl"
+//! include "sampling/warps.wgsl"
+//! include "materials/bsdf_sample.wgsl"
 
 // Glossy lobes narrower than this roughness are treated like mirrors: light sampling would almost
 // never land in the lobe, so those vertices skip next-event estimation (Glossy.samples_lights) and

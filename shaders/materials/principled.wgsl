@@ -8,8 +8,8 @@
 // and transmits, weighted by (1 - metallic) spec_trans. eval, pdf and sample transcribe Mitsuba's
 // src/bsdfs/principled.cpp and principledhelpers.h for these parameters (radiance transport), so
 // that renders match Mitsuba's references. f includes |cos theta_o|.
-//! include "sampling.wgsl"
-//! include "bsdf_sample.wgsl"
+//! include "sampling/warps.wgsl"
+//! include "materials/bsdf_sample.wgsl"
 //! include "materials/glossy.wgsl"
 //! include "materials/glass.wgsl"
 

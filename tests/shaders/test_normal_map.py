@@ -1,4 +1,4 @@
-"""normal_map.wgsl against a numpy oracle and hand-worked cases: the texel's tangent-space normal
+"""shading/normal_map.wgsl against a numpy oracle and hand-worked cases: the texel's tangent-space normal
 (x and y scaled) in the frame of the shading normal and the Gram-Schmidt tangent, bitangent
 cross(n, t) * w; the unmapped normal where the tangent or texel is degenerate, the mapped normal
 would fall below the geometric surface or hide the viewer; never NaN."""
@@ -18,7 +18,7 @@ ATOL = 1e-4
 # cases this close to a decision (a side, a horizon, a degenerate length) may fall either way in f32
 DECISION_MARGIN = 1e-3
 KERNEL = """
-//! include "normal_map.wgsl"
+//! include "shading/normal_map.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let shading = inputs_0[6u * i].xyz;
     let tangent = inputs_0[6u * i + 1u];

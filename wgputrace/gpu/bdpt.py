@@ -1,4 +1,4 @@
-"""The bidirectional path tracer's generated file (shaders/bdpt.wgsl): how many light vertices an
+"""The bidirectional path tracer's generated file (shaders/integrators/bdpt.wgsl): how many light vertices an
 invocation keeps, and the disc distant lights start from, for the scene's lights."""
 
 from __future__ import annotations

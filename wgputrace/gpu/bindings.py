@@ -191,7 +191,7 @@ def group_files(groups: tuple[BindGroup, ...]) -> dict[str, str]:
     return {group.file: group.wgsl() for group in groups}
 
 
-# The scene, read by every kernel that traces rays (scene_bindings.wgsl includes it). Triangles are
+# The scene, read by every kernel that traces rays (geometry/scene_bindings.wgsl includes it). Triangles are
 # texels (gpu/texels.py); the acceleration structure's nodes are declared per traversal
 # (scene_group): texels of 4-wide records for the BVH, a storage array of boxes for the flat list.
 SCENE_GROUP = BindGroup(
@@ -224,10 +224,10 @@ PIXELS_GROUP = BindGroup(
         Binding("accumulation", STORAGE_READ_WRITE, ACCUMULATED_PIXEL),
     ),
 )
-# The denoiser's guides (shaders/path_guides.wgsl): two Kahan sums per pixel, the albedo's at 2 * pixel
+# The denoiser's guides (shaders/integrators/denoiser_guides.wgsl): two Kahan sums per pixel, the albedo's at 2 * pixel
 # and the normal's at 2 * pixel + 1, bound only in the variant of the path tracer that makes them.
 _GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
-# Light tracing's splats (shaders/bdpt/splat.wgsl, render/splats.py), bound only by the
+# Light tracing's splats (shaders/integrators/bdpt/splat.wgsl, render/splats.py), bound only by the
 # bidirectional path tracer.
 _SPLATS = Binding("splats", ATOMIC_COUNTERS)
 
@@ -239,7 +239,7 @@ def pixels_group(guides: bool, splats: bool = False) -> BindGroup:
     return group.extended(_SPLATS) if splats else group
 
 
-# The viewer's band of rows (path_tracer_rows.wgsl): the first row of this dispatch.
+# The viewer's band of rows (integrators/path_tracer_rows.wgsl): the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
 # Rays counted by kind (gpu/ray_count.py), only in the counting variant of the path tracer.
 RAY_COUNT_GROUP = BindGroup("ray_count", 3, (Binding("ray_counts", ATOMIC_COUNTERS),))

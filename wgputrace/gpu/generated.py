@@ -28,7 +28,7 @@ GENERATED_STRUCTS = "generated/structs.wgsl"
 NO_TRIANGLE = 0xFFFFFFFF
 # The path tracer's estimators of direct light, in the order of their ids in the shaders
 # (INTEGRATOR_BSDF = 0, ...), and every integrator: those and bidirectional path tracing (its own
-# kernel, shaders/bdpt.wgsl).
+# kernel, shaders/integrators/bdpt.wgsl).
 PATH_TRACER_INTEGRATORS = ("bsdf", "nee", "mis")
 INTEGRATORS = (*PATH_TRACER_INTEGRATORS, "bdpt")
 # Entries of the per-ray traversal stack: enough for every tree the renderer builds (bvh/wide.py
@@ -52,7 +52,7 @@ def traversal_stack_size(entries_needed: int) -> int:
 
 
 def traversal_stack(entries: int = BVH_STACK_SIZE) -> str:
-    """The generated file sizing traverse_bvh.wgsl's stack."""
+    """The generated file sizing geometry/traverse_bvh.wgsl's stack."""
     return f"const TRAVERSAL_STACK_SIZE: u32 = {entries}u;\n"
 
 

@@ -1,4 +1,4 @@
-"""The ray-counting hook of hit_queries.wgsl: `count_ray(kind)` is called once per traced ray.
+"""The ray-counting hook of geometry/hit_queries.wgsl: `count_ray(kind)` is called once per traced ray.
 
 Every pipeline gets the generated file `generated/ray_count.wgsl`. Normally it defines an empty
 `count_ray`, which the shader compiler inlines away, and declares no binding, so the kernels that

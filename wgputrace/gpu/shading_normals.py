@@ -1,11 +1,11 @@
-"""The shading-normal hook of path_tracer.wgsl: `shading_normal` (the normal whose frame the BSDF
+"""The shading-normal hook of integrators/path_tracer.wgsl: `shading_normal` (the normal whose frame the BSDF
 works in) and `shading_weight` (what a direction keeps of the BSDF evaluated in that frame).
 
 Every pipeline gets the generated file `generated/shading_normals.wgsl`. For a scene without
 per-vertex normals it returns the geometric normal and weight 1, which the compiler inlines away,
 and declares no binding, so flat scenes run the kernel they ran before, bit for bit. The smooth
 variant (`shading_normals_hook(True)`, compiled by `path_tracer_kernel(..., smooth=True)`) declares
-the corner attributes (gpu/bindings.py shading_group) and brings in shaders/shading_normals.wgsl,
+the corner attributes (gpu/bindings.py shading_group) and brings in shaders/shading/smooth_normals.wgsl,
 whose comment says how shading and geometric normals are kept from contradicting each other.
 """
 
@@ -19,8 +19,8 @@ GENERATED_SHADING_NORMALS = "generated/shading_normals.wgsl"
 # and a cosine product this small means a grazing direction, whose shadowing term is 1 anyway.
 SHADING_NORMAL_MIN_LENGTH = 1e-6
 # Overrides that turn off what we add to shading normals and Mitsuba 3 does not: Chiang et al.'s
-# terminator term (shading_weight.wgsl) and the geometric normal for viewers between the shading
-# and geometric horizons (shading_normal in shading_normals.wgsl). Both off
+# terminator term (shading/shading_weight.wgsl) and the geometric normal for viewers between the shading
+# and geometric horizons (shading_normal in shading/smooth_normals.wgsl). Both off
 # (Renderer(shader_overrides=MITSUBA_SHADING_NORMALS)), smooth and normal-mapped surfaces shade as
 # Mitsuba shades them, which tests/render/test_smooth_sphere.py compares with its reference. Every
 # variant declares them, so any scene takes them; overrides, so the default pipeline pays nothing.
@@ -40,14 +40,18 @@ def shading_normals_hook(smooth: bool, textured: bool = False) -> str:
         f"override {SILHOUETTE_GEOMETRIC_NORMAL}: bool = true;",
     ]
     if smooth:
-        lines += [CORNER_ATTRIBUTES.wgsl(), f'//! include "{SHADING_GROUP.file}"', '//! include "shading_normals.wgsl"']
+        lines += [
+            CORNER_ATTRIBUTES.wgsl(),
+            f'//! include "{SHADING_GROUP.file}"',
+            '//! include "shading/smooth_normals.wgsl"',
+        ]
         return "\n".join(lines) + "\n"
     lines.append(
         "fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, "
         "towards_viewer: vec3<f32>) -> vec3<f32> { return geometric; }"
     )
     if textured:
-        lines.append('//! include "shading_weight.wgsl"')
+        lines.append('//! include "shading/shading_weight.wgsl"')
     else:
         lines.append(
             "fn shading_weight(shading: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>, "

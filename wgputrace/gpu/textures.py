@@ -1,13 +1,13 @@
-"""The texture hook of path_tracer.wgsl: `resolve_material`, the material at a hit with its textures
+"""The texture hook of integrators/path_tracer.wgsl: `resolve_material`, the material at a hit with its textures
 applied, so that BSDF code reads constants whether a parameter is textured or not, and
-`mapped_normal`, the shading normal bent by the material's normal map (shaders/normal_map.wgsl).
+`mapped_normal`, the shading normal bent by the material's normal map (shaders/shading/normal_map.wgsl).
 
 Every pipeline gets the generated file `generated/textures.wgsl`. For a scene without textures it
 returns the material and the shading normal as they are, which the compiler inlines away, and
 declares no binding, so such scenes run the kernel they ran before, bit for bit. The textured
 variant (`textures_hook(True)`, compiled by `path_tracer_kernel(..., textured=True)`) declares the
 texture bindings of the shading group (gpu/bindings.py shading_group) and brings in
-shaders/textures.wgsl and shaders/normal_texture.wgsl.
+shaders/shading/textures.wgsl and shaders/shading/normal_texture.wgsl.
 """
 
 from __future__ import annotations
@@ -41,8 +41,8 @@ def textures_hook(textured: bool) -> str:
             MATERIAL_TEXTURES.wgsl(),
             f"const NO_TEXTURE: u32 = {NO_TEXTURE}u;",
             f'//! include "{SHADING_GROUP.file}"',
-            '//! include "textures.wgsl"',
-            '//! include "normal_texture.wgsl"',
+            '//! include "shading/textures.wgsl"',
+            '//! include "shading/normal_texture.wgsl"',
         ]
     else:
         lines += [f"{_SIGNATURE} {{ return material; }}", f"{_NORMAL_SIGNATURE} {{ return shading; }}"]

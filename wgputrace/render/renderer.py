@@ -132,7 +132,7 @@ class SceneVariant:
     def generated(self) -> dict[str, str]:
         """The generated files of this variant, by name."""
         return {
-            "acceleration.wgsl": f'//! include "traverse_{self.acceleration}.wgsl"\n',
+            "generated/acceleration.wgsl": f'//! include "geometry/traverse_{self.acceleration}.wgsl"\n',
             GENERATED_TRAVERSAL_STACK: traversal_stack(self.stack_size),
             GENERATED_LIGHTS: light_dispatch(self.lights),
             GENERATED_ESCAPED_LIGHT: escaped_light_hook(self.lights),
@@ -165,9 +165,9 @@ def path_tracer_kernel(
     sampler: str = DEFAULT_SAMPLER,
 ) -> ComputeKernel:
     """The megakernel with the traversal for `acceleration` and the `integrator` compiled in
-    (cached per process). `overrides` sets other WGSL override constants of path_tracer.wgsl
+    (cached per process). `overrides` sets other WGSL override constants of integrators/path_tracer.wgsl
     (for measurements such as bench/glossy_light_sampling.py). `rows` compiles the entry point
-    that renders a band of rows (path_tracer_rows.wgsl, for the viewer). `material_kinds` limits
+    that renders a band of rows (integrators/path_tracer_rows.wgsl, for the viewer). `material_kinds` limits
     the BSDF code compiled in to those kinds (gpu/material_dispatch.py). `count_rays` compiles the
     ray counters in (gpu/ray_count.py; render/ray_count.py runs them). `guides` compiles in the
     denoiser's albedo and normal guides (gpu/path_guides.py) and binds their sums in the pixels
@@ -180,7 +180,7 @@ def path_tracer_kernel(
     single-sided surfaces (gpu/alpha.py), which slow that test; `emissive_surfaces` (textured scenes
     only) the light that materials emit through their texture records (gpu/emission.py). `sampler`
     chooses what stands behind sample_1d and sample_2d (gpu/sampler.py). The "bdpt" integrator is
-    its own kernel (shaders/bdpt.wgsl), which also binds the splat sums in the pixels group and has
+    its own kernel (shaders/integrators/bdpt.wgsl), which also binds the splat sums in the pixels group and has
     no band-of-rows entry point."""
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
@@ -220,9 +220,9 @@ def path_tracer_kernel(
         }
         if bidirectional:
             generated |= {GENERATED_LIGHT_EMISSION: light_emission_dispatch(lights), GENERATED_BDPT: bdpt_hook(lights)}
-            entry, constants = "bdpt.wgsl", dict(overrides)
+            entry, constants = "integrators/bdpt.wgsl", dict(overrides)
         else:
-            entry = "path_tracer_rows.wgsl" if rows else "path_tracer.wgsl"
+            entry = "integrators/path_tracer_rows.wgsl" if rows else "integrators/path_tracer.wgsl"
             constants = {"INTEGRATOR": PATH_TRACER_INTEGRATORS.index(integrator), **overrides}
         _kernels[key] = ComputeKernel(
             context,
@@ -349,7 +349,7 @@ class Renderer:
         limit = "max-storage-buffer-binding-size"
         self._scene_buffers = {
             # triangles and the BVH's nodes as texels (gpu/texels.py: faster loads on lavapipe); the
-            # flat list's boxes in a buffer, as traverse_flat.wgsl reads them
+            # flat list's boxes in a buffer, as geometry/traverse_flat.wgsl reads them
             TRIANGLES: TrackedTexels(self.context, "triangles", self._mirror.triangles),
             NODES: TrackedTexels(self.context, "bvh nodes", self._mirror.nodes)
             if accel == "bvh"
@@ -754,7 +754,7 @@ class Renderer:
         """The denoiser's guides, means over the same samples as `image()` (a sample it dropped adds
         zero to them too): "albedo" in [0, 1] and "normal" in [-1, 1], float32 (height, width, 3).
         Each sample gives the albedo and the shading normal (world space, facing the camera's ray)
-        of its path's first vertex that is not a mirror or glass (shaders/path_guides.wgsl); zero
+        of its path's first vertex that is not a mirror or glass (shaders/integrators/denoiser_guides.wgsl); zero
         where it escaped or ended before one. Normals are means, not renormalised: Open Image
         Denoise takes them as they are."""
         if self._guide_sums is None:
@@ -777,7 +777,7 @@ class Renderer:
     @property
     def cut_short_samples(self) -> int:
         """How many samples the driver's loop budget may have cut short (llvmpipe's 65,535 loop
-        iterations per invocation, shaders/loop_budget.wgsl); each was dropped and counted as zero."""
+        iterations per invocation, shaders/integrators/loop_budget.wgsl); each was dropped and counted as zero."""
         return self._dropped_sample_counts()[1]
 
     @property

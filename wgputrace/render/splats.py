@@ -1,4 +1,4 @@
-"""Light tracing's splat buffer (shaders/bdpt/splat.wgsl), which only the bidirectional path tracer
+"""Light tracing's splat buffer (shaders/integrators/bdpt/splat.wgsl), which only the bidirectional path tracer
 binds: per pixel a 64-bit fixed-point sum per colour channel, summed with integer atomics so that
 the order invocations add in cannot change a bit, and a count of splats refused."""
 
@@ -8,7 +8,7 @@ import numpy as np
 
 # u32 words per pixel: (low, high) per channel, the refused count, one unused (16-byte rows)
 SPLAT_WORDS = 8
-# Fixed-point scale: a splat's value is rounded to a multiple of 2^-24 (bdpt/splat.wgsl SPLAT_SCALE).
+# Fixed-point scale: a splat's value is rounded to a multiple of 2^-24 (integrators/bdpt/splat.wgsl SPLAT_SCALE).
 SPLAT_SCALE = 2.0**24
 _REFUSED = 6
 

@@ -12,7 +12,7 @@ colour beside a 256 mask) would pad every layer to the largest, and the layer co
 its own (256 in WebGPU's defaults); one 2D texture holds any mix and binds as one resource. Shelf
 packing (tallest first, rows left to right) wastes little for the few textures a scene has.
 Textures are not padded against each other: the lookup wraps texel indices inside each rectangle
-(shaders/textures.wgsl), so no filter reaches a neighbour.
+(shaders/shading/textures.wgsl), so no filter reaches a neighbour.
 
 A texture larger than the device's texture side (render/limits.py atlas_side) is box-filtered down
 until it fits, with a TextureWarning naming both sizes: refusing the large textures users download
@@ -34,7 +34,8 @@ from ..scene.lights.light import LUMINANCE_WEIGHTS
 from ..scene.materials.principled import ALPHA_MODES
 from ..scene.texture import WRAP_MODES, Texture, linear_to_srgb
 
-# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/alpha.wgsl, emission.wgsl, normal_texture.wgsl read them)
+# the fields of MATERIAL_TEXTURES that hold a parameter (shaders/shading/alpha.wgsl, lights/surface_emission.wgsl,
+# shading/normal_texture.wgsl read them)
 _PARAMETER_FIELDS = ("alpha", "alpha_mode", "alpha_cutoff", "double_sided", "emitted", "normal_scale")
 # the slots of MATERIAL_TEXTURES that name a texture: a material's `<slot>_texture` parameter
 TEXTURE_SLOTS = tuple(name for name in MATERIAL_TEXTURES.dtype.names if name not in _PARAMETER_FIELDS)
@@ -57,7 +58,7 @@ def material_textures(material: Material) -> dict[str, Texture]:
 
 
 def lets_rays_through(material: Material) -> bool:
-    """Whether `material` lets rays through some of its surface (shaders/alpha.wgsl), which its
+    """Whether `material` lets rays through some of its surface (shaders/shading/alpha.wgsl), which its
     MATERIAL_TEXTURES record says, texture or not."""
     return getattr(material, "alpha_mode", "OPAQUE") != "OPAQUE" or not getattr(material, "double_sided", True)
 

@@ -3,7 +3,7 @@
 A test writes a kernel body that includes the shipped .wgsl files it exercises, reads its inputs
 from `inputs_N` and writes `output`; the harness binds numpy arrays to them (the "harness" group,
 declared like every other in gpu/bindings.py), dispatches one invocation per element, and returns
-the output array. The scene group is declared too, so the body may include scene_bindings.wgsl or
+the output array. The scene group is declared too, so the body may include geometry/scene_bindings.wgsl or
 a traversal: the scene resources a test gives go by binding name, the others hold one zero record.
 The shipped code is what is tested.
 """
@@ -119,8 +119,8 @@ def _scene_resources(context, scene: dict[str, object], acceleration: str) -> di
 
 def node_binding(context, records: SceneRecords) -> np.ndarray | wgpu.GPUTextureView:
     """The scene group's `nodes` as the traversal `records` were built for reads them: the BVH's
-    records as texels (traverse_bvh.wgsl), the flat list's boxes as an array for a storage buffer
-    (traverse_flat.wgsl)."""
+    records as texels (geometry/traverse_bvh.wgsl), the flat list's boxes as an array for a storage buffer
+    (geometry/traverse_flat.wgsl)."""
     if records.acceleration.kind == "bvh":
         return TrackedTexels(context, "nodes", records.nodes).resource
     return records.nodes
