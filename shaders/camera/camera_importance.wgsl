@@ -1,5 +1,5 @@
-// The pinhole camera seen from the scene: where a point lands on the image, and the camera's
-// density of the ray through it (the importance We of camera.wgsl's jittered box filter).
+// The pinhole camera seen from the scene: where a point lands on the image, and its ray's density.
+// That density is the importance We of camera_ray's jittered box filter, which light tracing needs.
 //! include "geometry/scene_bindings.wgsl"
 //! include "common/constants.wgsl"
 //

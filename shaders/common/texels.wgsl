@@ -1,4 +1,4 @@
-// Texel `index` of a texture of records (wgputrace/gpu/texels.py), whose width is a power of two.
+// texel_at: texel `index` of a texture of records whose width is a power of two (texture_shape).
 
 fn texel_at(texels: texture_2d<u32>, index: u32) -> vec4<u32> {
     let width = textureDimensions(texels).x;

@@ -1,5 +1,4 @@
-// Where a point lies on a triangle, for interpolating what its corners carry (normals, texture
-// coordinates).
+// Where a point lies on a triangle, for interpolating what its corners carry (normals, texture coordinates).
 
 // The barycentric weights (b1, b2) of corners v1 and v2 at `p` (v0's is 1 - b1 - b2), clamped so
 // that a point off the triangle by rounding still gets a convex combination. NaN for a zero-area

@@ -1,4 +1,4 @@
-// A 4-wide node's children sorted nearest first (a sorting network), for traverse_bvh.wgsl.
+// A 4-wide node's children sorted nearest first (a sorting network), for the BVH's traverse.
 // Sorting all four measured no slower than only the nearest first (bench/README.md), and nearer
 // boxes first shorten the hit distance sooner.
 

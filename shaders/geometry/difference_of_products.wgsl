@@ -1,6 +1,7 @@
-// a * b - c * d that is never of the wrong sign, exactly zero when a * b equals c * d, and of the
-// opposite sign when the two products swap places: what the watertight triangle test needs of its
-// edge functions. With a fused fma this is Kahan's algorithm (relative error at most 2 ulp:
+// difference_of_products: a * b - c * d with the sign the watertight triangle test's edge functions need.
+//
+// Never of the wrong sign, exactly zero when a * b equals c * d, and of the opposite sign when the
+// two products swap places. With a fused fma this is Kahan's algorithm (relative error at most 2 ulp:
 // Jeannerod, Louvet and Muller 2013; the sign is exact). Where fma is not fused (WGSL allows
 // either; llvmpipe) `error` is zero and this is the plain expression with both products rounded,
 // which has the three properties too (it may round a tiny difference to zero).

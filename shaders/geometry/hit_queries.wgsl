@@ -3,10 +3,10 @@
 //! include "geometry/ray.wgsl"
 //! include "generated/ray_count.wgsl"
 //
-// Each traversal file (traverse_bvh.wgsl, traverse_flat.wgsl) defines
-// `traverse(ray, t_max, skip_triangle, any_hit) -> Hit` and includes this file.
+// Each traversal (the BVH's, the flat list's) defines `traverse(ray, t_max, skip_triangle, any_hit) -> Hit`
+// and includes this file.
 
-// Nodes visited by traversals of this invocation so far, for the viewer's heat map (guides.wgsl).
+// Nodes visited by traversals of this invocation so far, for the viewer's heat map (its guides' steps).
 // Kernels that never read it pay nothing measurable: on lavapipe the path tracer ran as fast
 // with the increment as without it (alternating runs, differences within the run-to-run noise).
 var<private> traversal_steps: u32;

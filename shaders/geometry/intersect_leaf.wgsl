@@ -1,7 +1,7 @@
 // The triangles of one leaf (or one flat-list box) against a ray: shared by both traversals.
 //! include "geometry/scene_bindings.wgsl"
 //! include "geometry/intersect_triangle.wgsl"
-// surface_blocks: alpha cut-outs, stochastic transparency and single-sided surfaces (gpu/alpha.py)
+// surface_blocks: alpha cut-outs, stochastic transparency and single-sided surfaces (alpha_hook)
 //! include "generated/alpha.wgsl"
 
 // Updates `hit` with the nearest triangle of the leaf; with `any_hit`, stops at the first one and

@@ -5,7 +5,7 @@
 // The ray is turned into a shear that maps its direction onto +z; a triangle is hit when the 2D
 // edge functions of its sheared corners share a sign. Shared edges are evaluated identically from
 // both sides, and each edge function's sign is exact whatever the compiler contracts
-// (difference_of_products.wgsl), so no ray slips between two triangles. Zero-area triangles and
+// (difference_of_products), so no ray slips between two triangles. Zero-area triangles and
 // rays in a triangle's plane give a zero determinant and never hit. No division by a direction
 // component other than the largest one, so axis-parallel rays need no special case.
 

@@ -1,4 +1,4 @@
-// BVH traversal over 4-wide nodes (bvh/wide.py), closest hit and any hit: a one-word stack, nearer children first.
+// BVH traversal over 4-wide nodes (WideBVH), closest hit and any hit: a one-word stack, nearer children first.
 //! include "geometry/intersect_leaf.wgsl"
 //! include "geometry/intersect_box.wgsl"
 //! include "geometry/hit_queries.wgsl"
@@ -6,7 +6,7 @@
 //! include "geometry/bvh_child_order.wgsl"
 //! include "generated/traversal_stack.wgsl"
 
-// The scene group's `nodes` are texels of 4-wide records here (gpu/bindings.py scene_group): texture
+// The scene group's `nodes` are texels of 4-wide records here (scene_group): texture
 // loads are the fast kind on lavapipe, and four children's boxes a record save steps
 // (bench/README.md's optimization log).
 
@@ -33,8 +33,8 @@ fn order_pair(a: ptr<function, vec2<u32>>, b: ptr<function, vec2<u32>>) {
 
 // A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
 // leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.
-// At most WIDTH - 1 entries per wide level: bvh/wide.py shows every tree fits BVH_STACK_SIZE; the
-// renderer compiles only what its tree needs (gpu/generated.py traversal_stack_size). At module
+// At most WIDTH - 1 entries per wide level: collapse shows every tree fits BVH_STACK_SIZE; the
+// renderer compiles only what its tree needs (traversal_stack_size). At module
 // scope because WGSL zero-fills a variable where it is declared: here once per invocation, in
 // traverse() at every traversal (`python -m bench.kernel_profile --variants function_stack`
 // measures the difference). traverse() is never re-entered.

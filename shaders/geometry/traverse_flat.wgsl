@@ -3,9 +3,9 @@
 //! include "geometry/intersect_box.wgsl"
 //! include "geometry/hit_queries.wgsl"
 
-// The scene group's `nodes` are a storage array of BvhNode here (gpu/bindings.py scene_group).
+// The scene group's `nodes` are a storage array of BvhNode here (scene_group).
 
-// Same contract as traverse_bvh.wgsl's traverse, so the path tracer includes either one.
+// Same contract as the BVH's traverse, so the path tracer includes either one.
 fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var hit = Hit(t_max, NO_TRIANGLE);
     let sheared = shear_ray(ray);

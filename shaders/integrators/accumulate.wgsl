@@ -21,7 +21,7 @@ fn accumulate_sample(pixel: AccumulatedPixel, value: vec3<f32>) -> AccumulatedPi
     return AccumulatedPixel(vec4<f32>(t, pixel.sum.w), vec4<f32>(lost, pixel.compensation.w));
 }
 
-// A sample whose loops the driver may have cut short (loop_budget.wgsl) adds nothing (it counts as
+// A sample whose loops the driver may have cut short (loop_budget_spent) adds nothing (it counts as
 // zero radiance, like a non-finite one) and is counted in compensation.w.
 fn drop_cut_short_sample(pixel: AccumulatedPixel) -> AccumulatedPixel {
     return AccumulatedPixel(pixel.sum, pixel.compensation + vec4<f32>(0.0, 0.0, 0.0, 1.0));

@@ -1,6 +1,6 @@
-// The bidirectional path tracing megakernel (Veach 1997): per pixel sample a camera subpath and a
-// light subpath, every strategy (s, t) between them weighted by MIS; light tracing's splats summed
-// apart (bdpt/splat.wgsl) and added to the image by the renderer.
+// The bidirectional path tracing megakernel (Veach 1997): a camera and a light subpath per pixel sample.
+// Every strategy (s, t) between them is weighted by MIS; light tracing's splats are summed apart
+// (splat) and added to the image by the renderer.
 //! include "generated/acceleration.wgsl"
 //! include "camera/camera_ray.wgsl"
 //! include "sampling/sampler.wgsl"
@@ -9,21 +9,26 @@
 //! include "integrators/bdpt/connect.wgsl"
 //! include "integrators/bdpt/splat.wgsl"
 //! include "integrators/bdpt/weight_sum_check.wgsl"
-// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (gpu/path_guides.py)
+// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (path_guides_hook)
 //! include "generated/path_guides.wgsl"
-// escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (gpu/light_dispatch.py)
+// escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (escaped_light_hook)
 //! include "generated/escaped_light.wgsl"
 // shading_normal and shading_weight: the geometric normal and 1 unless the scene has per-vertex
-// normals (gpu/shading_normals.py)
+// normals (shading_normals_hook)
 //! include "generated/shading_normals.wgsl"
 // resolve_material and mapped_normal: the material and the shading normal as they are unless the
-// scene has textures (gpu/textures.py)
+// scene has textures (textures_hook)
 //! include "generated/textures.wgsl"
-// bdpt_distant_disk_area and BDPT_LIGHT_VERTICES (gpu/bdpt.py)
+// bdpt_distant_disk_area and BDPT_LIGHT_VERTICES (bdpt_hook)
 //! include "generated/bdpt.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
-//
+
+// Russian roulette as the path tracer plays it (trace_path), on both subpaths: the light
+// subpath's throughput carries the light's power, so there it judges the attenuation alone.
+override RUSSIAN_ROULETTE_DEPTH: u32 = 3u;
+override RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
+
 // s counts the light subpath's vertices (the light's point included), t the camera subpath's (the
 // camera included); a path of s + t vertices has s + t - 1 edges, at most max_depth (Mitsuba's
 // count, as the path tracer's). s = 0: the camera subpath finds emission, a triangle's or, leaving
@@ -32,20 +37,15 @@
 // the light subpath's first point cannot); s >= 2, t >= 2: connections; t = 1: light tracing. The
 // light subpath's point on the light joined to the camera (s = 1, t = 1) is left out, as in pbrt:
 // a camera ray finds it with weight 1.
-
-// Russian roulette as the path tracer plays it (path_tracer.wgsl), on both subpaths: the light
-// subpath's throughput carries the light's power, so there it judges the attenuation alone.
-override RUSSIAN_ROULETTE_DEPTH: u32 = 3u;
-override RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
-
-// Debugging (pbrt's method, tests/render/test_bdpt.py): with both set, only strategy
+//
+// Debugging (pbrt's method, test_bdpt): with both set, only strategy
 // (BDPT_ONLY_S, BDPT_ONLY_T) contributes, unweighted; each alone converges to the paths it samples.
 const ALL_STRATEGIES: u32 = 0xFFFFFFFFu;
 override BDPT_ONLY_S: u32 = ALL_STRATEGIES;
 override BDPT_ONLY_T: u32 = ALL_STRATEGIES;
 
-// Debugging (tests/render/test_bdpt_weights.py): each pixel sample accumulates what
-// check_weight_sums (bdpt/weight_sum_check.wgsl) finds instead of radiance.
+// Debugging (test_bdpt_weights): each pixel sample accumulates what check_weight_sums finds
+// instead of radiance.
 override BDPT_CHECK_WEIGHT_SUMS: bool = false;
 
 fn strategy_weight(s: u32, t: u32, weight: f32) -> f32 {
@@ -63,7 +63,7 @@ fn escaped_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, light_p
 
 var<private> light_vertices: array<LightVertex, BDPT_LIGHT_VERTICES>;
 var<private> light_vertex_count: u32;
-// light tracing's splats, added to the image only once the sample is known complete (loop_budget.wgsl)
+// light tracing's splats, added to the image only once the sample is known complete (loop_budget_spent)
 var<private> splats_pending: array<Splat, BDPT_LIGHT_VERTICES>;
 var<private> splat_count: u32;
 
@@ -95,7 +95,7 @@ fn light_subpath_draw_budget() -> u32 {
 
 // The light subpath, drawing light_subpath_draw_budget() numbers whatever its length: the camera
 // subpath's k-th number then has the same dimension in every sample of a pixel, as in the path
-// tracer, where the Sobol sampler stratifies each dimension over the samples (sampler.wgsl). With
+// tracer, where the Sobol sampler stratifies each dimension over the samples (sample_1d). With
 // the light subpath's length shifting them, glossy_through_glossy's MSE per sample was 1.3x
 // (bench/README.md's log).
 fn trace_light_subpath() {
@@ -181,8 +181,8 @@ fn walk_light_subpath() -> u32 {
 
 // The camera subpath from `camera`, with every strategy that ends at one of its vertices: emission
 // found (s = 0), next-event estimation (s = 1) and connections to the kept light vertices, whose
-// shadow rays are traced once the subpath ends (bdpt/shadow_queue.wgsl). The
-// throughput, roulette (judging it without refraction's eta^2) and max_depth as in path_tracer.wgsl.
+// shadow rays are traced once the subpath ends (queue_shadowed). The throughput, roulette
+// (judging it without refraction's eta^2) and max_depth as in the path tracer's trace_path.
 fn trace_camera_subpath(camera: Ray) -> vec3<f32> {
     var ray = camera;
     var radiance = vec3<f32>(0.0);

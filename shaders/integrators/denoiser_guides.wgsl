@@ -7,7 +7,7 @@
 // perfect specular (delta) paths through mirrors and glass: a path chooses reflection or
 // refraction by Fresnel, so the mean over a pixel's samples is the Fresnel blend its documentation
 // recommends. A path that escapes or ends before such a vertex adds zero to both sums.
-// `material_is_delta` is generated for the scene's kinds (gpu/path_guides.py).
+// `material_is_delta` is generated for the scene's kinds (path_guides_hook).
 
 // This invocation's path (zero-initialized, and every invocation traces one path).
 var<private> guide_found: bool;

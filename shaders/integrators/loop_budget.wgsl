@@ -2,7 +2,7 @@
 //
 // llvmpipe (Mesa's CPU driver) gives each invocation one budget of 65,535 loop iterations shared by
 // every loop it runs, nested or one after another, and silently ends loops once it is spent
-// (gpu/device.py LLVMPIPE_LOOP_ITERATION_LIMIT). A path whose traversals test
+// (LLVMPIPE_LOOP_ITERATION_LIMIT). A path whose traversals test
 // thousands of triangles each can spend it, and then its hits are missed without a sign. This loop
 // must run twice; where the budget is spent it stops after once. The trip count comes from
 // `at_least_one` (any value >= 1 the compiler cannot know, e.g. the image width), so the loop

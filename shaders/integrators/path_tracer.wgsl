@@ -7,15 +7,15 @@
 //! include "sampling/mis.wgsl"
 //! include "integrators/accumulate.wgsl"
 //! include "integrators/loop_budget.wgsl"
-// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (gpu/path_guides.py)
+// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (path_guides_hook)
 //! include "generated/path_guides.wgsl"
-// escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (gpu/light_dispatch.py)
+// escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (escaped_light_hook)
 //! include "generated/escaped_light.wgsl"
 // shading_normal and shading_weight: the geometric normal and 1 unless the scene has per-vertex
-// normals (gpu/shading_normals.py)
+// normals (shading_normals_hook)
 //! include "generated/shading_normals.wgsl"
 // resolve_material and mapped_normal: the material and the shading normal as they are unless the
-// scene has textures (gpu/textures.py)
+// scene has textures (textures_hook)
 //! include "generated/textures.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
@@ -26,7 +26,7 @@ override INTEGRATOR: u32 = INTEGRATOR_MIS;
 
 // Russian roulette starts at this path depth and never survives with more than this probability,
 // so that paths stuck in lossless loops (total internal reflection) still end. Overrides so that
-// bench/error_breakdown.py can measure other policies.
+// bench.error_breakdown can measure other policies.
 override RUSSIAN_ROULETTE_DEPTH: u32 = 3u;
 override RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
 
@@ -210,7 +210,7 @@ fn trace_path(camera: Ray) -> vec3<f32> {
 }
 
 // One sample for the pixel at column xy.x, row xy.y; the viewer's band-of-rows entry point
-// (path_tracer_rows.wgsl) calls this too.
+// (main_rows) calls this too.
 fn render_pixel(xy: vec2<u32>) {
     if xy.x >= frame.width || xy.y >= frame.height {
         return;

@@ -4,7 +4,7 @@
 // A whole pass over a large image takes seconds on a CPU adapter; the viewer splits it into
 // bands sized to its frame-time budget so the window keeps answering between bands.
 
-// The first row of this dispatch's band: band_first_row (gpu/bindings.py BAND_GROUP).
+// The first row of this dispatch's band: band_first_row (BAND_GROUP).
 //! include "generated/bindings/band.wgsl"
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)

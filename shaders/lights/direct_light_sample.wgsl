@@ -1,4 +1,4 @@
-// What every light's sampler returns (light_sampling.wgsl, lights/*.wgsl), and its two helpers.
+// LightSample: a light seen from a receiving point, as sample_light and every light kind return it.
 //! include "generated/structs.wgsl"
 
 struct LightSample {
@@ -9,7 +9,7 @@ struct LightSample {
     normal: vec3<f32>,
     // the radiance arriving from it (delta lights: the irradiance at normal incidence)
     radiance: vec3<f32>,
-    // the light table's word for a triangle (gpu/light_dispatch.py); 0 for other lights
+    // the light table's word for a triangle (light_table); 0 for other lights
     triangle: u32,
     // density of the direction from the receiving point per steradian, its light's selection
     // probability included; for delta lights the selection probability alone

@@ -1,30 +1,28 @@
-// Next-event estimation's light sampler: a light by power, then a direction towards it.
-// One alias table holds every light: emissive triangles, light sources (point, spot, directional,
-// sun) and the environment (render/lights.py). A triangle's point is uniform in its solid angle
-// (spherical_triangle.wgsl; uniform in area for tiny or huge solid angles); sample_light beside
-// pdf_light, which must agree with it. The other lights sample in their own files (lights/*.wgsl),
-// reached through the generated dispatch of the kinds a scene uses.
+// sample_light beside pdf_light: direct lighting's light sampler, a light by power, then a point on it.
+// One alias table (light_table) holds every light: emissive triangles, light sources and the
+// environment. A triangle's point is uniform in its solid angle (uniform in area for tiny or huge
+// ones); the other kinds sample in their own files, through the generated dispatch.
 //! include "geometry/scene_bindings.wgsl"
 //! include "common/constants.wgsl"
 //! include "sampling/spherical_triangle.wgsl"
 // material_emitted: a light triangle's radiance, as its material kind defines it
 //! include "generated/materials.wgsl"
 // surface_emission and surface_light_density: light emitted through a material's texture record
-// (Principled's emission: gpu/emission.py)
+// (Principled's emission: emission_hook)
 //! include "generated/emission.wgsl"
-// is_light_source and sample_light_source: the scene's other lights (gpu/light_dispatch.py)
+// is_light_source and sample_light_source: the scene's other lights (light_dispatch)
 //! include "generated/lights.wgsl"
 
 // Light triangles subtending solid angles in this range (steradians) are sampled uniformly in solid
-// angle (spherical_triangle.wgsl); outside it, uniformly in area. Below the minimum the sampler's
+// angle (sample_spherical_triangle); outside it, uniformly in area. Below the minimum the sampler's
 // f32 trigonometry loses digits and a triangle that small looks alike from all its points, so
 // area sampling is as good; above the maximum (nearly a hemisphere, from right beside a triangle)
 // the arcs degenerate: pbrt-v4's MinSphericalSampleArea and MaxSphericalSampleArea. An override,
-// so that bench/error_breakdown.py can measure area sampling alone (a minimum above 4 pi).
+// so that bench.error_breakdown can measure area sampling alone (a minimum above 4 pi).
 override SPHERICAL_SAMPLING_MIN_SOLID_ANGLE: f32 = 3e-4;
 const SPHERICAL_SAMPLING_MAX_SOLID_ANGLE: f32 = 6.22;
 
-// Rec. 709 luminance, the same weights as wgputrace/render/lights.py's LUMINANCE_WEIGHTS.
+// Rec. 709 luminance, the same weights as the host's LUMINANCE_WEIGHTS.
 const LUMINANCE_WEIGHTS: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
 
 fn luminance(color: vec3<f32>) -> f32 {
@@ -39,7 +37,7 @@ fn samples_solid_angle(solid_angle: f32) -> bool {
     return solid_angle >= SPHERICAL_SAMPLING_MIN_SOLID_ANGLE && solid_angle <= SPHERICAL_SAMPLING_MAX_SOLID_ANGLE;
 }
 
-// The light table's weight per unit area of light triangle `triangle_index` (render/lights.py):
+// The light table's weight per unit area of light triangle `triangle_index` (light_table):
 // the luminance of its material kind's radiance, or of what it emits through a texture record.
 fn light_density(triangle_index: u32, triangle: Triangle) -> f32 {
     return luminance(material_emitted(materials[triangle.material])) + surface_light_density(triangle_index);
@@ -60,7 +58,7 @@ fn pdf_light(p: vec3<f32>, triangle_index: u32, triangle: Triangle, distance_squ
 }
 
 // The light table's word of a light drawn by power: slot u_select.x, kept below its threshold,
-// else its alias. Light paths (light_emission.wgsl) choose their light by the same draw.
+// else its alias. Light paths (sample_emission) choose their light by the same draw.
 fn choose_light(u_select: vec2<f32>) -> u32 {
     let slot = min(u32(u_select.x * f32(frame.light_count)), frame.light_count - 1u);
     let entry = lights[slot];

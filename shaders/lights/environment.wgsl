@@ -1,4 +1,4 @@
-// The environment as a light: what every environment variant shares (environment_constant.wgsl, environment_map.wgsl).
+// The environment as a light: what every environment variant (constant, map) shares.
 //! include "lights/direct_light_sample.wgsl"
 //! include "lights/light_path_sample.wgsl"
 //

@@ -1,4 +1,4 @@
-// What every light's emission sampler returns (light_emission.wgsl, lights/*.wgsl): the first vertex of a light path.
+// EmissionSample: a light path's first vertex, as sample_emission and every light kind return it.
 //! include "generated/structs.wgsl"
 //! include "sampling/warps.wgsl"
 
@@ -21,7 +21,7 @@ struct EmissionSample {
     pdf_position: f32,
     // per steradian (directional: 1, a delta)
     pdf_direction: f32,
-    // the light table's word (gpu/light_dispatch.py): a triangle's index, LIGHT_SOURCE_FLAG | k or ENVIRONMENT_LIGHT
+    // the light table's word (light_table): a triangle's index, LIGHT_SOURCE_FLAG | k or ENVIRONMENT_LIGHT
     triangle: u32,
     // point, spot
     delta_position: bool,
@@ -37,7 +37,7 @@ struct EmissionPdf {
     direction: f32,
 }
 
-// The scene's bounding sphere (render/scene_sync.py scene_bounding_sphere), where distant lights start.
+// The scene's bounding sphere (SceneMirror.scene_bounding_sphere), where distant lights start.
 struct SceneDisk {
     center: vec3<f32>,
     radius: f32,
@@ -76,7 +76,7 @@ fn distant_emission_sample(disk: SceneDisk, u: vec2<f32>, direction: vec3<f32>, 
 }
 
 // What the distant lights that are not deltas (the environment, suns) send along one direction
-// (gpu/light_dispatch.py distant_emission): light paths from any of them count the radiance of all,
+// (the generated distant_emission): light paths from any of them count the radiance of all,
 // with the density of their mixture, as a ray escaping the scene sees them all.
 struct DistantEmission {
     radiance: vec3<f32>,

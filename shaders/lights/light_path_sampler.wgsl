@@ -1,38 +1,19 @@
-// Light paths' first vertex: a light chosen by power, a point on it and a direction leaving it, for every light kind.
+// sample_emission beside emission_pdf: where light paths start (a light by power, a point, a direction).
 //
-// The contract (bidirectional kernels call these; EmissionSample and EmissionPdf are declared in
-// emission_sample.wgsl, which the light kinds' files include too):
-//
-//   fn sample_emission(u_select: vec2<f32>, u_position: vec2<f32>, u_direction: vec2<f32>) -> EmissionSample;
-//   fn emission_pdf_triangle(triangle_index: u32, triangle: Triangle, direction: vec3<f32>) -> EmissionPdf;
-//   fn emission_pdf_distant(direction: vec3<f32>) -> EmissionPdf;
-//   fn emission_pdf(word: u32, direction: vec3<f32>) -> EmissionPdf;   // any light, by its table word
-//
-// The light is the one sample_light would choose with `u_select` (light_sampling.wgsl
-// choose_light), so its selection probability is the same in light paths and in next-event
-// estimation; pdf_position includes it. Per kind:
-// - triangles (Emitter materials, emission through texture records): position uniform in area,
-//   direction cosine-weighted about the normal of the side it leaves; two-sided triangles pick
-//   either side with probability 1/2 (u_direction.x's halves), so the direction density is
-//   |cos| / (2 pi); single-sided ones (surface_emits_both_sides false) leave their front only.
-// - point: uniform over the sphere; spot: uniform in its cutoff cone, radiance its falloff;
-// - distant lights: a point on the scene's disc (emission_sample.wgsl); directional: its one
-//   direction; environment and sun: the direction as their light sampler draws it. The environment
-//   and the suns are mixed: whichever was chosen, the sample carries the radiance of all of them
-//   along its direction and the densities of their mixture (DistantEmission), which
-//   emission_pdf_distant returns too, so that a light path's densities and those a camera path
-//   escaping along -direction is weighed with are one. Their position density is
-//   (summed selection probability of environment and suns) / (pi r^2), their direction density
-//   (sum of selection x density per steradian) / (summed selection probability); the product is
-//   the mixture's density per unit area and steradian. A directional light is a delta in
-//   direction: it is not in that mixture (emission_pdf_distant's densities leave it out).
-//
-// The kernel must supply generated/light_emission.wgsl (gpu/light_dispatch.py
-// light_emission_dispatch(features) for the scene's LightFeatures), besides the light sampler's files.
+// The light is the one sample_light would choose with `u_select` (choose_light), so light paths and
+// next-event estimation share its selection probability; pdf_position includes it. Triangles start
+// here; the light sources in their own files, through the generated dispatch.
 //! include "lights/direct_light_sampler.wgsl"
 //! include "lights/light_path_sample.wgsl"
+// sample_light_source_emission, light_source_emission_pdf, distant_emission and
+// distant_lights_emission_pdf, generated for the scene's LightFeatures (light_emission_dispatch)
 //! include "generated/light_emission.wgsl"
 
+// Distant lights start on the scene's disc (distant_emission_sample). The environment and the suns
+// are mixed: whichever was chosen, the sample carries the radiance of all of them along its
+// direction and the densities of their mixture (DistantEmission), which emission_pdf_distant
+// returns too, so that a light path's densities and those a camera path escaping along -direction
+// is weighed with are one. A directional light is a delta in direction: not in that mixture.
 fn sample_emission(u_select: vec2<f32>, u_position: vec2<f32>, u_direction: vec2<f32>) -> EmissionSample {
     if frame.light_count == 0u {
         return no_emission_sample();
@@ -66,7 +47,9 @@ fn light_triangle_front(triangle: Triangle) -> vec3<f32> {
 
 // A light path leaving light triangle `index` (light table word): a point uniform in area, a
 // cosine-weighted direction on one side; the radiance its material emits there (material_emitted
-// and, through a texture record, surface_emission at the point).
+// and, through a texture record, surface_emission at the point). Two-sided triangles pick either
+// side with probability 1/2 (u_direction.x's halves), so the direction density is |cos| / (2 pi);
+// single-sided ones (surface_emits_both_sides false) leave their front only.
 fn triangle_emission_sample(index: u32, u_position: vec2<f32>, u_direction: vec2<f32>) -> EmissionSample {
     let triangle = scene_triangle(index);
     let front = light_triangle_front(triangle);

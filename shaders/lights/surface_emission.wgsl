@@ -1,10 +1,10 @@
-// Light that materials emit through their MATERIAL_TEXTURES record (gpu/emission.py): Principled's
-// emission x emission_strength x its emission texture, as the light sampler and the path see it.
+// surface_emission: the light materials emit through their MATERIAL_TEXTURES record (emission_hook).
+// Principled's emission x emission_strength x its emission texture, as the light sampler and the path see it.
 //! include "shading/textures.wgsl"
 
 // The radiance leaving triangle `triangle_index` at `p` along -direction (direction: from the
 // viewer or receiver towards p): both sides, as an Emitter, except a single-sided surface, which
-// is invisible and dark from behind (shaders/alpha.wgsl).
+// is invisible and dark from behind (surface_blocks).
 fn surface_emission(material_index: u32, triangle_index: u32, triangle: Triangle, p: vec3<f32>, direction: vec3<f32>) -> vec3<f32> {
     let slots = material_textures[material_index];
     let behind = dot(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0), direction) > 0.0;
@@ -18,7 +18,7 @@ fn surface_emission(material_index: u32, triangle_index: u32, triangle: Triangle
 }
 
 // The light table's weight per unit area of triangle `triangle_index` (its emitted luminance over
-// its footprint in the emission texture: render/emission_footprints.py), for the density with
+// its footprint in the emission texture: footprint_means), for the density with
 // which the light sampler picks its points.
 fn surface_light_density(triangle_index: u32) -> f32 {
     return triangle_light_densities[triangle_index];

@@ -3,7 +3,7 @@
 // the local shading frame every BSDF works in, needed by callers even when no material includes it
 //! include "sampling/warps.wgsl"
 // material_sample/_eval/_pdf and material_is_two_sided (Mitsuba's `twosided`: the same BSDF seen
-// from below), generated for the material kinds the scene uses (gpu/material_dispatch.py)
+// from below), generated for the material kinds the scene uses (material_dispatch)
 //! include "generated/materials.wgsl"
 
 fn flip_z(v: vec3<f32>, flip: bool) -> vec3<f32> {

@@ -1,5 +1,5 @@
-// Independent uniform numbers: each pixel's xoshiro128** stream (rng.wgsl), continued from one
-// sample to the next through rng_states.
+// The independent sampler: each pixel's xoshiro128** stream (rng_next_f32), continued across samples.
+// The stream's state passes from one sample to the next through rng_states.
 //! include "sampling/rng.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 

@@ -1,9 +1,10 @@
-// Owen-scrambled Sobol points after Burley, "Practical Hash-based Owen Scrambling" (JCGT 2020):
-// the first two Sobol dimensions, scrambled by a hash that flips each bit by the bits above it
+// Owen-scrambled Sobol points, after Burley's "Practical Hash-based Owen Scrambling" (JCGT 2020).
+//
+// The first two Sobol dimensions, scrambled by a hash that flips each bit by the bits above it
 // (a nested uniform scramble, so every elementary interval a prefix of 2^m points stratifies
 // keeps one point), and the sample index shuffled by the same kind of scramble, which permutes
 // indices within aligned blocks of every power of two, so a pixel's first 2^m samples are still
-// one whole block of the sequence. wgputrace/render/sobol.py is the same arithmetic in numpy.
+// one whole block of the sequence. render.sobol is the same arithmetic in numpy (sobol_point_2d).
 
 // Chris Wellons' lowbias32: decorrelates nearby integers (pixel seeds, draw numbers) into seeds.
 fn sobol_hash(value: u32) -> u32 {

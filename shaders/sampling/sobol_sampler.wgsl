@@ -1,7 +1,7 @@
-// Owen-scrambled Sobol (sobol.wgsl): a pixel's samples are the points of its own scramble, in
-// order. rng_states[pixel] holds the pixel's seed (x) and how many samples it has taken (y), so
+// The Owen-scrambled Sobol sampler: a pixel's samples are the points of its own scramble, in order.
+// rng_states[pixel] holds the pixel's seed (x) and how many samples it has taken (y), so
 // the sequence continues across dispatches and render calls; the renderer writes the seeds
-// (render/sobol.py pixel_sobol_states). Each draw of a sample (sample_1d or sample_2d) is the next
+// (pixel_sobol_states). Each draw of a sample (sample_1d or sample_2d) is the next
 // dimension: its own shuffle and scramble, seeded by the pixel's seed and the draw's number.
 //! include "sampling/rng.wgsl"
 //! include "sampling/sobol_points.wgsl"

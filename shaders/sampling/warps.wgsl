@@ -1,4 +1,4 @@
-// Shading frames and direction sampling; every sample_x sits beside its pdf_x.
+// Shading frames and the warps that sample directions in them; every sample_x sits beside its pdf_x.
 //! include "common/constants.wgsl"
 
 struct ShadingFrame {

@@ -1,6 +1,6 @@
-// Which surfaces a ray may pass through (gpu/alpha.py): Principled's alpha_mode and double_sided,
-// consulted by the traversal's triangle test so that closest-hit and shadow rays agree (a cut-out
-// leaf lets light through where it lets the camera see through).
+// surface_blocks: which surfaces a ray may pass through (Principled's alpha_mode and double_sided).
+// The traversal's triangle test consults it (alpha_hook), so closest-hit and shadow rays agree: a
+// cut-out leaf lets light through where it lets the camera see through.
 //! include "shading/textures.wgsl"
 //! include "sampling/rng.wgsl"
 

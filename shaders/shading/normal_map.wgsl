@@ -1,20 +1,20 @@
-// Normal maps (glTF normalTexture): the shading normal bent by a tangent-space normal from a texture.
-// The texel's RGB in [0, 1] encodes a unit vector in the frame (tangent, bitangent, normal), +Y up
-// the image; glTF scales its x and y by normal_scale before normalising. The frame is built from the
-// interpolated shading normal and corner tangent (scene/tangents.py: the file's TANGENT or
-// MikkTSpace's), bitangent = cross(normal, tangent) * w as glTF defines it.
+// normal_mapped: the shading normal bent by a tangent-space normal from a texel (glTF normalTexture).
 //
 // The mapped normal only replaces the shading normal: the geometric normal keeps deciding sides
-// and ray offsets, and shading_weight (shading_normals.wgsl) applies pbrt's side rule and Chiang et
-// al.'s terminator term to it as to any shading normal, so bumps cannot leak light through the
-// surface. Where no frame or normal can be trusted it falls back to the unmapped shading normal,
-// which shading_normal has already checked: a tangent along the normal or zero (degenerate texture
-// coordinates), a texel that cancels to zero, a mapped normal below the geometric surface or one
-// that hides the viewer (as shading_normal keeps the geometric normal between the two horizons).
+// and ray offsets, and shading_weight applies to it as to any shading normal, so bumps cannot leak
+// light through the surface.
 
 // Below this a vector has no reliable direction in f32 (a tangent along the normal, a zero texel).
 const NORMAL_MAP_MIN_LENGTH: f32 = 1e-6;
 
+// The texel's RGB in [0, 1] encodes a unit vector in the frame (tangent, bitangent, normal), +Y up
+// the image; glTF scales its x and y by normal_scale (`scale`) before normalising. The frame is
+// built from the interpolated shading normal and corner tangent (corner_tangents: the file's
+// TANGENT or MikkTSpace's), bitangent = cross(normal, tangent) * w as glTF defines it. Where no
+// frame or normal can be trusted it returns the unmapped shading normal, which shading_normal has
+// already checked: a tangent along the normal or zero (degenerate texture coordinates), a texel that
+// cancels to zero, a mapped normal below the geometric surface or one that hides the viewer (as
+// shading_normal keeps the geometric normal between the two horizons).
 fn normal_mapped(shading: vec3<f32>, tangent: vec4<f32>, texel: vec3<f32>, scale: f32, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32> {
     // interpolation bends corner tangents away from the interpolated normal: Gram-Schmidt
     let t_unnormalised = tangent.xyz - shading * dot(shading, tangent.xyz);

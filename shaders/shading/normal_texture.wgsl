@@ -1,5 +1,5 @@
-// mapped_normal: the shading normal at a hit bent by its material's normal texture (glTF's
-// normalTexture x normal_scale), through the corner tangents interpolated like the normals.
+// mapped_normal: the shading normal at a hit bent by its material's normal texture (textures_hook).
+// glTF's normalTexture x normal_scale, through the corner tangents interpolated like the normals.
 //! include "shading/normal_map.wgsl"
 
 fn mapped_normal(shading: vec3<f32>, material: Material, material_index: u32, triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32> {

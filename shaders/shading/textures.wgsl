@@ -1,16 +1,17 @@
-// Textures (scene/texture.py, render/texture_atlas.py): every texture is a rectangle of texels in
-// one atlas (8-bit bytes, sRGB or linear, or linear float32), filtered by hand, bilinearly, after
-// decoding each texel: filtering float32 textures is an optional WebGPU feature, and the hardware
-// filters sRGB bytes only in a texture whose every texel is sRGB. Only mip level 0 exists: a path tracer averages many samples per
-// pixel over the pixel's footprint, which filters minified textures as supersampling does.
+// Textures: texture_sample, surface_uv, and resolve_material (a material with its textures applied).
+//
+// Every texture is a rectangle of texels in one atlas (pack_atlas: 8-bit bytes, sRGB or linear, or
+// linear float32), filtered by hand, bilinearly, after decoding each texel: filtering float32
+// textures is an optional WebGPU feature, and the hardware filters sRGB bytes only in a texture
+// whose every texel is sRGB. Only mip level 0 exists: a path tracer averages many samples per pixel
+// over the pixel's footprint, which filters minified textures as supersampling does.
 //! include "common/constants.wgsl"
 //! include "geometry/barycentric.wgsl"
 
 const TEXTURE_COORDINATE_MAX: f32 = 16777216.0;
 
-// Texel index i of an axis of n texels under its wrap mode (WRAP_<MODE>, numbered by gpu/textures.py
-// as scene/texture.py WRAP_MODES): repeat, clamp to the edge, or mirror (glTF's MIRRORED_REPEAT:
-// period 2n, the second half reversed).
+// Texel index i of an axis of n texels under its wrap mode (WRAP_<MODE>, numbered as WRAP_MODES):
+// repeat, clamp to the edge, or mirror (glTF's MIRRORED_REPEAT: period 2n, the second half reversed).
 fn texture_wrap(i: i32, n: i32, mode: u32) -> i32 {
     if mode == WRAP_REPEAT {
         return ((i % n) + n) % n;
@@ -22,7 +23,7 @@ fn texture_wrap(i: i32, n: i32, mode: u32) -> i32 {
     return select(m, 2 * n - 1 - m, m >= n);
 }
 
-// The sRGB transfer function inverted (IEC 61966-2-1), as scene/texture.py srgb_to_linear.
+// The sRGB transfer function inverted (IEC 61966-2-1), as srgb_to_linear.
 fn srgb_decode(encoded: vec3<f32>) -> vec3<f32> {
     return select(pow((encoded + 0.055) / 1.055, vec3<f32>(2.4)), encoded / 12.92, encoded <= vec3<f32>(0.04045));
 }
@@ -64,7 +65,7 @@ fn surface_uv(triangle_index: u32, triangle: Triangle, p: vec3<f32>) -> vec2<f32
 
 // The material at a hit with its textures applied, so that BSDF code reads constants. Only the
 // Principled material has textures; its record keeps base_color in `color`, roughness in `alpha`
-// and metallic in `metallic` (scene/materials/principled.py fill_record), which glTF's
+// and metallic in `metallic` (Principled.fill_record), which glTF's
 // metallic-roughness texture scales by its G and B channels.
 fn resolve_material(material: Material, material_index: u32, triangle_index: u32, triangle: Triangle, p: vec3<f32>) -> Material {
     let slots = material_textures[material_index];

@@ -10,7 +10,7 @@
 // cover a wide footprint at 25 taps each. Taps are weighted down across edges of the first hit's
 // normal, depth and albedo, and the weights are normalised: a flat region keeps its level.
 // Guides and colours are textures: a tap costs two texel loads (storage-buffer loads cost several
-// times more on CPU adapters, gpu/texels.py).
+// times more on CPU adapters: TrackedTexels).
 
 const B3_SPLINE = array<f32, 3>(0.375, 0.25, 0.0625);
 

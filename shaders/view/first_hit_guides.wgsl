@@ -17,7 +17,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= frame.width || id.y >= frame.height {
         return;
     }
-    // BLEND surfaces (generated/alpha.wgsl) draw from rng_state, never seeded here: xoshiro's zero
+    // BLEND surfaces (surface_blocks) draw from rng_state, never seeded here: xoshiro's zero
     // state draws 0 forever, so the guides see every surface whose alpha is above 0, frame after frame
     traversal_steps = 0u;
     let ray = camera_ray(id.xy, PIXEL_CENTRE);

@@ -1,5 +1,4 @@
-// The picture of one frame as linear colour: the accumulated mean (blended with the filtered one)
-// or a debug view of the guides.
+// One frame's picture as linear colour: the accumulated mean (blended with the filtered one) or a guide view.
 //! include "generated/structs.wgsl"
 //! include "generated/view_structs.wgsl"
 //! include "common/constants.wgsl"

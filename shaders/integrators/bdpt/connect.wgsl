@@ -1,7 +1,6 @@
-// The strategies that join a camera subpath to light: next-event estimation (s = 1), a connection
-// to a stored light vertex (s >= 2, t >= 2) and light tracing's connection to the camera (t = 1),
-// each with its MIS weight (mis_weight.wgsl) and its own shadow ray (the camera subpath's queued:
-// shadow_queue.wgsl).
+// The strategies that join a camera subpath to light, each with its MIS weight and its own shadow ray.
+// Next-event estimation (s = 1), a connection to a stored light vertex (s >= 2, t >= 2) and light
+// tracing's connection to the camera (t = 1); the camera subpath's shadow rays are queued.
 //! include "integrators/bdpt/vertex.wgsl"
 //! include "integrators/bdpt/shadow_queue.wgsl"
 //! include "integrators/bdpt/mis_weight.wgsl"
@@ -25,7 +24,7 @@ fn segment_shadow_ray(a: SurfaceVertex, b: SurfaceVertex, direction: vec3<f32>) 
     return ShadowRay(Ray(start, (end - start) / distance), distance * SHADOW_RAY_SHORTENING, a.triangle_index);
 }
 
-// The way from `x` to the sampled light (towards `direction`): as in path_tracer.wgsl, aimed from
+// The way from `x` to the sampled light (towards `direction`): as the path tracer's light_occluded, aimed from
 // the moved origin up to the light point, or to infinity.
 fn light_shadow_ray(x: SurfaceVertex, light: LightSample, direction: vec3<f32>) -> ShadowRay {
     let origin = vertex_ray(x, direction).origin;
@@ -37,7 +36,7 @@ fn light_shadow_ray(x: SurfaceVertex, light: LightSample, direction: vec3<f32>) 
     return ShadowRay(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, x.triangle_index);
 }
 
-// The MIS sums a light subpath starts with from `emitted` (mis_weight.wgsl's stand-in densities:
+// The MIS sums a light subpath starts with from `emitted` (MisSums' stand-in densities:
 // the distant lights' mixture, a directional light's scene disc).
 fn emission_mis_sums(emitted: EmissionSample, cos_light: f32) -> MisSums {
     if emitted.distant && emitted.delta_direction {
@@ -113,7 +112,7 @@ fn next_event_mis(x: SurfaceVertex, sums: MisSums, sample: NextEventSample, s: S
 // tracer draws it, weighted, with its shadow ray.
 fn next_event(x: SurfaceVertex, sums: MisSums, t: u32) -> Shadowed {
     let sample = sample_next_event(x);
-    // as in path_tracer.wgsl's direct_light: an environment sample's density may round to 0
+    // as in the path tracer's direct_light: an environment sample's density may round to 0
     if !(sample.light.pdf > 0.0) {
         return nothing_shadowed();
     }

@@ -1,27 +1,27 @@
-// Multiple importance sampling over bidirectional strategies by running sums (Georgiev 2012).
+// MisSums: multiple importance sampling over bidirectional strategies by running sums (Georgiev 2012).
 //
 // "Implementing Vertex Connection and Merging" (tech. report) rewrites Veach's weight of a
 // strategy, 1 / sum over strategies of (p_other / p_taken)^2 (power heuristic), as products that
 // each subpath carries along: `dvcm` and `dvc` (its eqs. 31-45, without the merging terms), so that
 // a connection's weight needs only its two end vertices, not the whole path. pbrt-v4's recursive
 // pdfFwd/pdfRev ratios compute the same sums; these need no stored camera subpath.
-//
-// Densities are per unit area on geometry (geometric normals' cosines) or per steradian. Where a
-// strategy's true density is awkward, every weight uses the same stand-in for it, which keeps the
-// weights summing to one per path (any partition of unity leaves the estimate unbiased):
-// - next-event estimation's density of a light triangle's point is its area density in the light
-//   table (emission_pdf_triangle's position) though sample_light draws by solid angle;
-// - the distant lights are one mixture (light_emission.wgsl) and a directional light's disc
-//   is the scene's (bdpt_distant_disk_area);
-// - Russian roulette is left out of every density;
-// - vertices that cannot connect (glass, near-mirrors: material_samples_lights) scatter as deltas
-//   whose forward and reverse densities are equal.
 
 // The power heuristic's exponent (2) applied to a density ratio.
 fn mis(ratio: f32) -> f32 {
     return ratio * ratio;
 }
 
+// Densities are per unit area on geometry (geometric normals' cosines) or per steradian. Where a
+// strategy's true density is awkward, every weight uses the same stand-in for it, which keeps the
+// weights summing to one per path (any partition of unity leaves the estimate unbiased):
+// - next-event estimation's density of a light triangle's point is its area density in the light
+//   table (emission_pdf_triangle's position) though sample_light draws by solid angle;
+// - the distant lights are one mixture (DistantEmission) and a directional light's disc
+//   is the scene's (bdpt_distant_disk_area);
+// - Russian roulette is left out of every density;
+// - vertices that cannot connect (glass, near-mirrors: material_samples_lights) scatter as deltas
+//   whose forward and reverse densities are equal.
+//
 // A subpath's running sums after its last vertex (Georgiev's dVCM and dVC).
 struct MisSums {
     // (the density of the strategy that would have sampled this vertex from the other end) / (this
@@ -31,7 +31,7 @@ struct MisSums {
 }
 
 // A camera subpath's sums at its start: the camera ray's density over the whole image plane
-// (camera_importance.wgsl), against which light tracing's density is weighed; no vertex before it.
+// (camera_ray_pdf), against which light tracing's density is weighed; no vertex before it.
 fn camera_mis_sums(camera_pdf: f32) -> MisSums {
     return MisSums(mis(1.0 / camera_pdf), 0.0);
 }

@@ -1,5 +1,5 @@
-// The camera subpath's contributions that count where their shadow ray is unblocked, queued and
-// traced together once the subpath ends or the next vertex's might not fit (trace_camera_subpath).
+// The camera subpath's shadow-ray queue: contributions that count where their ray is unblocked.
+// Traced together once the subpath ends or the next vertex's might not fit (trace_camera_subpath).
 //! include "geometry/hit_queries.wgsl"
 //
 // Why queued: llvmpipe runs eight invocations in lockstep, and a loop runs while any of them still

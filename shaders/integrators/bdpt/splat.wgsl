@@ -1,13 +1,13 @@
-// Light tracing's contributions to other pixels: summed with integer atomics in 64-bit fixed point,
-// so that the sum is the same whatever order the invocations add in (same seed, same image).
+// splat: light tracing's contributions to other pixels, summed with integer atomics in fixed point.
+// 64-bit sums are the same whatever order the invocations add in (same seed, same image).
 //! include "common/finite.wgsl"
 //
-// `splats` (gpu/bindings.py) holds SPLAT_WORDS words per pixel: for each colour channel a 64-bit
+// `splats` (pixels_group) holds SPLAT_WORDS words per pixel: for each colour channel a 64-bit
 // unsigned sum of round(value x SPLAT_SCALE) as low and high words, then a count of splats dropped
 // for being non-finite or too large. The resolution is 2^-24 (6e-8) per splat, rounded to nearest;
 // a pixel's sum holds up to 2^40 (1.1e12) over all its samples, so one splat is refused at
 // SPLAT_MAX, far beyond any radiance the test scenes reach. The renderer adds the sums to the
-// camera's (render/renderer.py) and divides both by the samples per pixel.
+// camera's (Renderer) and divides both by the samples per pixel.
 const SPLAT_WORDS: u32 = 8u;
 const SPLAT_SCALE: f32 = 16777216.0;
 const SPLAT_MAX: f32 = 1e9;

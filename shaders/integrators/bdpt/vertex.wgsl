@@ -1,17 +1,7 @@
-// A vertex of either subpath: the surface point, how it scatters towards a direction (with the
-// adjoint BSDF on light subpaths) and how it samples the subpath's next direction.
+// SurfaceVertex: a vertex of either subpath, how it scatters towards a direction and samples the next.
+// On light subpaths it scatters by the adjoint BSDF.
 //! include "materials/bsdf.wgsl"
 //! include "geometry/ray.wgsl"
-//
-// Both subpaths estimate the path tracer's integrand: at each vertex f(wi, wo) |cos_s(wo)| times
-// shading_weight, where wi points towards the camera's end and wo towards the light's (the BSDF in
-// the shading frame, bsdf_sample.wgsl). `scattering` returns that with the cosine on the side of
-// `direction` instead, as a connection or a light subpath needs it: on a light subpath `direction`
-// is wi, and by reciprocity f(wi, wo) |cos_s(wi)| = bsdf_eval(wo, wi); the factor
-// |cos_s(wo)| |cos_g(wi)| / (|cos_g(wo)| |cos_s(wi)|) is Veach's adjoint correction for shading
-// normals (thesis 5.3), which turns the shading cosine of wi into the geometric one the area
-// measure's geometry term takes. A refraction's eta^2 scales radiance, not importance: light
-// subpaths leave it out.
 
 struct SurfaceVertex {
     position: vec3<f32>,
@@ -47,13 +37,13 @@ fn vertex_at(p: vec3<f32>, triangle_index: u32, triangle: Triangle, towards: vec
 }
 
 // Whether a connection may end at the vertex: glass and near-mirrors scatter as deltas for the
-// weights (mis_weight.wgsl), so no strategy connects there.
+// weights (MisSums), so no strategy connects there.
 fn connectible(v: SurfaceVertex) -> bool {
     return material_samples_lights(v.material);
 }
 
 // The shading normal at `v` seen from `viewer` (unit). The path tracer chooses it from the side
-// towards the camera (shading_normals.wgsl's silhouette rule, normal_map.wgsl's rejection of a
+// towards the camera (shading_normal's silhouette rule, normal_mapped's rejection of a
 // mapped normal facing away): on a camera subpath that is `towards`, on a light subpath the
 // direction the path goes on in, known only once a connection or a sample chooses it. Every
 // density of sampling a direction is taken in the frame the sampling vertex would have had,
@@ -97,6 +87,16 @@ fn direction_pdf(v: SurfaceVertex, shading: vec3<f32>, from_direction: vec3<f32>
     return bsdf_pdf(v.material, to_local(local, from_direction), to_local(local, to));
 }
 
+// Both subpaths estimate the path tracer's integrand: at each vertex f(wi, wo) |cos_s(wo)| times
+// shading_weight, where wi points towards the camera's end and wo towards the light's (the BSDF in
+// the shading frame, BsdfSample's convention). `scattering` returns that with the cosine on the
+// side of `direction` instead, as a connection or a light subpath needs it: on a light subpath
+// `direction` is wi, and by reciprocity f(wi, wo) |cos_s(wi)| = bsdf_eval(wo, wi); the factor
+// |cos_s(wo)| |cos_g(wi)| / (|cos_g(wo)| |cos_s(wi)|) is Veach's adjoint correction for shading
+// normals (thesis 5.3), which turns the shading cosine of wi into the geometric one the area
+// measure's geometry term takes. A refraction's eta^2 scales radiance, not importance: light
+// subpaths leave it out.
+//
 // f |cos_g(direction)| of the path through `v` towards `direction` (unit), and the BSDF's densities
 // per steradian: `forward` of `direction` given `towards` (as this subpath would sample it),
 // `reverse` of `towards` given `direction` (as the other subpath would).

@@ -1,11 +1,7 @@
-// The bidirectional kernel's check of its own MIS weights (override BDPT_CHECK_WEIGHT_SUMS in
-// bdpt.wgsl; tests/render/test_bdpt_weights.py). Veach's weights of the strategies that can sample
-// a path sum to one for that path, whatever stand-in densities they share (mis_weight.wgsl); a
-// density one strategy computes differently from how the others see it breaks the sum. Each pixel
-// sample walks a camera subpath as the kernel does and closes full paths as the kernel's
-// strategies find them: emission hit, a next-event light sample, distant light on leaving. For
-// each such path it evaluates the weight of every strategy (s, t) that could have sampled that
-// same path, from both ends, with the kernel's own weight functions, and sums them.
+// check_weight_sums: the bidirectional kernel's check of its own MIS weights (BDPT_CHECK_WEIGHT_SUMS).
+// Veach's weights of the strategies that can sample a path sum to one for that path, whatever
+// stand-in densities they share (MisSums); a density one strategy computes differently from how the
+// others see it breaks the sum (test_bdpt_weights).
 
 // A vertex of the camera subpath being checked: the camera subpath's MIS sums on reaching it and
 // whether it scattered towards the next vertex as a delta. Every direction of the check runs
@@ -138,6 +134,11 @@ fn with_checked_path(check: WeightSumCheck, weights: vec2<f32>) -> WeightSumChec
     return WeightSumCheck(max(check.deviation, abs(weights.x - 1.0)), check.paths + 1.0, check.strategies + weights.y);
 }
 
+// Walks a camera subpath as the kernel does and closes full paths as the kernel's strategies find
+// them: emission hit, a next-event light sample, distant light on leaving. For each such path it
+// evaluates the weight of every strategy (s, t) that could have sampled that same path, from both
+// ends, with the kernel's own weight functions, and sums them.
+//
 // One camera subpath from `camera` (BSDF sampling as trace_camera_subpath, without roulette) and
 // every path it closes checked: (largest |sum - 1|, paths, weights summed) as a colour. A NaN sum
 // makes the colour non-finite, which the accumulation counts.
@@ -164,7 +165,7 @@ fn check_weight_sums(camera: Ray) -> vec3<f32> {
         let previous_point = select(previous.vertex.position, camera.origin, depth == 1u);
         let edge = p - previous_point;
         let distance = length(edge);
-        // as the connections (connect.wgsl) make their directions, bit for bit
+        // as the connections (connect_vertices) make their directions, bit for bit
         let direction = edge * inverseSqrt(dot(edge, edge));
         let v = vertex_at(p, hit.triangle, triangle, -direction, false);
         if depth >= 2u {
