@@ -61,7 +61,7 @@ def function_stack_traversal() -> str:
     every traversal instead of once per invocation."""
     first_local = "    var stack_size = 0u;\n"
     return rewritten(
-        "traverse_bvh.wgsl",
+        "geometry/traverse_bvh.wgsl",
         {
             "var<private> stack: array<u32, TRAVERSAL_STACK_SIZE>;\n": "",
             first_local: "    var stack: array<u32, TRAVERSAL_STACK_SIZE>;\n" + first_local,
@@ -72,7 +72,7 @@ def function_stack_traversal() -> str:
 def nearest_first_child_order() -> str:
     """The shipped bvh_child_order.wgsl putting only the nearest child first, the others unsorted."""
     return rewritten(
-        "bvh_child_order.wgsl",
+        "geometry/bvh_child_order.wgsl",
         {
             "    order_pair(c2, c3);\n    order_pair(c0, c2);\n    order_pair(c1, c3);\n    order_pair(c1, c2);\n": (
                 "    order_pair(c0, c2);\n    order_pair(c0, c3);\n"
@@ -84,7 +84,7 @@ def nearest_first_child_order() -> str:
 def storage_triangles_bindings() -> str:
     """The shipped scene_bindings.wgsl reading triangles from a storage buffer (the scene group's
     `triangles` declared as one: STORAGE_TRIANGLES)."""
-    return rewritten("scene_bindings.wgsl", {"load_Triangle(triangles, index)": "triangles[index]"})
+    return rewritten("geometry/scene_bindings.wgsl", {"load_Triangle(triangles, index)": "triangles[index]"})
 
 
 STORAGE_TRIANGLES = Binding("triangles", STORAGE_READ, TRIANGLE)
@@ -125,14 +125,14 @@ VARIANTS = [
     Variant("no_shadow_rays", integrator="bsdf", same_arithmetic=False, what="BSDF sampling alone: no shadow rays"),
     Variant(
         "nearest_child_first",
-        sources={"bvh_child_order.wgsl": nearest_first_child_order()},
+        sources={"geometry/bvh_child_order.wgsl": nearest_first_child_order()},
         same_arithmetic=False,
         same_image=True,
         what="4-wide BVH, only the nearest child first (the others unsorted)",
     ),
     Variant(
         "function_stack",
-        sources={"acceleration.wgsl": function_stack_traversal()},
+        sources={"generated/acceleration.wgsl": function_stack_traversal()},
         what="the traversal stack a function variable, zero-filled at every traversal",
     ),
     Variant(
@@ -142,7 +142,7 @@ VARIANTS = [
     ),
     Variant(
         "storage_triangles",
-        sources={"scene_bindings.wgsl": storage_triangles_bindings()},
+        sources={"geometry/scene_bindings.wgsl": storage_triangles_bindings()},
         storage_triangles=True,
         what="triangles in a storage buffer instead of texels",
     ),
@@ -168,7 +168,7 @@ class Run:
         # with the variant's sources in place of the shipped ones
         self.kernel = compute_kernel(
             context,
-            "path_tracer.wgsl",
+            "integrators/path_tracer.wgsl",
             (scene, PIXELS_GROUP),
             renderer.variant,
             workgroup_size=variant.workgroup,

@@ -1,6 +1,6 @@
 // Directional lights: one direction everywhere, the irradiance of a surface facing it.
-//! include "light_sample.wgsl"
-//! include "emission_sample.wgsl"
+//! include "lights/direct_light_sample.wgsl"
+//! include "lights/light_path_sample.wgsl"
 
 // `direction` is the way the light travels; the sample looks the other way, to infinity.
 fn directional_light_sample(light: LightSource, p: vec3<f32>) -> LightSample {

@@ -1,6 +1,6 @@
-// The environment as a light: what every environment variant shares (environment_constant.wgsl, environment_map.wgsl).
-//! include "light_sample.wgsl"
-//! include "emission_sample.wgsl"
+// The environment as a light: what every environment variant (constant, map) shares.
+//! include "lights/direct_light_sample.wgsl"
+//! include "lights/light_path_sample.wgsl"
 //
 // Each variant defines, beside each other: environment_radiance(direction), the radiance arriving
 // from `direction` (towards the sky, world space); environment_sample(u), a direction; and

@@ -1,6 +1,6 @@
 // A constant environment: the same radiance from every direction, sampled uniformly over the sphere.
 //! include "lights/environment.wgsl"
-//! include "sampling.wgsl"
+//! include "sampling/warps.wgsl"
 //
 // Uniform over the whole sphere, not cosine-weighted about the receiver's normal: its density does
 // not depend on the receiving point, so a ray escaping the scene can be weighted by it alone.

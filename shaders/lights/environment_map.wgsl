@@ -1,17 +1,14 @@
 // An environment map: Mitsuba 3's envmap convention, bilinear lookup by hand, alias-table sampling by cells.
 //! include "lights/environment.wgsl"
-//! include "sampling.wgsl"
+//! include "sampling/warps.wgsl"
 //
-// The numpy references are scene/environment.py's (its docstring pins the convention): a direction
-// of the map's own frame has u = atan2(x, -z) / 2 pi, v = acos(y) / pi; column i's texels sit at
+// The numpy references are Environment's (its docstring pins the convention): a direction of the
+// map's own frame has u = atan2(x, -z) / 2 pi, v = acos(y) / pi; column i's texels sit at
 // u = (i + 1/2) / W (column W - 1 blends with column 0), row j's at v = j / (H - 1). The map's frame
-// is the world turned by -rotation about +y (lighting.environment_rotation = (cos, sin)). Sampling
-// draws one of R x W cells (R = max(H - 1, 1) cell rows between texel rows, W cells between
-// columns) by luminance x solid angle from the tables (render/environment_records.py has their
-// layout), then a direction uniform in the cell's solid angle, so the density per steradian is
-// the cell's, the same all over it. textureLoad, since filtering float32 textures is optional.
+// is the world turned by -rotation about +y (lighting.environment_rotation = (cos, sin)).
+// textureLoad, since filtering float32 textures is optional.
 
-// True only in bench/environment.py: the map sampled uniformly over the sphere (as pbrt's
+// True only in bench.environment: the map sampled uniformly over the sphere (as pbrt's
 // UniformInfiniteLight) instead of by its tables, the baseline importance sampling is measured against.
 override ENVIRONMENT_UNIFORM_SAMPLING: bool = false;
 
@@ -43,7 +40,7 @@ fn environment_texel(column: u32, row: u32) -> vec3<f32> {
     return textureLoad(environment_map, vec2<u32>(column, row), 0).rgb;
 }
 
-// The bilinear lookup of scene/environment.py's `bilinear`, times the intensity.
+// The bilinear lookup of the numpy `bilinear`, times the intensity.
 fn environment_radiance(direction: vec3<f32>) -> vec3<f32> {
     let size = lighting.environment_size;
     let uv = environment_uv(environment_local(direction));
@@ -86,7 +83,7 @@ struct AliasDraw {
 
 // One draw from the alias table of `count` entries starting at word `first`, by one uniform `x`:
 // slot floor(x count), kept when the remainder is below its threshold, else its alias (as
-// scene/environment.py's draw_alias); the remainder, rescaled, is uniform and independent of the draw.
+// the numpy draw_alias); the remainder, rescaled, is uniform and independent of the draw.
 fn environment_alias_draw(first: u32, count: u32, x: f32) -> AliasDraw {
     let scaled = x * f32(count);
     let slot = min(u32(scaled), count - 1u);
@@ -98,8 +95,11 @@ fn environment_alias_draw(first: u32, count: u32, x: f32) -> AliasDraw {
     return AliasDraw(environment_tables[first + 2u * slot + 1u], min((remainder - threshold) / (1.0 - threshold), ONE_MINUS_EPSILON));
 }
 
-// A cell row by u.x, a cell of it by u.y, then within the cell phi by what is left of u.y and
-// cos theta by what is left of u.x (scene/environment.py's local_in_cell).
+// One of R x W cells (R = max(H - 1, 1) cell rows between texel rows, W cells between columns)
+// drawn by luminance x solid angle from the tables (environment_table_words has their layout),
+// then a direction uniform in the cell's solid angle, so the density per steradian is the cell's,
+// the same all over it. A cell row by u.x, a cell of it by u.y, then within the cell phi by what
+// is left of u.y and cos theta by what is left of u.x (the numpy local_in_cell).
 fn environment_sample(u: vec2<f32>) -> vec3<f32> {
     if ENVIRONMENT_UNIFORM_SAMPLING {
         return sample_uniform_sphere(u);

@@ -1,6 +1,6 @@
 // Point lights: the one direction towards the light, its intensity over the squared distance.
-//! include "light_sample.wgsl"
-//! include "emission_sample.wgsl"
+//! include "lights/direct_light_sample.wgsl"
+//! include "lights/light_path_sample.wgsl"
 
 // A point light seen from `p`: a delta, so its density is 1 (times the selection probability the
 // dispatch applies). At p itself the direction is NaN, which direct lighting refuses.

@@ -1,6 +1,6 @@
 // Spot lights: a point light whose intensity falls linearly in angle from its beam to its cutoff (Mitsuba's `spot`).
-//! include "light_sample.wgsl"
-//! include "emission_sample.wgsl"
+//! include "lights/direct_light_sample.wgsl"
+//! include "lights/light_path_sample.wgsl"
 
 // The fraction of the axis intensity sent at `cos_theta` from the axis: 1 within the beam width,
 // 0 from the cutoff angle on, linear in the angle between (Mitsuba 3's falloff_curve). Clamped to

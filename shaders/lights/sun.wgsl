@@ -1,7 +1,7 @@
 // The sun: a distant disc of uniform radiance, sampled uniformly in its cone; sample beside pdf.
-//! include "light_sample.wgsl"
-//! include "sampling.wgsl"
-//! include "emission_sample.wgsl"
+//! include "lights/direct_light_sample.wgsl"
+//! include "sampling/warps.wgsl"
+//! include "lights/light_path_sample.wgsl"
 
 // Whether `direction` (towards the sky) lies in the sun's disc. Compared through the squared sine
 // of its angle to the axis, which f32 keeps to 7 digits where the cosine of a 0.27 degree angle

@@ -1,6 +1,6 @@
 // Diffuse (Lambertian) reflection: eval, sample and pdf, cosine-weighted sampling.
-//! include "sampling.wgsl"
-//! include "bsdf_sample.wgsl"
+//! include "sampling/warps.wgsl"
+//! include "materials/bsdf_sample.wgsl"
 
 fn diffuse_eval(color: vec3<f32>, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     if wi.z <= 0.0 || wo.z <= 0.0 {

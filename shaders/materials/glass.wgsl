@@ -1,6 +1,6 @@
-// Glass: a smooth dielectric. Exact Fresnel chooses between mirror reflection and refraction;
-// total internal reflection falls out of it. Both lobes are deltas, so eval and pdf are zero.
-//! include "bsdf_sample.wgsl"
+// Glass: a smooth dielectric, exact Fresnel choosing between mirror reflection and refraction.
+// Total internal reflection falls out of it. Both lobes are deltas, so eval and pdf are zero.
+//! include "materials/bsdf_sample.wgsl"
 
 struct Fresnel {
     reflectance: f32,

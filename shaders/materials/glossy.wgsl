@@ -1,12 +1,12 @@
-// Glossy: GGX microfacet reflection with Fresnel = color, Smith's separable shadowing, and
-// sampling of visible normals (Heitz 2018). eval, sample and pdf share the same D and G1.
-//! include "sampling.wgsl"
-//! include "bsdf_sample.wgsl"
+// Glossy: GGX microfacet reflection (Fresnel = color), sampled by its visible normals (Heitz 2018).
+// Smith's separable shadowing; eval, sample and pdf share the same D and G1.
+//! include "sampling/warps.wgsl"
+//! include "materials/bsdf_sample.wgsl"
 
 // Glossy lobes narrower than this roughness are treated like mirrors: light sampling would almost
 // never land in the lobe, so those vertices skip next-event estimation (Glossy.samples_lights) and
 // their BSDF-sampled hits on emitters count in full. The choice does not bias the estimate, only
-// its noise; bench/glossy_light_sampling.py measures it (a glossy sphere under a small light, MIS).
+// its noise; bench.glossy_light_sampling measures it (a glossy sphere under a small light, MIS).
 override GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS: f32 = 0.005;
 
 fn ggx_alpha(roughness: f32) -> f32 {
@@ -52,7 +52,7 @@ fn sample_ggx_visible_normal(wi: vec3<f32>, alpha: f32, u: vec2<f32>) -> vec3<f3
 // For the half vector m of wi and wo, wi.m = wo.m exactly, so they cancel here: near grazing
 // both are ~(wi.z + wo.z) / 2, tiny, and computing them apart from a float32 wi (|wi| = 1 only to
 // within a rounding) made the pdf 4% too large at wi.z = 1e-3, alpha = 0.01 (found by the
-// chi-square test, tests/shaders/test_bsdf_chi_square.py).
+// chi-square test, test_bsdf_chi_square).
 fn pdf_ggx_reflection(wi: vec3<f32>, m: vec3<f32>, alpha: f32) -> f32 {
     return ggx_smith_g1(wi, m, alpha) * ggx_d(m, alpha) / (4.0 * wi.z);
 }

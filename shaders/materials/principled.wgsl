@@ -1,15 +1,16 @@
-// Principled: Mitsuba 3's `principled` BSDF (Burley's Disney BSDF) without anisotropic, sheen,
-// clearcoat, spec_tint and flatness: a Disney diffuse lobe with retro-reflection (weight
-// (1 - metallic)(1 - spec_trans)), a GGX specular reflection whose Fresnel mixes the exact
-// dielectric one (eta) and Schlick's about base_color by metallic, and a rough dielectric
-// transmission (weight (1 - metallic) spec_trans, tinted sqrt(base_color)). With spec_trans 0 the
-// material is two-sided (bsdf.wgsl mirrors wi below the surface: Mitsuba's `twosided`); with
-// transmission the side below is the inside (eta inverted), where only the dielectric reflects
-// and transmits, weighted by (1 - metallic) spec_trans. eval, pdf and sample transcribe Mitsuba's
-// src/bsdfs/principled.cpp and principledhelpers.h for these parameters (radiance transport), so
-// that renders match Mitsuba's references. f includes |cos theta_o|.
-//! include "sampling.wgsl"
-//! include "bsdf_sample.wgsl"
+// Principled: Mitsuba 3's `principled` BSDF (Burley's Disney BSDF), less five of its parameters.
+//
+// Without anisotropic, sheen, clearcoat, spec_tint and flatness: a Disney diffuse lobe with
+// retro-reflection (weight (1 - metallic)(1 - spec_trans)), a GGX specular reflection whose Fresnel
+// mixes the exact dielectric one (eta) and Schlick's about base_color by metallic, and a rough
+// dielectric transmission (weight (1 - metallic) spec_trans, tinted sqrt(base_color)). With
+// spec_trans 0 the material is two-sided (bsdf_eval and co. mirror wi below the surface: Mitsuba's
+// `twosided`); with transmission the side below is the inside (eta inverted), where only the
+// dielectric reflects and transmits, weighted by (1 - metallic) spec_trans. eval, pdf and sample
+// transcribe Mitsuba's src/bsdfs/principled.cpp and principledhelpers.h for these parameters
+// (radiance transport), so that renders match Mitsuba's references. f includes |cos theta_o|.
+//! include "sampling/warps.wgsl"
+//! include "materials/bsdf_sample.wgsl"
 //! include "materials/glossy.wgsl"
 //! include "materials/glass.wgsl"
 

@@ -18,7 +18,7 @@ WIDTH, HEIGHT = 7, 5
 DIRECTION_ATOL = 1e-6
 
 KERNEL = """
-//! include "camera.wgsl"
+//! include "camera/camera_ray.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let ray = camera_ray(vec2<u32>(i % frame.width, i / frame.width), vec2<f32>(0.5));
     return vec4<f32>(ray.direction, 0.0);

@@ -117,4 +117,4 @@ def test_a_misnamed_resource_is_refused_by_name(gpu_context):
 @pytest.mark.gpu
 def test_groups_sharing_an_index_are_refused(gpu_context):
     with pytest.raises(ValueError, match="'pixels' and 'guides' share index 1"):
-        ComputeKernel(gpu_context, "guides.wgsl", (scene_group("bvh"), PIXELS_GROUP, GUIDES_GROUP))
+        ComputeKernel(gpu_context, "view/first_hit_guides.wgsl", (scene_group("bvh"), PIXELS_GROUP, GUIDES_GROUP))

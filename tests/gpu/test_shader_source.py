@@ -43,7 +43,9 @@ def test_generated_files_take_part(tmp_path):
 
 
 def test_compile_error_names_original_file_and_line(gpu_context):
-    broken = '//! include "constants.wgsl"\n\nfn compute_broken() -> u32 {\n    let x: u32 = PI;\n    return x;\n}\n'
+    broken = (
+        '//! include "common/constants.wgsl"\n\nfn compute_broken() -> u32 {\n    let x: u32 = PI;\n    return x;\n}\n'
+    )
     entry = broken + "@compute @workgroup_size(1)\nfn main() {}\n"
     with pytest.raises(ShaderCompileError, match=r"broken_entry\.wgsl:4:"):
         ComputeKernel(gpu_context, "broken_entry.wgsl", generated={"broken_entry.wgsl": entry})

@@ -21,7 +21,7 @@ RECORDS = 3_000
 
 LOADER_KERNEL = """
 //! include "generated/structs.wgsl"
-//! include "texels.wgsl"
+//! include "common/texels.wgsl"
 //! include "generated/bindings/scene.wgsl"
 {loader}
 fn compute(i: u32) -> {name} {{

@@ -1,4 +1,4 @@
-"""Bidirectional path tracing (shaders/bdpt.wgsl) against the path tracer and against itself.
+"""Bidirectional path tracing (shaders/integrators/bdpt.wgsl) against the path tracer and against itself.
 
 pbrt's debugging method: each strategy (s, t) alone, unweighted (the BDPT_ONLY_S/T overrides),
 estimates the paths of s + t - 1 edges that it can sample; on a box of diffuse surfaces every

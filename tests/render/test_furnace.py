@@ -58,7 +58,7 @@ DIFFUSE = Diffuse("diffuse", color=(1, 1, 1))
 GLOSSY = [Glossy(f"glossy {r}", color=(1, 1, 1), roughness=r) for r in (0.01, 0.1, 0.5, 1.0)]
 # BSDF sampling alone tests the samples' weights; MIS (the default) adds light samples weighted
 # by bsdf_pdf, the enclosure being the light (glossy below GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS,
-# path_tracer.wgsl, samples no lights: MIS is BSDF sampling there); bidirectional path tracing
+# integrators/path_tracer.wgsl, samples no lights: MIS is BSDF sampling there); bidirectional path tracing
 # adds light paths from the enclosure, connected and traced to the camera. Diffuse keeps A = 1 at
 # every angle, so one suffices.
 INTEGRATORS = ("bsdf", "mis")
@@ -89,7 +89,7 @@ def plane_facing_camera(material, cos_theta: float) -> Scene:
 
 def pixel_cosines(scene: Scene) -> np.ndarray:
     """|cos theta| at the plane of camera rays through SUBPIXELS^2 points of each pixel
-    (SIZE, SIZE, SUBPIXELS^2), as camera.wgsl builds them (row 0 at the top)."""
+    (SIZE, SIZE, SUBPIXELS^2), as camera/camera_ray.wgsl builds them (row 0 at the top)."""
     right, up, forward = scene.camera.image_plane(SIZE, SIZE)
     offsets = (np.arange(SUBPIXELS) + 0.5) / SUBPIXELS
     x = ((np.arange(SIZE)[:, None] + offsets) / SIZE * 2.0 - 1.0).ravel()

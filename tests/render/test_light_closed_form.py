@@ -138,7 +138,7 @@ def spot_radiance(x: np.ndarray, z: np.ndarray) -> np.ndarray:
 
 def spot_pixels(camera: Camera, size: int, quadrature: int) -> np.ndarray:
     """(size, size) mean floor radiance over each pixel, by the camera's own ray model
-    (shaders/camera.wgsl: ndc from the pixel's jittered position, row 0 at the top)."""
+    (shaders/camera/camera_ray.wgsl: ndc from the pixel's jittered position, row 0 at the top)."""
     right, up, forward = camera.image_plane(size, size)
     offsets = (np.arange(quadrature) + 0.5) / quadrature
     positions = (np.arange(size)[:, None] + offsets[None, :]).ravel() / size * 2.0 - 1.0

@@ -1,4 +1,4 @@
-"""Light paths' first vertex (shaders/light_emission.wgsl) for every light kind, on the GPU against
+"""Light paths' first vertex (shaders/lights/light_path_sampler.wgsl) for every light kind, on the GPU against
 theory: radiance x cos / (pdf_position x pdf_direction) estimates each light's emitted power in
 closed form (z-tested, bounds from the sample variance); sampled directions follow the density
 they report (chi-square); emission_pdf and emission_pdf_distant give back the sample's densities;
@@ -58,7 +58,7 @@ POWER_RTOL = 1e-5
 BANDS, SECTORS = 16, 12
 
 EMISSION_KERNEL = """
-//! include "light_emission.wgsl"
+//! include "lights/light_path_sampler.wgsl"
 struct EmissionRow {
     position: vec4<f32>,
     direction: vec4<f32>,
@@ -388,7 +388,7 @@ def test_textured_emitters_and_an_environment_map_emit_their_power(gpu_context, 
 # ---- degenerate input: a zero-area light triangle, no light at all (the table's total weight 0)
 
 DEGENERATE_KERNEL = """
-//! include "light_emission.wgsl"
+//! include "lights/light_path_sampler.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let s = sample_emission(inputs_0[i].xy, inputs_0[i].zw, vec2<f32>(0.3, 0.7));
     let pdf = emission_pdf(s.triangle, s.direction);
@@ -412,7 +412,7 @@ def test_degenerate_triangles_and_no_lights_give_finite_samples(gpu_context, rng
     frame["light_count"], frame["light_weight_total"] = light_count, float(light_count)
     out = run_kernel(
         gpu_context,
-        '//! include "finite.wgsl"\n' + DEGENERATE_KERNEL,
+        '//! include "common/finite.wgsl"\n' + DEGENERATE_KERNEL,
         [rng.random((4096, 4), dtype=np.float32)],
         np.dtype((np.float32, 4)),
         4096,

@@ -203,7 +203,7 @@ def sunny_map(rng) -> np.ndarray:
 
 
 ENVIRONMENT_KERNEL = """
-//! include "light_sampling.wgsl"
+//! include "lights/direct_light_sampler.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let d = inputs_0[i].xyz;
     return vec4<f32>(environment_radiance(d), environment_pdf(d));
@@ -236,7 +236,7 @@ def test_environment_map_lookup_and_pdf_match_the_numpy_references(gpu_context, 
 
 
 SAMPLE_KERNEL = """
-//! include "light_sampling.wgsl"
+//! include "lights/direct_light_sampler.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let light = sample_light(vec3<f32>(0.0, 1.0, 0.0), inputs_0[i].xy, inputs_0[i].zw);
     return vec4<f32>(light.direction, light.pdf);
@@ -267,7 +267,7 @@ def test_environment_map_samples_follow_its_pdf(gpu_context, rng, failure_dir):
 
 
 CHOICE_KERNEL = """
-//! include "light_sampling.wgsl"
+//! include "lights/direct_light_sampler.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let light = sample_light(vec3<f32>(0.0, 1.0, 0.0), inputs_0[i].xy, inputs_0[i].zw);
     return vec4<f32>(light.radiance.x, light.radiance.y, light.radiance.z, light.pdf);

@@ -21,7 +21,7 @@ SIGNIFICANCE = 1e-3
 CHI_SQUARE_TESTS = 1
 # Subcells per light triangle: its three corner triangles and the middle one, each 1/4 of the area.
 SUBCELLS = 4
-# shaders/light_sampling.wgsl's SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (default)
+# shaders/lights/direct_light_sampler.wgsl's SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (default)
 SPHERICAL_SAMPLING_MIN_SOLID_ANGLE = 3e-4
 # f32 solid angles of a few steradians down to 1e-3 carry a few ulps of rounding each
 PDF_RTOL = 1e-4
@@ -74,11 +74,11 @@ def light_scene(rng):
 
 
 # Seen from this far away every triangle of light_scene subtends far less than
-# SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (constants.wgsl): points are sampled by area.
+# SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (common/constants.wgsl): points are sampled by area.
 FAR_AWAY = (3e3, 0.0, 0.0)
 
 SAMPLE_KERNEL = """
-//! include "light_sampling.wgsl"
+//! include "lights/direct_light_sampler.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let u = inputs_0[i];
     let p = inputs_1[0].xyz;
@@ -167,7 +167,7 @@ SPHERICAL_GRID = 8
 # times SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (where f32 precision is least).
 RECEIVERS = {"above": (0.3, 0.4, 0.2), "beside": (1.2, 0.05, 0.3), "behind": (0.2, -0.3, 0.5), "far": (0.3, 20.0, 0.3)}
 SPHERICAL_KERNEL = """
-//! include "light_sampling.wgsl"
+//! include "lights/direct_light_sampler.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let p = inputs_1[0].xyz;
     let light = sample_light(p, inputs_0[i].xy, inputs_0[i].zw);

@@ -1,4 +1,4 @@
-"""Normal maps (Principled.normal_texture, shaders/normal_map.wgsl) rendered: a quad facing the
+"""Normal maps (Principled.normal_texture, shaders/shading/normal_map.wgsl) rendered: a quad facing the
 camera under a grazing directional light. A flat map (and scale 0) renders like no map; a map
 tilted towards the light brightens the quad, tilted away darkens it, and a tilted map renders as the
 same tilt given as corner normals (the same shading normal and shading_weight); the scene's

@@ -88,7 +88,7 @@ def test_normals_against_the_geometry_give_no_nan():
 
 def test_flat_scenes_bind_and_compile_none_of_it():
     flat_hook, smooth_hook = (shading_normals_hook(KernelVariant(SceneFeatures(smooth=on))) for on in (False, True))
-    for included in (SHADING_GROUP.file, "shading_normals.wgsl"):
+    for included in (SHADING_GROUP.file, "shading/smooth_normals.wgsl"):
         assert included not in flat_hook and included in smooth_hook
     flat = Renderer(sphere_scene(1, smooth=False), 8, 8)
     smooth = Renderer(sphere_scene(1, smooth=True), 8, 8)

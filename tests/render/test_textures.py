@@ -1,4 +1,4 @@
-"""Textures: texture_sample (shaders/textures.wgsl) against a numpy oracle of glTF's lookup (bilinear
+"""Textures: texture_sample (shaders/shading/textures.wgsl) against a numpy oracle of glTF's lookup (bilinear
 between texel centres, each wrap mode, KHR_texture_transform); a marked corner renders where glTF's
 convention puts it and an sRGB texel decodes as its linear value; scenes without textures bind,
 upload and compile none of it; edits upload only what changed; textures over the device's side
@@ -228,7 +228,7 @@ def test_degenerate_and_huge_uvs_render_without_nan():
 
 def test_scenes_without_textures_bind_compile_and_allocate_none():
     untextured, textured = (textures_hook(KernelVariant(SceneFeatures(textured=on))) for on in (False, True))
-    assert "textures.wgsl" not in untextured and "textures.wgsl" in textured
+    assert "shading/textures.wgsl" not in untextured and "shading/textures.wgsl" in textured
     uvs_only = Scene([Shape("quad", QUAD, Principled("plain"), uvs=QUAD_UVS)], CAMERA)
     for scene in (cornell_box(), uvs_only):
         renderer = Renderer(scene, 16, 16)

@@ -1,4 +1,4 @@
-"""The Owen-scrambled Sobol sampler's points (render/sobol.py, shaders/sobol.wgsl): the GPU draws
+"""The Owen-scrambled Sobol sampler's points (render/sobol.py, shaders/sampling/sobol_points.wgsl): the GPU draws
 the numpy reference's points bit for bit, so the statistics checked here on millions of numpy
 points hold for the renderer's.
 
@@ -145,7 +145,7 @@ def test_points_are_in_the_unit_square():
 
 
 GPU_KERNEL = """
-//! include "sobol.wgsl"
+//! include "sampling/sobol_points.wgsl"
 fn compute(i: u32) -> vec4<u32> {
     let input = inputs_0[i];
     let draw_seed = sobol_seed(input.x, input.z);
@@ -157,7 +157,7 @@ fn compute(i: u32) -> vec4<u32> {
 
 
 def test_gpu_draws_the_reference_points(gpu_context):
-    """shaders/sobol.wgsl and render/sobol.py agree bit for bit: seeds, draws, indices from small
+    """shaders/sampling/sobol_points.wgsl and render/sobol.py agree bit for bit: seeds, draws, indices from small
     to the top of the 32-bit range."""
     rng = np.random.default_rng(11)
     count = 20_000

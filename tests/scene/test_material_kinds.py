@@ -166,7 +166,7 @@ class TintedMirror(Material):
 '''
 TINTED_MIRROR_WGSL = """\
 // Tinted mirror (made by a test): reflection about the normal, weighted by the tint, above the surface only.
-//! include "bsdf_sample.wgsl"
+//! include "materials/bsdf_sample.wgsl"
 
 fn tinted_mirror_sample(color: vec3<f32>, wi: vec3<f32>) -> BsdfSample {
     if wi.z <= 0.0 {

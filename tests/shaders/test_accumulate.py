@@ -1,4 +1,4 @@
-"""accumulate_sample (accumulate.wgsl): 100,000 heavy-tailed float32 samples per pixel summed
+"""accumulate_sample (integrators/accumulate.wgsl): 100,000 heavy-tailed float32 samples per pixel summed
 without drift, and non-finite samples counted instead of added."""
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ NON_FINITE_PER_PIXEL = 5
 # included), so each iteration takes this many consecutive samples in straight-line code.
 SAMPLES_PER_ITERATION = 4
 SUM_KERNEL = """
-//! include "accumulate.wgsl"
+//! include "integrators/accumulate.wgsl"
 fn sample_value(at: u32) -> vec3<f32> {{
     return vec3<f32>(inputs_0[3u * at], inputs_0[3u * at + 1u], inputs_0[3u * at + 2u]);
 }}

@@ -1,4 +1,4 @@
-"""Sampling consistency of the shipped BSDFs (bsdf.wgsl and materials/*.wgsl), with the random
+"""Sampling consistency of the shipped BSDFs (materials/bsdf.wgsl and materials/*.wgsl), with the random
 numbers fed from numpy so every run sees the same samples. The chi-square suite is separate."""
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ SAMPLE_RECORD = GpuStruct(
 )
 
 KERNEL = f"""
-//! include "bsdf.wgsl"
+//! include "materials/bsdf.wgsl"
 {SAMPLE_RECORD.wgsl()}
 fn compute(i: u32) -> SampleRecord {{
     let material = inputs_0[i];

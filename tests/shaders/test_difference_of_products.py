@@ -1,4 +1,4 @@
-"""difference_of_products.wgsl: a * b - c * d never of the wrong sign, zero for equal products,
+"""geometry/difference_of_products.wgsl: a * b - c * d never of the wrong sign, zero for equal products,
 negated when the products swap.
 
 The watertight triangle test relies on all three: a shared edge's function must change sign with
@@ -19,7 +19,7 @@ pytestmark = pytest.mark.gpu
 SEED = 20_261_123
 COUNT = 20_000
 KERNEL = """
-//! include "difference_of_products.wgsl"
+//! include "geometry/difference_of_products.wgsl"
 fn compute(i: u32) -> f32 {
     let x = inputs_0[i];
     return difference_of_products(x.x, x.y, x.z, x.w);

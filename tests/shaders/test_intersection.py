@@ -1,5 +1,5 @@
-"""Ray/triangle and ray/box intersection (intersect_triangle.wgsl, intersect_box.wgsl, ray.wgsl)
-against float64 numpy: random rays, shared edges and vertices, axis-parallel rays, degenerate
+"""Ray/triangle and ray/box intersection (geometry/intersect_triangle.wgsl, geometry/intersect_box.wgsl,
+geometry/ray.wgsl) against float64 numpy: random rays, shared edges and vertices, axis-parallel rays, degenerate
 triangles, and rays leaving a surface."""
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ BOX_GROWTH = 1e-5
 
 TRIANGLE_KERNEL = """
 //! include "generated/structs.wgsl"
-//! include "intersect_triangle.wgsl"
+//! include "geometry/intersect_triangle.wgsl"
 fn compute(i: u32) -> f32 {
     let triangle = inputs_2[i];
     let sheared = shear_ray(Ray(inputs_0[i].xyz, inputs_1[i].xyz));
@@ -49,7 +49,7 @@ fn compute(i: u32) -> f32 {
 
 BOX_KERNEL = """
 //! include "generated/structs.wgsl"
-//! include "intersect_box.wgsl"
+//! include "geometry/intersect_box.wgsl"
 fn compute(i: u32) -> f32 {
     let box = inputs_2[i];
     let inverse_direction = safe_inverse_direction(inputs_1[i].xyz);
@@ -60,7 +60,7 @@ fn compute(i: u32) -> f32 {
 # Leaves triangle inputs_2[i] at inputs_0[i] towards inputs_1[i]: .xy from the point itself,
 # .zw from the point moved off the surface by offset_ray_origin. Both skip the triangle left.
 LEAVE_SURFACE_KERNEL = """
-//! include "traverse_bvh.wgsl"
+//! include "geometry/traverse_bvh.wgsl"
 fn compute(i: u32) -> vec4<f32> {
     let k = inputs_2[i];
     let triangle = scene_triangle(k);

@@ -1,6 +1,6 @@
-"""loop_budget_spent (loop_budget.wgsl): on llvmpipe it tells when an invocation's loops together
+"""loop_budget_spent (integrators/loop_budget.wgsl): on llvmpipe it tells when an invocation's loops together
 ran past the driver's budget of 65,535 iterations, and never before; elsewhere it is never true.
-drop_cut_short_sample (accumulate.wgsl) counts such a sample instead of adding it."""
+drop_cut_short_sample (integrators/accumulate.wgsl) counts such a sample instead of adding it."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from wgputrace.testing.harness import run_kernel
 pytestmark = pytest.mark.gpu
 
 SPIN_KERNEL = """
-//! include "loop_budget.wgsl"
+//! include "integrators/loop_budget.wgsl"
 fn compute(i: u32) -> vec2<u32> {
     var spin = 0u;
     for (var k = 0u; k < inputs_0[i]; k++) {
@@ -49,7 +49,7 @@ def test_spent_exactly_when_the_loops_ran_past_the_budget(gpu_context):
 
 
 DROP_KERNEL = """
-//! include "accumulate.wgsl"
+//! include "integrators/accumulate.wgsl"
 fn compute(i: u32) -> AccumulatedPixel {
     var pixel = AccumulatedPixel(vec4<f32>(0.0), vec4<f32>(0.0));
     pixel = accumulate_sample(pixel, vec3<f32>(1.0, 2.0, 3.0));

@@ -1,4 +1,4 @@
-"""normal_map.wgsl against a numpy oracle and hand-worked cases: the texel's tangent-space normal
+"""shading/normal_map.wgsl against a numpy oracle and hand-worked cases: the texel's tangent-space normal
 (x and y scaled) in the frame of the shading normal and the Gram-Schmidt tangent, bitangent
 cross(n, t) * w; the unmapped normal where the tangent or texel is degenerate, the mapped normal
 would fall below the geometric surface or hide the viewer; never NaN."""
@@ -26,7 +26,7 @@ Z, X = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])
 def run(gpu_context, case: dict[str, np.ndarray]) -> np.ndarray:
     arguments = {name: case[name] for name in ARGUMENTS}
     body = f"return vec4<f32>(normal_mapped({', '.join(ARGUMENTS)}), 0.0);"
-    return run_per_case(gpu_context, ["normal_map.wgsl"], arguments, body)[:, :3].astype(np.float64)
+    return run_per_case(gpu_context, ["shading/normal_map.wgsl"], arguments, body)[:, :3].astype(np.float64)
 
 
 def one_case(**fields) -> dict[str, np.ndarray]:

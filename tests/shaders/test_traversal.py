@@ -1,4 +1,4 @@
-"""closest_hit of both traversals (traverse_bvh.wgsl over the binned-SAH tree, traverse_flat.wgsl
+"""closest_hit of both traversals (geometry/traverse_bvh.wgsl over the binned-SAH tree, geometry/traverse_flat.wgsl
 over per-shape boxes) against float64 brute force over every triangle."""
 
 from __future__ import annotations

@@ -52,7 +52,7 @@ _FENCE_BYTES = 4
 # llvmpipe (Mesa's CPU driver) gives an invocation one budget of this many loop iterations, shared
 # by all its loops (nested or one after another) and by the 8 invocations it runs in lockstep, and
 # silently ends every loop once it is spent; measured here with Mesa 22.3
-# (tests/shaders/test_loop_budget.py). shaders/loop_budget.wgsl tells a shader when it happened.
+# (tests/shaders/test_loop_budget.py). shaders/integrators/loop_budget.wgsl tells a shader when it happened.
 LLVMPIPE_LOOP_ITERATION_LIMIT = 65_535
 
 

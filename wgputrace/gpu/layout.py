@@ -236,9 +236,9 @@ MATERIAL_TEXTURES = GpuStruct(
     ),
     "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's); "
     "alpha_mode as scene/materials/principled.py ALPHA_MODES numbers them, its cutoff, and 0 for a "
-    "single-sided surface (shaders/alpha.wgsl); the radiance it emits (x the emission texture's: "
-    "shaders/emission.wgsl); the normal texture's strength (shaders/normal_texture.wgsl), in the "
-    "padding after `emitted`.",
+    "single-sided surface (shaders/shading/alpha.wgsl); the radiance it emits (x the emission texture's: "
+    "shaders/lights/surface_emission.wgsl); the normal texture's strength "
+    "(shaders/shading/normal_texture.wgsl), in the padding after `emitted`.",
 )
 
 ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

@@ -41,7 +41,7 @@ class Bdpt(Integrator):
 BDPT = register(
     Bdpt(
         "bdpt",
-        "bdpt.wgsl",
+        "integrators/bdpt.wgsl",
         "bidirectional path tracing: camera and light subpaths connected, every strategy MIS-weighted",
         pixel_arrays=(SPLATS,),
         splats=True,

@@ -17,9 +17,9 @@ for _index, _name in enumerate(ESTIMATORS):
     register(
         Integrator(
             _name,
-            "path_tracer.wgsl",
+            "integrators/path_tracer.wgsl",
             _DESCRIPTIONS[_name],
-            rows_entry="path_tracer_rows.wgsl",
+            rows_entry="integrators/path_tracer_rows.wgsl",
             constants=(("INTEGRATOR", _index),),
         )
     )

@@ -43,14 +43,18 @@ def shading_normals_hook(variant: KernelVariant) -> str:
         f"override {SILHOUETTE_GEOMETRIC_NORMAL}: bool = true;",
     ]
     if smooth:
-        lines += [CORNER_ATTRIBUTES.wgsl(), f'//! include "{SHADING_GROUP.file}"', '//! include "shading_normals.wgsl"']
+        lines += [
+            CORNER_ATTRIBUTES.wgsl(),
+            f'//! include "{SHADING_GROUP.file}"',
+            '//! include "shading/smooth_normals.wgsl"',
+        ]
         return "\n".join(lines) + "\n"
     lines.append(
         "fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, "
         "towards_viewer: vec3<f32>) -> vec3<f32> { return geometric; }"
     )
     if textured:
-        lines.append('//! include "shading_weight.wgsl"')
+        lines.append('//! include "shading/shading_weight.wgsl"')
     else:
         lines.append(
             "fn shading_weight(shading: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>, "

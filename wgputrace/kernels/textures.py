@@ -43,8 +43,8 @@ def textures_hook(variant: KernelVariant) -> str:
             MATERIAL_TEXTURES.wgsl(),
             f"const NO_TEXTURE: u32 = {NO_TEXTURE}u;",
             f'//! include "{SHADING_GROUP.file}"',
-            '//! include "textures.wgsl"',
-            '//! include "normal_texture.wgsl"',
+            '//! include "shading/textures.wgsl"',
+            '//! include "shading/normal_texture.wgsl"',
         ]
     else:
         lines += [f"{_SIGNATURE} {{ return material; }}", f"{_NORMAL_SIGNATURE} {{ return shading; }}"]

@@ -10,7 +10,7 @@ from ..bvh.wide import STACK_SIZE as WIDE_STACK_SIZE
 if TYPE_CHECKING:
     from .variant import KernelVariant
 
-GENERATED_ACCELERATION = "acceleration.wgsl"
+GENERATED_ACCELERATION = "generated/acceleration.wgsl"
 GENERATED_TRAVERSAL_STACK = "generated/traversal_stack.wgsl"
 # Entries of the per-ray traversal stack: enough for every tree the renderer builds (`WideBVH`
 # says why), and more than the binary traversal of those trees needs.
@@ -36,7 +36,7 @@ def traversal_stack(entries: int = BVH_STACK_SIZE) -> str:
 
 
 def acceleration_hook(variant: KernelVariant) -> str:
-    return f'//! include "traverse_{variant.scene.acceleration}.wgsl"\n'
+    return f'//! include "geometry/traverse_{variant.scene.acceleration}.wgsl"\n'
 
 
 def traversal_stack_hook(variant: KernelVariant) -> str:

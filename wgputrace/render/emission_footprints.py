@@ -17,7 +17,7 @@ import numpy as np
 
 from ..scene.texture import Texture
 
-# beyond 2^24 texels f32 coordinates have no fraction left (shaders/textures.wgsl clamps alike)
+# beyond 2^24 texels f32 coordinates have no fraction left (shaders/shading/textures.wgsl clamps alike)
 _COORDINATE_MAX = 2.0**24
 
 

@@ -79,7 +79,7 @@ def light_table(
     weighing `source_weights` (each light's `weight`, in the scene's order); and of an environment
     weighing `environment_weight`. `surface_densities` (one per triangle) adds the weight per unit
     area of light emitted through the materials' texture records (render/emission_footprints.py),
-    which the shaders read back (light_sampling.wgsl light_density)."""
+    which the shaders read back (lights/direct_light_sampler.wgsl light_density)."""
     surface = np.zeros(len(triangles)) if surface_densities is None else surface_densities
     density = (emitted_radiance(materials) @ LUMINANCE_WEIGHTS)[triangles["material"]] + surface
     index = np.flatnonzero(emitting(materials)[triangles["material"]] | (surface > 0))

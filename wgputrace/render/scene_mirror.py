@@ -391,7 +391,7 @@ class SceneMirror:
     def scene_bounding_sphere(self) -> tuple[np.ndarray, float]:
         """The centre and radius of the scene's bounding sphere (around its box: half the box's
         diagonal), which the power of distant lights and the environment is measured through and
-        light paths from them start on (shaders/emission_sample.wgsl)."""
+        light paths from them start on (shaders/lights/light_path_sample.wgsl)."""
         corners = np.concatenate([self.triangles[corner] for corner in ("v0", "v1", "v2")]).astype(np.float64)
         low, high = corners.min(axis=0), corners.max(axis=0)
         return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))

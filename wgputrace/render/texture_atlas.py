@@ -12,7 +12,7 @@ colour beside a 256 mask) would pad every layer to the largest, and the layer co
 its own (256 in WebGPU's defaults); one 2D texture holds any mix and binds as one resource. Shelf
 packing (tallest first, rows left to right) wastes little for the few textures a scene has.
 Textures are not padded against each other: the lookup wraps texel indices inside each rectangle
-(shaders/textures.wgsl), so no filter reaches a neighbour.
+(shaders/shading/textures.wgsl), so no filter reaches a neighbour.
 
 A texture larger than the device's texture side (render/limits.py atlas_side) is box-filtered down
 until it fits, with a TextureWarning naming both sizes: refusing the large textures users download

@@ -1,4 +1,4 @@
-"""The shipped BSDFs (bsdf.wgsl) run on the GPU, incident directions in their local frame, and a
+"""The shipped BSDFs (materials/bsdf.wgsl) run on the GPU, incident directions in their local frame, and a
 grid on the hemisphere over which their pdf and eval are integrated and their samples counted:
 what the chi-square and furnace tests compare.
 
@@ -36,7 +36,7 @@ MAX_REFINEMENTS = 6
 
 # The harness input v holds a direction or random numbers in xyz and the case's index in w.
 _KERNEL = """
-//! include "bsdf.wgsl"
+//! include "materials/bsdf.wgsl"
 fn compute(i: u32) -> vec4<f32> {{
     let v = inputs_2[i];
     let material = inputs_0[u32(v.w)];

@@ -30,7 +30,7 @@ T_ROUNDINGS = 32
 # rounding unless |cos| < T_ROUNDINGS * UNIT_ROUNDOFF / AMBIGUOUS_T_SLACK ~ 2e-3.
 AMBIGUOUS_T_SLACK = 1e-3
 
-# Largest finite float32: what the shaders return as "no hit" (FLOAT_MAX in constants.wgsl).
+# Largest finite float32: what the shaders return as "no hit" (FLOAT_MAX in common/constants.wgsl).
 FLOAT_MAX = float(np.finfo(np.float32).max)
 
 # Rays per chunk of the brute-force oracle: its (rays, triangles, 3) float64 temporaries stay

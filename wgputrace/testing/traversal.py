@@ -1,4 +1,4 @@
-"""The shipped closest_hit (traverse_bvh.wgsl or traverse_flat.wgsl) run on numpy rays through the
+"""The shipped closest_hit (geometry/traverse_bvh.wgsl or geometry/traverse_flat.wgsl) run on numpy rays through the
 WGSL harness: what the traversal tests and the traversal benchmark check against the oracles."""
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ def closest_hit(
         scene["frame"] = frame_record(len(records.nodes))
     out = run_kernel(
         context,
-        KERNEL.format(traversal=f"traverse_{kind}.wgsl"),
+        KERNEL.format(traversal=f"geometry/traverse_{kind}.wgsl"),
         [as_vec4(origins), as_vec4(directions)],
         np.dtype((np.float32, 2)),
         len(origins),

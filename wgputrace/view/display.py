@@ -81,8 +81,8 @@ class Display:
         renderer = banded.renderer
         width, height = banded.full_size
         generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
-        self._resolve_kernel = compute_kernel(context, "resolve.wgsl", (RESOLVE_GROUP,), generated=generated)
-        self._atrous_kernel = compute_kernel(context, "atrous.wgsl", (ATROUS_GROUP,), generated=generated)
+        self._resolve_kernel = compute_kernel(context, "view/resolve.wgsl", (RESOLVE_GROUP,), generated=generated)
+        self._atrous_kernel = compute_kernel(context, "view/atrous.wgsl", (ATROUS_GROUP,), generated=generated)
         self.guides = image_texture(context, "pixel guides", width, height, GUIDE_FORMAT)
         self._compile_guides(renderer.variant.scene)
         self.resolved = image_texture(context, "resolved image", width, height, IMAGE_FORMAT)
@@ -229,13 +229,17 @@ def guides_kernel(context: GpuContext, features: SceneFeatures) -> ComputeKernel
         scene, *extras = features.groups()
         generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
         _guides_kernels[key] = compute_kernel(
-            context, "guides.wgsl", (scene, GUIDES_GROUP, *extras), KernelVariant(features), generated=generated
+            context,
+            "view/first_hit_guides.wgsl",
+            (scene, GUIDES_GROUP, *extras),
+            KernelVariant(features),
+            generated=generated,
         )
     return _guides_kernels[key]
 
 
 def decode_guides(texels: np.ndarray) -> dict[str, np.ndarray]:
-    """guide_packing.wgsl's unpack_guide in numpy, for (..., 4) uint32 texels."""
+    """view/guide_packing.wgsl's unpack_guide in numpy, for (..., 4) uint32 texels."""
     snorm = np.maximum((texels[..., 0:1] >> np.array([0, 16], np.uint32) & 0xFFFF).astype(np.int16) / 32767.0, -1.0)
     n = np.concatenate([snorm, 1.0 - np.abs(snorm).sum(axis=-1, keepdims=True)], axis=-1)
     folded = (1.0 - np.abs(n[..., 1::-1])) * np.where(n[..., :2] >= 0, 1.0, -1.0)

@@ -23,18 +23,18 @@ GENERATED_VIEW_STRUCTS = "generated/view_structs.wgsl"
 # The filter divides radiance by the first hit's albedo and multiplies it back; albedo channels
 # below this (black materials, nothing hit) divide by it instead of by ~0.
 FILTER_ALBEDO_MIN = 1e-3
-# Guides store the normal in two 16-bit snorms (guide_packing.wgsl): decoded normals are off by
+# Guides store the normal in two 16-bit snorms (view/guide_packing.wgsl): decoded normals are off by
 # at most this much per component (measured bound of the octahedral code at 16 bits, with margin).
 GUIDE_NORMAL_ERROR = 1e-4
 # ... and the albedo in 8-bit unorms: off by at most half a step.
 GUIDE_ALBEDO_ERROR = 0.5 / 255
-# Texel formats of the viewer's per-pixel images: linear colour, and the packed guides (guide_packing.wgsl).
+# Texel formats of the viewer's per-pixel images: linear colour, and the packed guides (view/guide_packing.wgsl).
 IMAGE_FORMAT = "rgba32float"
 GUIDE_FORMAT = "rgba32uint"
 
 
 class ResolveMode(IntEnum):
-    """What resolve.wgsl writes for the radiance view; the ids are its RESOLVE_* constants."""
+    """What view/resolve.wgsl writes for the radiance view; the ids are its RESOLVE_* constants."""
 
     MEAN = 0  # the mean of the samples
     DEMODULATED = 1  # the mean over albedo: the filter's input
@@ -42,7 +42,7 @@ class ResolveMode(IntEnum):
 
 
 class View(IntEnum):
-    """What the viewer shows; the ids are the VIEW_* constants of resolve.wgsl."""
+    """What the viewer shows; the ids are the VIEW_* constants of view/resolve.wgsl."""
 
     RADIANCE = 0
     NORMAL = 1
@@ -67,7 +67,7 @@ RESOLVE_PARAMS = GpuStruct(
         ("filter_weight", "f32"),
         ("first_row", "u32"),
     ),
-    "What resolve.wgsl shows (from row first_row on): pixels of rows < rows_done have samples_per_pixel + 1 samples; "
+    "What view/resolve.wgsl shows (from row first_row on): pixels of rows < rows_done have samples_per_pixel + 1 samples; "
     "pixels without samples show the fallback image (width 0: none); mode is a RESOLVE_* id.",
 )
 ATROUS_PARAMS = GpuStruct(
@@ -110,7 +110,7 @@ BOX_LINES_PARAMS = GpuStruct(
 
 VIEW_STRUCTS = (RESOLVE_PARAMS, ATROUS_PARAMS, PRESENT_PARAMS, BOX_LINES_PARAMS)
 
-# guides.wgsl writes them beside the scene group (group 0, gpu/bindings.py).
+# view/first_hit_guides.wgsl writes them beside the scene group (group 0, gpu/bindings.py).
 GUIDES_GROUP = BindGroup("guides", 1, (Binding("guides", STORAGE_TEXTURE, GUIDE_FORMAT),))
 RESOLVE_GROUP = BindGroup(
     "resolve",

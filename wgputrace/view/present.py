@@ -54,14 +54,14 @@ class Presenter:
         encode = not target_format.endswith("-srgb")
         self._image_kernel = RenderKernel(
             context,
-            "present.wgsl",
+            "view/present.wgsl",
             target_format,
             (PRESENT_GROUP,),
             generated=generated,
             constants={"ENCODE_SRGB": encode},
         )
         self._lines_kernel = RenderKernel(
-            context, "bvh_lines.wgsl", target_format, (BOX_LINES_GROUP,), generated=generated, topology="line-list"
+            context, "view/bvh_lines.wgsl", target_format, (BOX_LINES_GROUP,), generated=generated, topology="line-list"
         )
         self._params = uniform_buffer(context, "present params", PRESENT_PARAMS.zeros(1))
         self._lines_params = uniform_buffer(context, "box lines params", BOX_LINES_PARAMS.zeros(1))

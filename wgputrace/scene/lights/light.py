@@ -10,9 +10,9 @@ descriptor, and like pbrt-v4's `Light` it answers what the light sampler and the
 | parameters and their checks               | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)  |
 | its GPU record                            | `fill_record`            | render/scene_mirror.py's light source records      |
 | its sampling code (and what escaped rays see) | `shader`             | gpu/light_dispatch.py: generated dispatch        |
-| where its light paths start               | `shader.emission_sample` | light_emission.wgsl (bidirectional paths)        |
-| a delta light (only light sampling finds it)? | `delta`              | path_tracer.wgsl: weight 1, under every integrator |
-| infinitely far (shadow rays to infinity)? | `distant`                | light_sampling.wgsl, the power estimate          |
+| where its light paths start               | `shader.emission_sample` | lights/light_path_sampler.wgsl (bidirectional paths) |
+| a delta light (only light sampling finds it)? | `delta`              | integrators/path_tracer.wgsl: weight 1, under every integrator |
+| infinitely far (shadow rays to infinity)? | `distant`                | lights/direct_light_sampler.wgsl, the power estimate |
 | its share of the light sampler            | `weight`                 | render/lights.py's alias table                   |
 | its Mitsuba 3 equivalent                  | `mitsuba_emitter`        | reference/mitsuba_scene.py                       |
 
@@ -54,11 +54,11 @@ class LightShader:
     returns a LightSample; a distant light that is not a delta (the sun) also gives what a ray
     escaping along `direction` sees of it, `escaped_radiance` (vec3) and `escaped_pdf` (the density
     per steradian with which `sample` draws `direction`, before the light's selection probability).
-    Light paths (shaders/light_emission.wgsl): `emission_sample` sees `light`, `disk` (the scene's
+    Light paths (shaders/lights/light_path_sampler.wgsl): `emission_sample` sees `light`, `disk` (the scene's
     SceneDisk), `u_position` and `u_direction` (vec2) and returns an EmissionSample, its densities
     before the selection probability; a light at a finite distance also gives `emission_pdf`, its
     EmissionPdf for sending `direction` (unit, leaving it). Distant lights' densities are those of
-    their mixture (emission_sample.wgsl DistantEmission), made from `escaped_radiance` and `escaped_pdf`."""
+    their mixture (lights/light_path_sample.wgsl DistantEmission), made from `escaped_radiance` and `escaped_pdf`."""
 
     file: str
     sample: str

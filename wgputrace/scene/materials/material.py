@@ -11,9 +11,9 @@ is the whole descriptor, and like pbrt-v4's `BxDF::Flags()` it answers what the 
 | its GPU record                          | `fill_record`                    | render/scene_records.py `material_records`      |
 | its BSDF code (sample, eval, pdf)       | `shader`                         | gpu/material_dispatch.py: generated dispatch    |
 | every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
-| can a light sample land in its lobe?    | `samples_lights` (WGSL)          | path_tracer.wgsl's next-event estimation        |
-| the same BSDF seen from both sides?     | `two_sided`                      | bsdf.wgsl; the Mitsuba `twosided` wrapper       |
-| the radiance it emits                   | `emission_wgsl`, `record_radiance` | path_tracer.wgsl, light_sampling.wgsl, render/lights.py |
+| can a light sample land in its lobe?    | `samples_lights` (WGSL)          | integrators/path_tracer.wgsl's next-event estimation |
+| the same BSDF seen from both sides?     | `two_sided`                      | materials/bsdf.wgsl; the Mitsuba `twosided` wrapper |
+| the radiance it emits                   | `emission_wgsl`, `record_radiance` | integrators/path_tracer.wgsl, lights/direct_light_sampler.wgsl, render/lights.py |
 | its Mitsuba 3 equivalent                | `mitsuba_bsdf`, `mitsuba_emitter` | reference/mitsuba_scene.py                     |
 
 A class registers itself as a kind when its body sets `kind`; subclassing a kind without setting
@@ -136,7 +136,7 @@ class Material(Kind):
     # WGSL bool over `material`: can a light sample land in the lobe, so that next-event estimation
     # pays at this vertex? None: no for a delta lobe, yes otherwise
     samples_lights: ClassVar[str | None] = None
-    # the BSDF is the same seen from below (Mitsuba's `twosided`): bsdf.wgsl mirrors wi to +z first
+    # the BSDF is the same seen from below (Mitsuba's `twosided`): materials/bsdf.wgsl mirrors wi to +z first
     two_sided: ClassVar[bool] = True
     # a WGSL condition on the record that decides two-sidedness per material instead (Principled's)
     two_sided_wgsl: ClassVar[str | None] = None

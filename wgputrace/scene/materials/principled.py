@@ -10,7 +10,7 @@ need (transmission included).
 | spec_trans | float [0, 1]  | 0       | weight of rough dielectric transmission (glTF KHR_materials_transmission); above 0 the back side is the inside |
 | base_color_texture | Texture (sRGB) or None | None | RGB x base_color (glTF baseColorTexture); its alpha x alpha |
 | metallic_roughness_texture | Texture (linear) or None | None | G x roughness, B x metallic (glTF metallicRoughnessTexture) |
-| normal_texture | Texture (linear) or None | None | tangent-space normal map (glTF normalTexture; shaders/normal_map.wgsl) |
+| normal_texture | Texture (linear) or None | None | tangent-space normal map (glTF normalTexture; shaders/shading/normal_map.wgsl) |
 | normal_scale | float [-100, 100] | 1 | x and y of the normal map's vectors x this (glTF normalTexture.scale) |
 | alpha      | float [0, 1]  | 1       | coverage x the base colour texture's alpha (alpha_mode: cut-outs, blending) |
 | alpha_mode | "OPAQUE", "MASK", "BLEND" | "OPAQUE" | glTF's: alpha ignored; texels of alpha < alpha_cutoff cut out; stochastic transparency |
@@ -29,8 +29,8 @@ or refracts as its Fresnel and the weights say. Without transmission the materia
 both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
 GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans. Textures, alpha and normal_scale are in
 the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
-reads these fields (shaders/textures.wgsl resolve_material), so the BSDF code sees constants.
-Alpha modes and sidedness act in the traversal's triangle test (shaders/alpha.wgsl), for every ray;
+reads these fields (shaders/shading/textures.wgsl resolve_material), so the BSDF code sees constants.
+Alpha modes and sidedness act in the traversal's triangle test (shaders/shading/alpha.wgsl), for every ray;
 only scenes with such a material compile that test (gpu/alpha.py).
 WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `principled` with the same values, in `twosided`
 without transmission.

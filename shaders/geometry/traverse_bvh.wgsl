@@ -1,0 +1,89 @@
+// BVH traversal over 4-wide nodes (WideBVH), closest hit and any hit: a one-word stack, nearer children first.
+//! include "geometry/intersect_leaf.wgsl"
+//! include "geometry/intersect_box.wgsl"
+//! include "geometry/hit_queries.wgsl"
+//! include "generated/texel_loaders.wgsl"
+//! include "geometry/bvh_child_order.wgsl"
+//! include "generated/traversal_stack.wgsl"
+
+// The scene group's `nodes` are texels of 4-wide records here (scene_group): texture
+// loads are the fast kind on lavapipe, and four children's boxes a record save steps
+// (bench/README.md's optimization log).
+
+// Child k's (entry distance bits, child word): the shipped box test, FLOAT_MAX for an empty slot.
+fn wide_child(ray: Ray, inverse_direction: vec3<f32>, wide: WideBvhNode, k: u32, t_max: f32) -> vec2<u32> {
+    let bounds_min = vec3<f32>(wide.min_x[k], wide.min_y[k], wide.min_z[k]);
+    let bounds_max = vec3<f32>(wide.max_x[k], wide.max_y[k], wide.max_z[k]);
+    let t = intersect_box(ray.origin, inverse_direction, bounds_min, bounds_max, t_max);
+    return vec2<u32>(bitcast<u32>(select(t, FLOAT_MAX, wide.children[k] == WIDE_EMPTY)), wide.children[k]);
+}
+
+fn is_hit(child: vec2<u32>) -> bool {
+    return bitcast<f32>(child.x) != FLOAT_MAX;
+}
+
+// Leaves a, b in the order nearer first (an exact tie keeps them as they are).
+fn order_pair(a: ptr<function, vec2<u32>>, b: ptr<function, vec2<u32>>) {
+    let first = *a;
+    let second = *b;
+    let keep = bitcast<f32>(first.x) <= bitcast<f32>(second.x);
+    *a = select(second, first, keep);
+    *b = select(first, second, keep);
+}
+
+// A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
+// leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.
+// At most WIDTH - 1 entries per wide level: collapse shows every tree fits BVH_STACK_SIZE; the
+// renderer compiles only what its tree needs (traversal_stack_size). At module
+// scope because WGSL zero-fills a variable where it is declared: here once per invocation, in
+// traverse() at every traversal (`python -m bench.kernel_profile --variants function_stack`
+// measures the difference). traverse() is never re-entered.
+var<private> stack: array<u32, TRAVERSAL_STACK_SIZE>;
+
+fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
+    var hit = Hit(t_max, NO_TRIANGLE);
+    let sheared = shear_ray(ray);
+    let inverse_direction = safe_inverse_direction(ray.direction);
+    var stack_size = 0u;
+    var node = 0u; // record 0 holds the root's children
+    loop {
+        traversal_steps++;
+        if (node & WIDE_LEAF) != 0u {
+            let first = (node & ~WIDE_LEAF) >> WIDE_COUNT_BITS;
+            let count = (node & WIDE_COUNT_MASK) + 1u;
+            if intersect_leaf(ray, sheared, BvhNode(vec3<f32>(0.0), first, vec3<f32>(0.0), count), skip_triangle, any_hit, &hit) {
+                break;
+            }
+        } else {
+            let wide = load_WideBvhNode(nodes, node);
+            var c0 = wide_child(ray, inverse_direction, wide, 0u, hit.t);
+            var c1 = wide_child(ray, inverse_direction, wide, 1u, hit.t);
+            var c2 = wide_child(ray, inverse_direction, wide, 2u, hit.t);
+            var c3 = wide_child(ray, inverse_direction, wide, 3u, hit.t);
+            order_children(&c0, &c1, &c2, &c3);
+            if is_hit(c0) {
+                // pushed farthest first, so that the nearer ones come off the stack first
+                if is_hit(c3) {
+                    stack[stack_size] = c3.y;
+                    stack_size++;
+                }
+                if is_hit(c2) {
+                    stack[stack_size] = c2.y;
+                    stack_size++;
+                }
+                if is_hit(c1) {
+                    stack[stack_size] = c1.y;
+                    stack_size++;
+                }
+                node = c0.y;
+                continue;
+            }
+        }
+        if stack_size == 0u {
+            break;
+        }
+        stack_size--;
+        node = stack[stack_size];
+    }
+    return hit;
+}

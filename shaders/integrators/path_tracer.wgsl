@@ -1,0 +1,233 @@
+// The path tracing megakernel: one sample per pixel per dispatch, added to the accumulation buffer.
+//! include "generated/acceleration.wgsl"
+//! include "camera/camera_ray.wgsl"
+//! include "sampling/sampler.wgsl"
+//! include "materials/bsdf.wgsl"
+//! include "lights/direct_light_sampler.wgsl"
+//! include "sampling/mis.wgsl"
+//! include "integrators/accumulate.wgsl"
+//! include "integrators/loop_budget.wgsl"
+// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (path_guides_hook)
+//! include "generated/path_guides.wgsl"
+// escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (escaped_light_hook)
+//! include "generated/escaped_light.wgsl"
+// shading_normal and shading_weight: the geometric normal and 1 unless the scene has per-vertex
+// normals (shading_normals_hook)
+//! include "generated/shading_normals.wgsl"
+// resolve_material and mapped_normal: the material and the shading normal as they are unless the
+// scene has textures (textures_hook)
+//! include "generated/textures.wgsl"
+//! include "generated/bindings/pixels.wgsl"
+//! include "generated/workgroup.wgsl"
+
+// Which estimator of direct light: BSDF sampling alone, light sampling alone (next-event
+// estimation), or both combined by multiple importance sampling. One compile per choice.
+override INTEGRATOR: u32 = INTEGRATOR_MIS;
+
+// Russian roulette starts at this path depth and never survives with more than this probability,
+// so that paths stuck in lossless loops (total internal reflection) still end. Overrides so that
+// bench.error_breakdown can measure other policies.
+override RUSSIAN_ROULETTE_DEPTH: u32 = 3u;
+override RUSSIAN_ROULETTE_MAX_SURVIVAL: f32 = 0.95;
+
+fn triangle_normal(triangle: Triangle) -> vec3<f32> {
+    return normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
+}
+
+// Vertices where a light sample can land in the BSDF's lobe (the material says: generated
+// material_samples_lights); elsewhere (glass, near-mirror glossy) only BSDF sampling finds lights.
+fn samples_lights(material: Material) -> bool {
+    if INTEGRATOR == INTEGRATOR_BSDF || frame.light_count == 0u {
+        return false;
+    }
+    return material_samples_lights(material);
+}
+
+// Under plain path tracing, vertices that still sample the delta lights (point, spot, directional):
+// no BSDF sample can hit one, so light sampling is their only strategy, with weight 1, as under
+// every integrator. Only scenes with delta lights compile it in (generated HAS_DELTA_LIGHTS).
+fn samples_delta_lights_only(material: Material) -> bool {
+    return HAS_DELTA_LIGHTS && INTEGRATOR == INTEGRATOR_BSDF && frame.light_count != 0u && material_samples_lights(material);
+}
+
+// Whether anything blocks the way from `origin` to the sampled light: up to the light point, or
+// to infinity for distant lights.
+fn light_occluded(origin: vec3<f32>, light: LightSample, skip_triangle: u32) -> bool {
+    if light.distant {
+        return occluded(Ray(origin, light.direction), FLOAT_MAX, skip_triangle);
+    }
+    // Aim from the moved origin: moved towards a light plane that faces the surface (a lamp just
+    // below a ceiling), a ray of the unmoved length would reach the light's plane at grazing angles
+    // and count the light as its own occluder.
+    let shadow = light.position - origin;
+    let shadow_distance = length(shadow);
+    return occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, skip_triangle);
+}
+
+// Light reaching the surface point `p` of `triangle` from one sampled light point, times the
+// BSDF (cosine included, in the shading frame `local`, with what shading_weight keeps of it), over
+// the sample's density, weighted against BSDF sampling under MIS (delta lights: weight 1). Under
+// plain path tracing only delta lights count here. `geometric`: the triangle's normal, which the
+// shadow ray starts from; `towards_viewer`: wi in world space.
+fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, geometric: vec3<f32>, towards_viewer: vec3<f32>, material: Material, wi: vec3<f32>) -> vec3<f32> {
+    let light = sample_light(p, sample_2d(), sample_2d());
+    // An environment sample's density is evaluated again from its direction, which f32 rounding
+    // can put in a neighbouring cell of density 0 (and radiance 0): no light, not 0 / 0.
+    if !(light.pdf > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    if INTEGRATOR == INTEGRATOR_BSDF && !light.delta {
+        return vec3<f32>(0.0);
+    }
+    var direction = light.direction;
+    if !light.distant {
+        let to_light = light.position - p;
+        let distance_squared = dot(to_light, to_light);
+        let distance = sqrt(distance_squared);
+        direction = to_light / distance;
+    }
+    let cos_light = abs(dot(light.normal, direction));
+    // NaN too: a point light at the receiving point has no direction
+    if !(cos_light > COS_MIN) {
+        return vec3<f32>(0.0);
+    }
+    let wo = to_local(local, direction);
+    let f = bsdf_eval(material, wi, wo) * shading_weight(local.normal, geometric, towards_viewer, direction);
+    if all(f == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let origin = offset_ray_origin(p, geometric, direction, triangle.v0, triangle.v1, triangle.v2);
+    if light_occluded(origin, light, triangle_index) {
+        return vec3<f32>(0.0);
+    }
+    var weight = 1.0;
+    if INTEGRATOR == INTEGRATOR_MIS && !light.delta {
+        weight = power_heuristic(light.pdf, bsdf_pdf(material, wi, wo));
+    }
+    return f * light.radiance * (weight / light.pdf);
+}
+
+// Weight of emission found by following the path: in full where the previous vertex could not
+// sample lights (the camera, glass, near-mirrors), not at all under pure NEE (light sampling
+// counted it), and by the power heuristic under MIS. `previous_position` is the point the light
+// sampler would have sampled from (unmoved by the ray offset, as in direct_light).
+fn emission_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, previous_position: vec3<f32>, triangle_index: u32, triangle: Triangle, distance: f32, cos_light: f32) -> f32 {
+    if !previous_sampled_lights {
+        return 1.0;
+    }
+    if INTEGRATOR == INTEGRATOR_NEE {
+        return 0.0;
+    }
+    return power_heuristic(previous_bsdf_pdf, pdf_light(previous_position, triangle_index, triangle, distance * distance, cos_light));
+}
+
+// emission_weight's rule for light found by a ray leaving the scene (the environment, the sun),
+// whose light sampler density `light_pdf` for that direction is known (generated escaped_light).
+fn escaped_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, light_pdf: f32) -> f32 {
+    if !previous_sampled_lights {
+        return 1.0;
+    }
+    if INTEGRATOR == INTEGRATOR_NEE {
+        return 0.0;
+    }
+    return power_heuristic(previous_bsdf_pdf, light_pdf);
+}
+
+// One path from the camera: emission at every vertex, direct light by the chosen integrator,
+// BSDF sampling between vertices, Russian roulette (unbiased: survivors are divided by their
+// survival probability) from RUSSIAN_ROULETTE_DEPTH on. Roulette judges the throughput without
+// the eta^2 radiance scaling of refraction (as pbrt and Mitsuba do): inside glass that scaling
+// would make paths die more often and survivors carry heavier weights, only to undo itself on
+// the way out. max_depth counts path vertices the way
+// Mitsuba does: 1 shows only emitters seen directly, 2 adds direct lighting, and so on.
+fn trace_path(camera: Ray) -> vec3<f32> {
+    var ray = camera;
+    var radiance = vec3<f32>(0.0);
+    var throughput = vec3<f32>(1.0);
+    var skip_triangle = NO_TRIANGLE;
+    var previous_sampled_lights = false;
+    var previous_bsdf_pdf = 0.0;
+    var previous_position = vec3<f32>(0.0);
+    var eta_scale = 1.0;
+    for (var depth = 1u; ; depth++) {
+        let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
+        if hit.triangle == NO_TRIANGLE {
+            if HAS_ESCAPED_LIGHT {
+                radiance += throughput * escaped_light(ray.direction, depth == 1u, previous_sampled_lights, previous_bsdf_pdf);
+            }
+            break;
+        }
+        let triangle = scene_triangle(hit.triangle);
+        let normal = triangle_normal(triangle);
+        let p = ray.origin + hit.t * ray.direction;
+        let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
+        let towards_viewer = -ray.direction;
+        let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
+        let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
+        guide_vertex(material, shading, ray.direction);
+        // emission shines from both sides (a single-sided surface's from its front only)
+        let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, p, ray.direction);
+        if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {
+            let emitted = material_emitted(material) + surface_emitted;
+            let cos_light = abs(dot(normal, ray.direction));
+            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, previous_position, hit.triangle, triangle, hit.t, cos_light);
+            radiance += throughput * emitted * weight;
+        }
+        if !material_reflects(material) || depth >= frame.max_depth {
+            break;
+        }
+        let local = shading_frame(shading);
+        let wi = to_local(local, towards_viewer);
+        previous_sampled_lights = samples_lights(material);
+        previous_position = p;
+        if previous_sampled_lights || samples_delta_lights_only(material) {
+            radiance += throughput * direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
+        }
+        let u = sample_2d();
+        let sample = bsdf_sample(material, wi, u, sample_1d());
+        if sample.pdf <= 0.0 {
+            break;
+        }
+        let direction = to_world(local, sample.direction);
+        let kept = shading_weight(shading, normal, towards_viewer, direction);
+        if kept <= 0.0 {
+            break;
+        }
+        previous_bsdf_pdf = sample.pdf;
+        throughput *= sample.weight * kept;
+        eta_scale /= sample.eta * sample.eta;
+        if depth >= RUSSIAN_ROULETTE_DEPTH {
+            let survival = min(max_component(throughput) * eta_scale, RUSSIAN_ROULETTE_MAX_SURVIVAL);
+            if sample_1d() >= survival {
+                break;
+            }
+            throughput /= survival;
+        }
+        ray = Ray(offset_ray_origin(p, normal, direction, triangle.v0, triangle.v1, triangle.v2), direction);
+        skip_triangle = hit.triangle;
+    }
+    return radiance;
+}
+
+// One sample for the pixel at column xy.x, row xy.y; the viewer's band-of-rows entry point
+// (main_rows) calls this too.
+fn render_pixel(xy: vec2<u32>) {
+    if xy.x >= frame.width || xy.y >= frame.height {
+        return;
+    }
+    let pixel = xy.y * frame.width + xy.x;
+    sampler_begin(pixel);
+    let radiance = trace_path(camera_ray(xy, sample_2d()));
+    if loop_budget_spent(frame.width) {
+        accumulation[pixel] = drop_cut_short_sample(accumulation[pixel]);
+    } else {
+        accumulation[pixel] = accumulate_sample(accumulation[pixel], radiance);
+        accumulate_guides(pixel, radiance);
+    }
+    sampler_end(pixel);
+}
+
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    render_pixel(id.xy);
+}

@@ -1,8 +1,0 @@
-// The numbers a path draws, in the order it draws them: the camera's 2D point, then per vertex
-// the light sample's 2D + 2D, the BSDF's 2D + 1D and roulette's 1D. Estimators draw only through
-// sample_1d and sample_2d, between sampler_begin(pixel) and sampler_end(pixel), so a sampler that
-// stratifies by dimension can stand behind them. The renderer chooses which (gpu/sampler.py):
-// samplers/independent.wgsl or samplers/sobol.wgsl, each keeping its per-pixel state in rng_states.
-// Stochastic alpha (alpha.wgsl) draws from rng_next_f32 directly: how many times a ray meets a
-// blended surface varies from path to path, so its draws cannot own dimensions.
-//! include "generated/sampler.wgsl"

@@ -1,0 +1,9 @@
+// The sampler interface: sample_1d and sample_2d between sampler_begin(pixel) and sampler_end(pixel).
+//
+// A path draws, in order: the camera's 2D point, then per vertex the light sample's 2D + 2D, the
+// BSDF's 2D + 1D and roulette's 1D. Estimators draw only through this interface, so a sampler
+// that stratifies by dimension can stand behind it. The renderer chooses which (sampler_hook: the
+// independent or the Sobol sampler), each keeping its per-pixel state in rng_states. Stochastic
+// alpha (surface_blocks) draws from rng_next_f32 directly: how many times a ray meets a blended
+// surface varies from path to path, so its draws cannot own dimensions.
+//! include "generated/sampler.wgsl"

@@ -1,6 +1,0 @@
-// Texel `index` of a texture of records (wgputrace/gpu/texels.py), whose width is a power of two.
-
-fn texel_at(texels: texture_2d<u32>, index: u32) -> vec4<u32> {
-    let width = textureDimensions(texels).x;
-    return textureLoad(texels, vec2<u32>(index & (width - 1u), index >> countTrailingZeros(width)), 0);
-}
