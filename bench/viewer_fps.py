@@ -25,7 +25,9 @@ from bench.charts import figure, save_figure
 from bench.command_line import argument_parser, log, parse
 from bench.provenance import Run
 from bench.result_files import write_result
-from wgputrace.app.viewer import REST_SECONDS, Viewer, ViewerOptions
+from wgputrace.app.options import ViewerOptions
+from wgputrace.app.pacing import REST_SECONDS
+from wgputrace.app.viewer import Viewer
 from wgputrace.app.window import create_canvas, has_display
 from wgputrace.cli_arguments import parse_size
 from wgputrace.scenes import DEFAULT_SCENE
@@ -54,7 +56,7 @@ def run_size(size: tuple[int, int], seconds: float, target_fps: float) -> dict:
         if moving_start <= now < moving_start + seconds:
             marks.setdefault("moving", len(viewer.frames))
             direction = 1.0 if int((now - moving_start) / TURN_SECONDS) % 2 == 0 else -1.0
-            viewer.look(direction * TURN_PIXELS_PER_FRAME, 0.0)
+            viewer.input.look(direction * TURN_PIXELS_PER_FRAME, 0.0)
         elif now >= resting_start:
             marks.setdefault("resting", len(viewer.frames))
         if moving_start + seconds <= now:

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Renderer, default_scene, load_image
-from wgputrace.app.viewer import DENOISER_KEY, Viewer
+from wgputrace.app.input import DENOISER_KEY
+from wgputrace.app.viewer import Viewer
 from wgputrace.denoise import denoiser_available
 from wgputrace.testing.image_statistics import displayed_mse
 from wgputrace.testing.offscreen_viewer import LAMP_OVER_FLOOR, SIZE, frames, offscreen_viewer, red_text
@@ -21,7 +22,7 @@ from wgputrace.view.denoised import IDLE_FACTOR, SAMPLE_GROWTH, DenoiseSchedule
 
 denoise_module = importlib.import_module("wgputrace.denoise")
 denoised_module = importlib.import_module("wgputrace.view.denoised")
-viewer_module = importlib.import_module("wgputrace.app.viewer")
+denoising_module = importlib.import_module("wgputrace.app.denoising")
 
 # The converged picture the viewer's is compared with: another seed than the viewer's.
 REFERENCE_SEED = 99
@@ -35,7 +36,7 @@ DENOISE_WAIT_SECONDS = 60.0
 # MAX_PASSES_PER_CALL); the reference's own noise at 64 spp is most of what remains.
 ERROR_RATIO_BOUND = 0.5
 # The viewer's resolve divides in float32 where Renderer.image() rounds once from float64
-# (tests/view/test_banded.py).
+# (the banded renderer's tests bound it the same way).
 RESOLVE_RTOL = 2.0**-22
 
 needs_oidn = pytest.mark.skipif(not denoiser_available(), reason="pyoidn (the denoise extra) is not installed")
@@ -54,20 +55,20 @@ def draw_until(viewer: Viewer, condition, what: str) -> None:
 def test_oidns_picture_is_shown_closer_to_the_converged_one_and_switching_off_shows_the_raw(gpu_context, tmp_path):
     viewer = offscreen_viewer("cornell", tmp_path)
     frames(viewer, 2)
-    viewer.press(DENOISER_KEY)
+    viewer.input.press(DENOISER_KEY)
     assert viewer.view.renderer.guides_enabled
     banded = viewer.view.banded
     # the frame that completes the first full-size pass starts the denoise; paused from there on,
     # the raw picture keeps exactly the samples OIDN was given
     draw_until(viewer, lambda: not banded.reduced and banded.samples_per_pixel >= 1, "a full-size pass")
-    viewer.press(" ")
+    viewer.input.press(" ")
     draw_until(viewer, lambda: viewer.view.denoised.shown, "a denoised picture")
     samples = banded.samples_per_pixel
     label = f"OIDN ({viewer.view.denoised.device_name}), {samples} spp"
     assert viewer.shown_label() == label and any(label in line for line in viewer.info_lines())
     denoised = load_image(viewer.screenshot()[1])
 
-    viewer.press(DENOISER_KEY)
+    viewer.input.press(DENOISER_KEY)
     frames(viewer, 1)
     assert viewer.shown_label() == "raw" and banded.samples_per_pixel == samples
     raw = load_image(viewer.screenshot()[1])
@@ -88,12 +89,12 @@ def test_a_denoise_of_samples_from_before_the_camera_moved_is_not_shown_and_movi
 ):
     viewer = offscreen_viewer("cornell", tmp_path)
     frames(viewer, 1)  # the view is made at the first frame's size
-    viewer.press(DENOISER_KEY)
+    viewer.input.press(DENOISER_KEY)
     banded, denoised = viewer.view.banded, viewer.view.denoised
     draw_until(viewer, lambda: not banded.reduced and banded.samples_per_pixel >= 1, "a full-size pass")
 
     def turned_until_the_denoise_ended() -> bool:
-        viewer.look(1.0, 0.0)
+        viewer.input.look(1.0, 0.0)
         return denoised.last_seconds is not None
 
     draw_until(viewer, turned_until_the_denoise_ended, "the denoise")
@@ -111,16 +112,16 @@ def test_without_oidn_the_overlay_says_how_to_install_it_and_the_a_trous_filter_
     viewer = offscreen_viewer(str(scene), tmp_path)
     frames(viewer, 2)
     assert not red_text(frames(viewer, 1)).any()
-    viewer.press(DENOISER_KEY)
+    viewer.input.press(DENOISER_KEY)
     frame = frames(viewer, 2)
-    assert 'pip install "wgputrace[denoise]"' in viewer.denoiser_missing
+    assert 'pip install "wgputrace[denoise]"' in viewer.denoiser.missing
     assert red_text(frame).sum() > 20, "the message is not in the picture"
     assert capsys.readouterr().err.count("wgputrace[denoise]") == 1, "said once on the console"
     view = viewer.view
     assert view.denoised is None and not view.renderer.guides_enabled, "guides without a denoiser"
     assert viewer.shown_label() == "a-trous" and view.display.filter_weight > 0.0
 
-    viewer.press(DENOISER_KEY)
+    viewer.input.press(DENOISER_KEY)
     frame = frames(viewer, 2)
     assert viewer.shown_label() == "raw" and not red_text(frame).any()
 
@@ -130,14 +131,14 @@ def test_a_failing_denoise_switches_the_denoiser_off_saying_why(gpu_context, mon
     def failing(*args, **kwargs):
         raise RuntimeError("OIDN broke")
 
-    monkeypatch.setattr(viewer_module, "denoiser_device", lambda: "CPU")  # whether pyoidn is there or not
+    monkeypatch.setattr(denoising_module, "denoiser_device", lambda: "CPU")  # whether pyoidn is there or not
     monkeypatch.setattr(denoised_module, "denoise", failing)
     scene = tmp_path / "white.py"
     scene.write_text(LAMP_OVER_FLOOR)
     viewer = offscreen_viewer(str(scene), tmp_path)
-    viewer.press(DENOISER_KEY)
-    draw_until(viewer, lambda: not viewer.denoising, "switching the denoiser off")
-    assert "OIDN (CPU) failed on the viewer's image: OIDN broke; the denoiser is off" in viewer.status
+    viewer.input.press(DENOISER_KEY)
+    draw_until(viewer, lambda: not viewer.denoiser.on, "switching the denoiser off")
+    assert "OIDN (CPU) failed on the viewer's image: OIDN broke; the denoiser is off" in viewer.overlay.status
     assert "OIDN broke" in capsys.readouterr().err
     assert viewer.shown_label() == "raw"
 

@@ -37,7 +37,7 @@ def test_a_reloaded_scene_beyond_the_device_limits_is_reported_and_the_scene_sho
     assert view is not None and viewer.errors == []
 
     rewrite(path, DEFAULT)
-    viewer._next_scene_poll = 0.0  # do not wait for the next poll
+    viewer.shown.next_poll = 0.0  # do not wait for the next poll
     frame = frames(viewer, 2)
     assert viewer.scene is shown and viewer.view is view, "the scene shown was replaced"
     assert "max-texture-dimension-2d" in viewer.errors[0] and "still showing the previous scene" in viewer.errors[1]
@@ -47,7 +47,7 @@ def test_a_reloaded_scene_beyond_the_device_limits_is_reported_and_the_scene_sho
     assert frame[..., :3].max() > 0
 
     rewrite(path, LAMP_OVER_FLOOR)
-    viewer._next_scene_poll = 0.0
+    viewer.shown.next_poll = 0.0
     frame = frames(viewer, 3)
     assert viewer.scene is not shown and viewer.errors == [] and not red_text(frame).any()
 
@@ -57,10 +57,10 @@ def test_a_lost_device_is_replaced_and_without_a_new_one_the_viewer_closes_sayin
 ):
     viewer = offscreen_viewer("cornell", tmp_path)
     frames(viewer, 2)
-    lost = viewer.context
+    lost = viewer.device.context
     lost.device.destroy()
     frame = frames(viewer, 4)
-    assert viewer.context is not lost and viewer.context.lost_reason is None
+    assert viewer.device.context is not lost and viewer.device.context.lost_reason is None
     assert viewer.exit_status == 0 and not viewer.canvas.get_closed()
     assert frame[..., :3].max() > 0, "no picture after the device was replaced"
     assert "the GPU device was lost" in capsys.readouterr().err
@@ -69,7 +69,7 @@ def test_a_lost_device_is_replaced_and_without_a_new_one_the_viewer_closes_sayin
         raise RuntimeError("wgpu found no adapter")
 
     monkeypatch.setattr(gpu_device, "new_context", no_adapter)
-    viewer.context.device.destroy()
+    viewer.device.context.device.destroy()
     viewer.canvas.draw()
     assert viewer.exit_status == 1 and viewer.canvas.get_closed()
     last = capsys.readouterr().err.strip().splitlines()[-1]

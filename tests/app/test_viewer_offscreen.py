@@ -26,14 +26,14 @@ def test_a_failing_scene_file_is_shown_and_the_viewer_keeps_running(gpu_context,
     assert red_text(frame).sum() > 20, "the error is not in the picture"
 
     rewrite(path, LAMP_OVER_FLOOR)
-    viewer._next_scene_poll = 0.0  # do not wait for the next poll
+    viewer.shown.next_poll = 0.0  # do not wait for the next poll
     for _ in range(3):
         frame = np.asarray(viewer.canvas.draw())
     assert viewer.scene is not None and viewer.errors == []
     assert frame[..., :3].max() > 0 and not red_text(frame).any()
 
     rewrite(path, BROKEN)
-    viewer._next_scene_poll = 0.0
+    viewer.shown.next_poll = 0.0
     viewer.canvas.draw()
     frame = np.asarray(viewer.canvas.draw())
     assert "scene.py:5" in viewer.errors[0] and "still showing the previous scene" in viewer.errors[1]

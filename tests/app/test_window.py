@@ -11,7 +11,7 @@ from PIL import Image
 
 from wgputrace import Renderer, default_scene, load_image
 from wgputrace.app.controls import LOOK_RADIANS_PER_PIXEL, SPEED_STEP
-from wgputrace.app.viewer import REST_SECONDS
+from wgputrace.app.pacing import REST_SECONDS
 from wgputrace.image_io import tonemap
 from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores
 from wgputrace.testing.running_app import START_SECONDS, RunningApp

@@ -17,11 +17,10 @@ import sys
 
 from ..cli_arguments import add_view_arguments
 from ..scenes import DEFAULT_SCENE
+from .options import ViewerOptions
 
 
-def options_from(args: argparse.Namespace):
-    from .viewer import ViewerOptions
-
+def options_from(args: argparse.Namespace) -> ViewerOptions:
     return ViewerOptions(
         scene=args.scene,
         size=args.size,
@@ -62,7 +61,7 @@ def notebook_viewer(scene: str = DEFAULT_SCENE, size: tuple[int, int] = (480, 36
     keyword options as ViewerOptions."""
     from rendercanvas.jupyter import RenderCanvas
 
-    from .viewer import Viewer, ViewerOptions
+    from .viewer import Viewer
     from .window import MAX_FPS
 
     canvas = RenderCanvas(size=size, title=f"wgputrace - {scene}", update_mode="continuous", max_fps=MAX_FPS)

@@ -1,7 +1,10 @@
 """The debug overlay: lines of text drawn by Pillow into an RGBA array, which the present pass
-blends over the picture. Redrawn a few times per second, never per frame."""
+blends over the picture. Redrawn a few times per second, never per frame (`Overlay`)."""
 
 from __future__ import annotations
+
+import time
+from collections.abc import Callable
 
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
@@ -12,6 +15,10 @@ MARGIN = 8
 BACKGROUND = (0, 0, 0, 170)
 TEXT = (255, 255, 255, 255)
 ERROR_TEXT = (255, 90, 90, 255)
+# The text is redrawn this often (Pillow costs milliseconds; per frame would show in the fps).
+OVERLAY_SECONDS = 0.25
+STATUS_SECONDS = 4.0
+OVERLAY_POSITION = (8, 8)
 
 
 def _font() -> ImageFont.ImageFont:
@@ -63,3 +70,41 @@ def text_overlay(lines: list[str], errors: list[str] | None = None, max_width: i
     for index, (text, color) in enumerate(entries):
         draw.text((MARGIN, MARGIN + index * line_height), text, font=font, fill=color)
     return np.asarray(image)
+
+
+class Overlay:
+    """When the overlay is redrawn (every OVERLAY_SECONDS, or at the next frame after a change),
+    whether it shows the viewer's information (Tab), and a status line shown under it for
+    STATUS_SECONDS."""
+
+    def __init__(self, show_info: bool) -> None:
+        self.show_info = show_info
+        self.status = ""
+        self._status_until = 0.0
+        self._next = 0.0
+
+    def redraw_soon(self) -> None:
+        """Something shown changed: redraw at the next frame."""
+        self._next = 0.0
+
+    def show_status(self, message: str) -> None:
+        self.status = message
+        self._status_until = time.perf_counter() + STATUS_SECONDS
+        self._next = 0.0
+
+    def due(self, now: float) -> bool:
+        return now >= self._next
+
+    def redraw(
+        self, presenter, now: float, size: tuple[int, int], info: Callable[[], list[str]], errors: list[str]
+    ) -> None:
+        """Give `presenter` the text for a window of `size`: `errors` in red, then `info()` and the status."""
+        self._next = now + OVERLAY_SECONDS
+        lines = info() if self.show_info else []
+        if self.show_info and self.status and now < self._status_until:
+            lines.append(self.status)
+        if not lines and not errors:
+            presenter.set_overlay(None)
+            return
+        max_width = max(size[0] - 2 * OVERLAY_POSITION[0], 1)
+        presenter.set_overlay(text_overlay(lines, errors, max_width), OVERLAY_POSITION)

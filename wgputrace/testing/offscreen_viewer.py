@@ -10,7 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from wgputrace.app.viewer import Viewer, ViewerOptions
+from wgputrace.app.options import ViewerOptions
+from wgputrace.app.viewer import Viewer
 
 SIZE = (96, 72)
 # A lamp over a white floor: small enough for any device, and nothing red in its picture but the

@@ -1,0 +1,27 @@
+"""ViewerOptions: what the viewer is started with (the `view` command's arguments)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..scenes import DEFAULT_SCENE
+from .pacing import TARGET_FPS
+
+
+@dataclass
+class ViewerOptions:
+    scene: str = DEFAULT_SCENE
+    size: tuple[int, int] = (640, 480)
+    max_depth: int = 9
+    seed: int = 1
+    exposure: float = 1.0
+    target_fps: float = TARGET_FPS
+    filter: bool = False
+    denoise: bool = False
+    # --env, --env-intensity, --env-rotation as cli_arguments.apply_lighting reads them
+    env: str | tuple[float, float, float] | Path | None = None
+    env_intensity: float | None = None
+    env_rotation: float | None = None
+    info: bool = True
+    screenshot_dir: Path = field(default_factory=Path.cwd)
