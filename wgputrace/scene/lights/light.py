@@ -77,8 +77,6 @@ def _check_kind(cls: type[Light], where: str) -> None:
         raise TypeError(f"{where}: its shader must give emission_sample, where light paths start")
     if not cls.distant and cls.shader.emission_pdf is None:
         raise TypeError(f"{where}: a light at a finite distance must give emission_pdf beside emission_sample")
-    if not isinstance(getattr(cls, "strength", None), str):
-        raise TypeError(f"{where}: strength must name the parameter that scales its color")
 
 
 LIGHT_KINDS = KindRegistry("light", _check_kind)
@@ -100,8 +98,8 @@ class Light(Kind):
     delta: ClassVar[bool] = False
     # infinitely far: its shadow rays run to infinity and its power is what crosses the scene
     distant: ClassVar[bool] = False
-    # the parameter that scales `color` (each kind has a `color` field): "intensity" (W/sr) or
-    # "irradiance" (W/m^2), checked by check_strength
+    # the parameter that scales its `color` field: "intensity" (W/sr) or "irradiance" (W/m^2), which
+    # checked_parameters checks with check_strength (a kind with its own checked_parameters may have none)
     strength: ClassVar[str]
 
     @property
