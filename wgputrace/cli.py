@@ -171,6 +171,12 @@ def _check_cluster_options(args: argparse.Namespace) -> None:
         raise ValueError(f"{' and '.join(refused)}: not with --ray (a cluster render takes --spp)")
 
 
+def _renderer_options(args: argparse.Namespace) -> dict[str, object]:
+    """The Renderer's keyword arguments from the command line but the image size: the seed, the
+    path depth and how it traces (method_options); a render on a cluster passes them on."""
+    return {"seed": args.seed, "max_depth": args.max_depth, **method_options(args)}
+
+
 def _render_on_cluster(args: argparse.Namespace) -> int:
     from .cluster.command_line import render_on_cluster
 
@@ -179,7 +185,7 @@ def _render_on_cluster(args: argparse.Namespace) -> int:
     if lighting is not None:
         print(f"lighting         {lighting}")
     args.spp = DEFAULT_SPP if args.spp is None else args.spp
-    render_on_cluster(args, scene, method_options(args))
+    render_on_cluster(args, scene, _renderer_options(args))
     return 0
 
 
@@ -187,7 +193,7 @@ def _render_frames(args: argparse.Namespace) -> int:
     from .cluster.command_line import render_frames_on_cluster
 
     try:
-        render_frames_on_cluster(args, method_options(args))
+        render_frames_on_cluster(args, _renderer_options(args))
     except Aborted as abort:
         _tell(
             f"wgputrace: {signal_name(abort.signal)}: stopped; the frames written are kept and the same command "
@@ -216,15 +222,7 @@ def _render(args: argparse.Namespace) -> int:
     width, height = args.size
     context = gpu()
     start = time.perf_counter()
-    renderer = Renderer(
-        scene,
-        width,
-        height,
-        seed=args.seed,
-        max_depth=args.max_depth,
-        guides=args.denoise,
-        **method_options(args),
-    )
+    renderer = Renderer(scene, width, height, guides=args.denoise, **_renderer_options(args))
     setup_seconds = time.perf_counter() - start
     spp = DEFAULT_SPP if args.spp is None and args.time_limit is None else args.spp
     path = denoised = None

@@ -139,7 +139,8 @@ TINTED_MIRROR_PY = '''\
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialShader, check_color, mitsuba_rgb
+from ..registry import mitsuba_rgb
+from .material import Material, MaterialShader
 
 
 @dataclass(eq=False)
@@ -156,7 +157,7 @@ class TintedMirror(Material):
     delta = True
 
     def checked_parameters(self):
-        return {{"color": check_color(self.name, "color", self.color, upper=1.0)}}
+        return {{"color": self.check_color("color", self.color, upper=1.0)}}
 
     def fill_record(self, record):
         record["color"] = self.color

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from importlib.metadata import version
 
@@ -19,8 +19,10 @@ from .progress import ClusterProgress
 
 
 @contextmanager
-def progress_bar(unit: str) -> Iterator[Callable[[ClusterProgress], None]]:
-    """A tqdm bar on stderr and the callback that moves it."""
+def cluster_job(args: argparse.Namespace, unit: str) -> Iterator[dict[str, object]]:
+    """The keyword arguments a job on the cluster takes from the command line besides the render's:
+    the cluster's address, the most workers, and `progress`, which moves a tqdm bar of `unit`s on
+    stderr."""
     from tqdm import tqdm
 
     with tqdm(unit=unit, desc=f"rendering {unit}s", file=sys.stderr, dynamic_ncols=True) as bar:
@@ -32,31 +34,18 @@ def progress_bar(unit: str) -> Iterator[Callable[[ClusterProgress], None]]:
                 f"{progress.samples_per_second / 1e6:.2f} M samples/s, {progress.live_workers} workers live"
             )
 
-        yield update
+        yield {"address": args.ray, "workers": args.workers, "progress": update}
 
 
-def render_on_cluster(args: argparse.Namespace, scene, options: dict[str, str]) -> None:
+def render_on_cluster(args: argparse.Namespace, scene, options: dict[str, object]) -> None:
     """`wgputrace render --ray`: the scene's image from the cluster, written with what made it;
-    `options`: the Renderer's (cli_arguments.method_options)."""
+    `options`: the Renderer's keyword arguments (seed, max_depth, accel, ...)."""
     from .batch_render import render_batches
 
     width, height = args.size
     spp = args.spp
-    with progress_bar("batch") as progress:
-        result = render_batches(
-            scene,
-            spp,
-            width,
-            height,
-            seed=args.seed,
-            max_depth=args.max_depth,
-            address=args.ray,
-            batches=args.batches,
-            workers=args.workers,
-            tile=args.tile,
-            progress=progress,
-            **options,
-        )
+    with cluster_job(args, "batch") as job:
+        result = render_batches(scene, spp, width, height, batches=args.batches, tile=args.tile, **job, **options)
     values = {
         "version": version("wgputrace"),
         "scene": args.scene,
@@ -92,27 +81,15 @@ def render_on_cluster(args: argparse.Namespace, scene, options: dict[str, str]) 
     print(f"wrote            {path} ({spp} spp)")
 
 
-def render_frames_on_cluster(args: argparse.Namespace, options: dict[str, str]) -> None:
+def render_frames_on_cluster(args: argparse.Namespace, options: dict[str, object]) -> None:
     """`wgputrace render-frames`: every frame not written yet, each file as it finishes; `options`:
-    the Renderer's (cli_arguments.method_options)."""
+    the Renderer's keyword arguments (seed, max_depth, accel, ...)."""
     from .frames import render_frames
 
     width, height = args.size
-    with progress_bar("frame") as progress:
+    with cluster_job(args, "frame") as job:
         report = render_frames(
-            args.scene,
-            args.frames,
-            args.output,
-            args.spp,
-            width,
-            height,
-            seed=args.seed,
-            max_depth=args.max_depth,
-            exposure=args.exposure,
-            address=args.ray,
-            workers=args.workers,
-            progress=progress,
-            **options,
+            args.scene, args.frames, args.output, args.spp, width, height, exposure=args.exposure, **job, **options
         )
     if report.skipped:
         print(f"skipped          {len(report.skipped)} frames written before ({report.skipped[0]} ...)")

@@ -22,33 +22,17 @@ from .textures import ImageError, decode_image
 
 # the statements read, each under the name it is kept by (bump, map_bump and norm are one)
 MAP_KEYS = {
-    "map_kd": "map_kd",
-    "map_ks": "map_ks",
-    "map_pr": "map_pr",
-    "map_pm": "map_pm",
-    "map_ke": "map_ke",
-    "map_d": "map_d",
-    "bump": "bump",
+    **{key: key for key in ("map_kd", "map_ks", "map_pr", "map_pm", "map_ke", "map_d", "bump")},
     "map_bump": "bump",
     "norm": "bump",
 }
 # the maps that make a material Principled (map_Ks has no Principled parameter and is ignored)
 PRINCIPLED_MAPS = ("map_kd", "map_pr", "map_pm", "map_ke", "map_d", "bump")
-# option -> (fewest, most) arguments; -o, -s and -t take 1 to 3 numbers
+# option -> (fewest, most) arguments: one each, but -mm's two and -o, -s and -t's 1 to 3 numbers
 OPTION_ARGUMENTS = {
-    "-blendu": (1, 1),
-    "-blendv": (1, 1),
-    "-bm": (1, 1),
-    "-boost": (1, 1),
-    "-cc": (1, 1),
-    "-clamp": (1, 1),
-    "-imfchan": (1, 1),
+    **dict.fromkeys(("-blendu", "-blendv", "-bm", "-boost", "-cc", "-clamp", "-imfchan", "-texres", "-type"), (1, 1)),
     "-mm": (2, 2),
-    "-o": (1, 3),
-    "-s": (1, 3),
-    "-t": (1, 3),
-    "-texres": (1, 1),
-    "-type": (1, 1),
+    **dict.fromkeys(("-o", "-s", "-t"), (1, 3)),
 }
 OPAQUE = 255
 

@@ -38,7 +38,7 @@ import numpy as np
 
 from wgputrace.scene import Light, Material, Scene
 from wgputrace.scene.lights.environment import Environment
-from wgputrace.scene.materials.material import mitsuba_rgb
+from wgputrace.scene.registry import mitsuba_rgb
 from wgputrace.scene.shapes import corner_normals, corner_uvs
 from wgputrace.scene.tangents import corner_tangents
 

@@ -1,6 +1,6 @@
 """What material and light kinds share: the registry of a family's classes by kind id, the base class
-whose subclasses register themselves and re-check their parameters when one is assigned, and the
-import of a family's package that makes every kind in it register.
+whose subclasses register themselves and re-check their parameters when one is assigned, the checks
+those parameters share, and the import of a family's package that makes every kind in it register.
 
 A class registers itself as a kind when its body sets `kind`; subclassing a kind without setting one
 makes a variant of that kind. Parameters (the dataclass fields but `name`) are plain attributes:
@@ -10,6 +10,7 @@ bumps `version`, which is how a Renderer knows which record to upload again.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Callable, Iterable
 from dataclasses import fields
@@ -17,13 +18,31 @@ from importlib import import_module
 from pkgutil import iter_modules
 from typing import ClassVar
 
+import numpy as np
+
 # Kind ids are u32 on the GPU; 0 is the kind of a zeroed record, which no kind has.
 KIND_MAX = 2**32 - 1
+
+
+class ParameterError(ValueError):
+    """A parameter of a kind is out of its documented range; `parameter` names it. Each family
+    raises its own subclass (MaterialError, LightError)."""
+
+    def __init__(self, message: str, parameter: str | None = None) -> None:
+        super().__init__(message)
+        self.parameter = parameter
 
 
 def qualified_name(cls: type) -> str:
     """How registration errors name a class: module and qualified name."""
     return f"{cls.__module__}.{cls.__qualname__}"
+
+
+def import_modules(package: str, path: Iterable[str]) -> None:
+    """Import every module of `package` (its `__name__` and `__path__`), so that what a new module
+    declares registers itself."""
+    for module in iter_modules(path):
+        import_module(f"{package}.{module.name}")
 
 
 class KindRegistry:
@@ -45,8 +64,11 @@ class KindRegistry:
             raise ValueError(f"no {self.family} kind {kind} is registered; the kinds are {self.registered()}")
         return self._classes[kind]
 
-    def by_name(self) -> dict[str, type]:
-        """Every kind by class name, for the packages above to export."""
+    def import_package(self, package: str, path: Iterable[str]) -> dict[str, type]:
+        """Import every module of the family's `package` (its `__name__` and `__path__`), so that a
+        class in a new module registers itself, and return every kind by class name, which the
+        package exports (and wgputrace.scene and wgputrace after it)."""
+        import_modules(package, path)
         return {cls.__name__: cls for cls in self.classes()}
 
     def registered(self) -> str:
@@ -74,20 +96,13 @@ class KindRegistry:
         self._classes[kind] = cls
 
 
-def import_modules(package: str, path: Iterable[str]) -> None:
-    """Import every module of `package` (its `__name__` and `__path__`), so that a class in a new
-    module registers itself."""
-    for module in iter_modules(path):
-        import_module(f"{package}.{module.name}")
-
-
 class Kind:
     """The base of a family's base class (Material, Light), which sets `registry` and
-    `parameter_error` and is a dataclass."""
+    `parameter_error`, says how errors name an object (`label`) and is a dataclass."""
 
     registry: ClassVar[KindRegistry]
     # what `checked_parameters` raises for a bad value
-    parameter_error: ClassVar[type[ValueError]]
+    parameter_error: ClassVar[type[ParameterError]]
     # the class name in upper snake case, set on registration: WGSL names the kind
     # <FAMILY>_<kind_name> (MATERIAL_DIFFUSE, LIGHT_POINT_LIGHT)
     kind_name: ClassVar[str]
@@ -126,3 +141,43 @@ class Kind:
     def checked_parameters(self) -> dict[str, object]:
         """Every parameter validated and normalized, or `parameter_error` naming the first bad one."""
         raise NotImplementedError
+
+    @property
+    def label(self) -> str:
+        """How errors name the object ("material 'floor'", "PointLight 'bulb'")."""
+        raise NotImplementedError
+
+    def check_number(self, parameter: str, value, *, low: float, high: float, low_inclusive: bool = True) -> float:
+        """A finite number in [low, high] (or (low, high] when low_inclusive is false); the error
+        prints the bounds as given (0 or 0.0)."""
+        bracket = "[" if low_inclusive else "("
+        message = f"{self.label}: {parameter} must be in {bracket}{low}, {high}], got {value!r}"
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise self.parameter_error(message, parameter) from None
+        below = number < low if low_inclusive else number <= low
+        if not math.isfinite(number) or below or number > high:
+            raise self.parameter_error(message, parameter)
+        return number
+
+
+def rgb_values(value) -> np.ndarray | None:
+    """An RGB parameter as 3 float64 (one number is grey), or None where it is not that many numbers;
+    each family's `check_color` says what is wrong with it."""
+    try:
+        rgb = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        return None
+    if rgb.size == 1:
+        rgb = np.repeat(rgb, 3)
+    return rgb if rgb.size == 3 else None
+
+
+def finite_non_negative(rgb: np.ndarray) -> bool:
+    return bool(np.all(np.isfinite(rgb)) and not np.any(rgb < 0))
+
+
+def mitsuba_rgb(value) -> dict:
+    """An RGB value as a Mitsuba 3 dict entry."""
+    return {"type": "rgb", "value": [float(v) for v in value]}

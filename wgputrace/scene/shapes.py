@@ -94,6 +94,81 @@ _ICOSAHEDRON_FACES = np.array(
 )
 
 
+def _finite_triangles(values: np.ndarray) -> np.ndarray:
+    """Which triangles of (n, 3, k) corner values are all finite."""
+    return np.isfinite(values).all(axis=(1, 2))
+
+
+def _refuse_bad_triangles(shape_name: str, good: np.ndarray, values: np.ndarray, problem: str, note: str = "") -> None:
+    """SceneError naming the first triangle that `good` (n bools) refuses, `problem` worded with its
+    {index} and {values}, and how many there are; nothing where every triangle is good."""
+    bad = np.flatnonzero(~good)
+    if bad.size:
+        problem = problem.format(index=int(bad[0]), values=values[bad[0]].tolist())
+        raise SceneError(f"shape {shape_name!r}: {problem} ({bad.size} triangle(s) affected{note})")
+
+
+def _directed_triangles(normals: np.ndarray) -> np.ndarray:
+    """Which triangles' corner normals are all finite and non-zero (a zero normal has no direction)."""
+    with np.errstate(all="ignore"):
+        lengths = np.linalg.norm(normals, axis=-1)
+    return _finite_triangles(normals) & (lengths > 0.0).all(axis=1)
+
+
+def _unit_normals(normals: np.ndarray) -> np.ndarray:
+    with np.errstate(all="ignore"):  # a length beyond float64's range is inf, and the normal zero
+        lengths = np.linalg.norm(normals, axis=-1, keepdims=True)
+    return (normals / lengths).astype(np.float32)
+
+
+def _signed_tangents(tangents: np.ndarray) -> np.ndarray:
+    """Tangents with w its sign, the bitangent's handedness."""
+    tangents[..., 3] = np.where(tangents[..., 3] < 0, -1.0, 1.0)
+    return tangents
+
+
+class CornerAttribute:
+    """A per-corner attribute of Shape, declared once on the class: values (n, 3, `width`) in the
+    triangles' order, or None. Assigning one checks it against the shape's triangles (SceneError
+    naming the shape and the first triangle that `valid` refuses, with `problem` worded with its
+    {index} and {values}; the shape stays as it was), keeps what `stored` makes of it read-only, and
+    is a geometry edit (`geometry_version`). Values are read as `dtype` before the checks.
+    """
+
+    def __init__(self, width: int, problem: str, *, dtype=np.float32, valid=_finite_triangles, stored=None) -> None:
+        self.width, self.problem, self.dtype, self.valid, self.stored = width, problem, dtype, valid, stored
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name, self.slot = name, f"_{name}"
+
+    def __get__(self, shape: Shape | None, owner: type | None = None):
+        return self if shape is None else getattr(shape, self.slot)
+
+    def __set__(self, shape: Shape, value) -> None:
+        setattr(shape, self.slot, self.checked(shape.name, value, shape.triangle_count))
+        shape._edit_corners()
+
+    def checked(self, shape_name: str, value, triangle_count: int) -> np.ndarray | None:
+        """A read-only float32 copy of `value` for a shape of `triangle_count` triangles (None stays
+        None), or SceneError."""
+        if value is None:
+            return None
+        try:
+            with np.errstate(over="ignore"):  # beyond dtype's range becomes inf, which `valid` refuses
+                values = np.array(value, dtype=self.dtype)
+        except (TypeError, ValueError) as error:
+            raise SceneError(f"shape {shape_name!r}: {self.name} must be numbers, got {error}") from None
+        shape = (triangle_count, 3, self.width)
+        if values.shape != shape:
+            raise SceneError(
+                f"shape {shape_name!r}: {self.name} must have shape {shape} like the vertices, got {values.shape}"
+            )
+        _refuse_bad_triangles(shape_name, self.valid(values), values, self.problem)
+        kept = values if self.stored is None else self.stored(values)
+        kept.flags.writeable = False
+        return kept
+
+
 class Shape:
     """A named group of flat triangles sharing one material, placed in the world by a 4x4 transform.
 
@@ -121,6 +196,19 @@ class Shape:
     arrays are read-only, so an in-place edit cannot slip past the versions.
     """
 
+    # unit shading normals at the corners, (n, 3, 3) float32 local, or None (flat shading)
+    normals = CornerAttribute(
+        3,
+        "triangle {index} has a NaN, infinite or zero-length normal {values}",
+        dtype=np.float64,
+        valid=_directed_triangles,
+        stored=_unit_normals,
+    )
+    # texture coordinates at the corners, (n, 3, 2) float32, or None (no textures can apply)
+    uvs = CornerAttribute(2, "triangle {index} has a NaN or infinite texture coordinate {values}")
+    # a file's tangents at the corners, (n, 3, 4) float32 local, or None (MikkTSpace's apply)
+    tangents = CornerAttribute(4, "tangents of triangle {index} are not finite: {values}", stored=_signed_tangents)
+
     def __init__(
         self,
         name: str,
@@ -136,9 +224,9 @@ class Shape:
         self.tags = dict(tags or {})
         self.geometry_version = self.transform_version = self.material_version = 0
         checked = _checked_vertices(name, vertices)
-        self._normals = None if normals is None else _checked_normals(name, normals, len(checked))
-        self._uvs = None if uvs is None else _checked_uvs(name, uvs, len(checked))
-        self._tangents = None if tangents is None else _checked_tangents(name, tangents, len(checked))
+        self._normals = Shape.normals.checked(name, normals, len(checked))
+        self._uvs = Shape.uvs.checked(name, uvs, len(checked))
+        self._tangents = Shape.tangents.checked(name, tangents, len(checked))
         self._place(checked, _IDENTITY if transform is None else checked_transform(name, transform))
         self.material = material
 
@@ -162,43 +250,11 @@ class Shape:
         self.geometry_version += 1
 
     @property
-    def normals(self) -> np.ndarray | None:
-        """Unit shading normals at the corners, (n, 3, 3) float32 local, or None (flat shading)."""
-        return self._normals
-
-    @normals.setter
-    def normals(self, value) -> None:
-        self._normals = None if value is None else _checked_normals(self.name, value, len(self._vertices))
-        self._place(self._vertices, self._transform)
-        self.geometry_version += 1
-
-    @property
-    def uvs(self) -> np.ndarray | None:
-        """Texture coordinates at the corners, (n, 3, 2) float32, or None (no textures can apply)."""
-        return self._uvs
-
-    @uvs.setter
-    def uvs(self, value) -> None:
-        self._uvs = None if value is None else _checked_uvs(self.name, value, len(self._vertices))
-        self._place(self._vertices, self._transform)
-        self.geometry_version += 1
-
-    @property
     def world_uvs(self) -> np.ndarray | None:
         """The texture coordinates at the corners of `world_vertices` (a mirror swaps two corners)."""
         if self._uvs is None or np.linalg.det(self._transform[:3, :3]) >= 0:
             return self._uvs
         return self._uvs[:, [0, 2, 1], :]
-
-    @property
-    def tangents(self) -> np.ndarray | None:
-        """A file's tangents at the corners, (n, 3, 4) float32 local, or None (MikkTSpace's apply)."""
-        return self._tangents
-
-    @tangents.setter
-    def tangents(self, value) -> None:
-        self._tangents = None if value is None else _checked_tangents(self.name, value, len(self._vertices))
-        self.geometry_version += 1
 
     @property
     def world_tangents(self) -> np.ndarray | None:
@@ -254,15 +310,21 @@ class Shape:
         world = transform_points(self._world, matrix)
         return Shape(self.name, world, self.material, dict(self.tags), normals=normals, uvs=uvs, tangents=tangents)
 
+    def _edit_corners(self) -> None:
+        # a CornerAttribute assigned: the world normals follow the normals
+        self._place(self._vertices, self._transform)
+        self.geometry_version += 1
+
     def _place(self, vertices: np.ndarray, transform: np.ndarray) -> None:
         # an identity stays exact: float64 arithmetic would turn -0.0 into 0.0
         world = vertices if np.array_equal(transform, _IDENTITY) else transform_points(vertices, transform)
-        bad = _nonfinite_triangles(world)
-        if bad.size:
-            raise SceneError(
-                f"shape {self.name!r}: the transform takes triangle {int(bad[0])} to non-finite coordinates "
-                f"{world[bad[0]].tolist()} ({bad.size} triangle(s) affected; float32 ends near 3.4e38)"
-            )
+        _refuse_bad_triangles(
+            self.name,
+            _finite_triangles(world),
+            world,
+            "the transform takes triangle {index} to non-finite coordinates {values}",
+            note="; float32 ends near 3.4e38",
+        )
         world.flags.writeable = False
         world_normals = self._normals
         if world_normals is not None and world is not vertices:
@@ -275,11 +337,6 @@ _IDENTITY = np.eye(4)
 _IDENTITY.flags.writeable = False
 
 
-def _nonfinite_triangles(vertices: np.ndarray) -> np.ndarray:
-    """Indices of the (n, 3, 3) triangles with a NaN or infinite coordinate."""
-    return np.flatnonzero(~np.isfinite(vertices).all(axis=(1, 2)))
-
-
 def _checked_vertices(name: str, value) -> np.ndarray:
     """A read-only (n, 3, 3) float32 copy with finite coordinates, or SceneError naming the triangle."""
     try:
@@ -289,60 +346,11 @@ def _checked_vertices(name: str, value) -> np.ndarray:
         raise SceneError(f"shape {name!r}: vertices must be numbers, got {error}") from None
     if vertices.ndim != 3 or vertices.shape[1:] != (3, 3):
         raise SceneError(f"shape {name!r}: vertices must have shape (n, 3, 3), got {vertices.shape}")
-    bad = _nonfinite_triangles(vertices)
-    if bad.size:
-        raise SceneError(
-            f"shape {name!r}: triangle {int(bad[0])} has a NaN or infinite vertex {vertices[bad[0]].tolist()} "
-            f"({bad.size} triangle(s) affected)"
-        )
+    _refuse_bad_triangles(
+        name, _finite_triangles(vertices), vertices, "triangle {index} has a NaN or infinite vertex {values}"
+    )
     vertices.flags.writeable = False
     return vertices
-
-
-def _checked_normals(name: str, value, triangle_count: int) -> np.ndarray:
-    """A read-only (n, 3, 3) float32 copy of corner normals scaled to unit length, or SceneError
-    naming the first triangle with a NaN, infinite or zero-length normal (which has no direction)."""
-    try:
-        with np.errstate(over="ignore"):
-            normals = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError) as error:
-        raise SceneError(f"shape {name!r}: normals must be numbers, got {error}") from None
-    if normals.shape != (triangle_count, 3, 3):
-        raise SceneError(
-            f"shape {name!r}: normals must have shape ({triangle_count}, 3, 3) like the vertices, got {normals.shape}"
-        )
-    with np.errstate(all="ignore"):
-        lengths = np.linalg.norm(normals, axis=-1, keepdims=True)
-    bad = np.flatnonzero(~(np.isfinite(normals).all(axis=(1, 2)) & (lengths > 0.0).all(axis=(1, 2))))
-    if bad.size:
-        raise SceneError(
-            f"shape {name!r}: triangle {int(bad[0])} has a NaN, infinite or zero-length normal "
-            f"{normals[bad[0]].tolist()} ({bad.size} triangle(s) affected)"
-        )
-    unit = (normals / lengths).astype(np.float32)
-    unit.flags.writeable = False
-    return unit
-
-
-def _checked_uvs(name: str, value, triangle_count: int) -> np.ndarray:
-    """A read-only (n, 3, 2) float32 copy of corner texture coordinates, or SceneError naming the
-    first triangle with a NaN or infinite one."""
-    try:
-        uvs = np.array(value, dtype=np.float32)
-    except (TypeError, ValueError) as error:
-        raise SceneError(f"shape {name!r}: uvs must be numbers, got {error}") from None
-    if uvs.shape != (triangle_count, 3, 2):
-        raise SceneError(
-            f"shape {name!r}: uvs must have shape ({triangle_count}, 3, 2) like the vertices, got {uvs.shape}"
-        )
-    bad = np.flatnonzero(~np.isfinite(uvs).all(axis=(1, 2)))
-    if bad.size:
-        raise SceneError(
-            f"shape {name!r}: triangle {int(bad[0])} has a NaN or infinite texture coordinate "
-            f"{uvs[bad[0]].tolist()} ({bad.size} triangle(s) affected)"
-        )
-    uvs.flags.writeable = False
-    return uvs
 
 
 def checked_transform(name: str, value) -> np.ndarray:
@@ -437,52 +445,31 @@ def corner_normals(shapes: list[Shape], shape_index: np.ndarray, local_index: np
     """The world corner normals (n, 3, 3) float32 of the triangles that `shape_index` and
     `local_index` pick (Scene.arrays' order: each shape's triangles together, in shape order), zero
     for those of shapes without normals (shaded flat); None where no shape has normals."""
-    if all(shape.normals is None for shape in shapes):
-        return None
-    normals = np.zeros((len(shape_index), 3, 3), np.float32)
-    starts = np.searchsorted(shape_index, np.arange(len(shapes) + 1))
-    for index, shape in enumerate(shapes):
-        if shape.world_normals is not None:
-            rows = slice(starts[index], starts[index + 1])
-            normals[rows] = shape.world_normals[local_index[rows]]
-    return normals
-
-
-def _checked_tangents(name: str, value, triangle_count: int) -> np.ndarray:
-    """A read-only (n, 3, 4) float32 copy with finite values and w its sign, or SceneError naming
-    the triangle."""
-    try:
-        tangents = np.array(value, dtype=np.float32)
-    except (TypeError, ValueError) as error:
-        raise SceneError(f"shape {name!r}: tangents must be numbers, got {error}") from None
-    if tangents.shape != (triangle_count, 3, 4):
-        raise SceneError(
-            f"shape {name!r}: tangents must have shape ({triangle_count}, 3, 4) like the vertices, got {tangents.shape}"
-        )
-    bad = np.flatnonzero(~np.isfinite(tangents).all(axis=(1, 2)))
-    if bad.size:
-        raise SceneError(
-            f"shape {name!r}: tangents of triangle {int(bad[0])} are not finite: "
-            f"{tangents[bad[0]].tolist()} ({bad.size} triangle(s) affected)"
-        )
-    tangents[..., 3] = np.where(tangents[..., 3] < 0, -1.0, 1.0)
-    tangents.flags.writeable = False
-    return tangents
+    return _gathered([shape.world_normals for shape in shapes], shape_index, local_index)
 
 
 def corner_uvs(shapes: list[Shape], shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray | None:
     """The world corner texture coordinates (n, 3, 2) float32 of the triangles that `shape_index`
     and `local_index` pick, as corner_normals picks them, zero for shapes without; None where no
     shape has any."""
-    if all(shape.uvs is None for shape in shapes):
+    return _gathered([shape.world_uvs for shape in shapes], shape_index, local_index)
+
+
+def _gathered(
+    per_shape: list[np.ndarray | None], shape_index: np.ndarray, local_index: np.ndarray
+) -> np.ndarray | None:
+    """Each shape's world corner values (m, 3, k), or None, at the triangles that `shape_index` and
+    `local_index` pick, zero for a shape's None; None where every shape's is."""
+    present = [values for values in per_shape if values is not None]
+    if not present:
         return None
-    uvs = np.zeros((len(shape_index), 3, 2), np.float32)
-    starts = np.searchsorted(shape_index, np.arange(len(shapes) + 1))
-    for index, shape in enumerate(shapes):
-        if shape.uvs is not None:
+    gathered = np.zeros((len(shape_index), 3, present[0].shape[-1]), np.float32)
+    starts = np.searchsorted(shape_index, np.arange(len(per_shape) + 1))
+    for index, values in enumerate(per_shape):
+        if values is not None:
             rows = slice(starts[index], starts[index + 1])
-            uvs[rows] = shape.world_uvs[local_index[rows]]
-    return uvs
+            gathered[rows] = values[local_index[rows]]
+    return gathered
 
 
 def _place(name: str, corners: np.ndarray, faces: np.ndarray, matrix: np.ndarray, material: Material) -> Shape:

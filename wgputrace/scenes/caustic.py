@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scene import Camera, Diffuse, Emitter, Glass, Scene, make_icosphere, make_plane
+from ..scene import Camera, Diffuse, Glass, Scene, make_icosphere
+from .stage import backdrop, floor, square_lamp
 
 FLOOR_HALF_SIZE = 3.0
 WALL_Z = 2.5
@@ -33,14 +34,10 @@ CAUSTIC_RADIUS_IN_RADII = 1.0
 def caustic() -> Scene:
     white = Diffuse("floor", color=(0.8, 0.8, 0.8))
     glass = Glass("glass", color=(1.0, 1.0, 1.0), ior=SPHERE_IOR)
-    lamp = Emitter("lamp", color=(1.0, 0.95, 0.85), emittance=LAMP_EMITTANCE)
-    half_pi = np.pi / 2
     shapes = [
-        make_plane((0, 0, 0), (0, 0, 0), (2 * FLOOR_HALF_SIZE, 2 * FLOOR_HALF_SIZE), white, "floor"),
-        make_plane(
-            (0, FLOOR_HALF_SIZE / 2, WALL_Z), (-half_pi, 0, 0), (2 * FLOOR_HALF_SIZE, FLOOR_HALF_SIZE), white, "wall"
-        ),
-        make_plane(LAMP_CENTRE, (np.pi, 0, 0), (LAMP_SIZE, LAMP_SIZE), lamp, "lamp"),
+        floor(white, 2 * FLOOR_HALF_SIZE),
+        backdrop(white, "wall", WALL_Z, (2 * FLOOR_HALF_SIZE, FLOOR_HALF_SIZE)),
+        square_lamp(LAMP_CENTRE, LAMP_SIZE, LAMP_EMITTANCE),
         make_icosphere(SPHERE_CENTRE, (0, 0, 0), SPHERE_RADIUS, 3, glass, "sphere"),
     ]
     camera = Camera.looking_at((0.0, 1.6, -2.6), (0.0, 0.2, 0.0), vfov_degrees=40.0)

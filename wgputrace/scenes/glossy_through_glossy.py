@@ -9,12 +9,12 @@ the picture, so the camera sees it only in the glass-like reflections.
 
 from __future__ import annotations
 
-import numpy as np
-
-from ..scene import Camera, Diffuse, Emitter, Glossy, Scene, make_icosphere, make_plane
+from ..scene import Camera, Diffuse, Glossy, Scene, make_icosphere
+from .stage import backdrop, floor, square_lamp
 
 # The panel stands across the view, facing the camera; the spheres sit on the floor between the
 # two, so the panel shows their backs, which face the lamp.
+FLOOR_SIDE = 8.0
 PANEL_Z = 2.0
 PANEL_SIZE = (3.0, 2.0)
 PANEL_ROUGHNESS = 0.05
@@ -28,15 +28,11 @@ LAMP_EMITTANCE = 800.0
 
 
 def glossy_through_glossy() -> Scene:
-    floor = Diffuse("floor", color=(0.5, 0.5, 0.5))
     panel = Glossy("panel", color=(0.9, 0.9, 0.95), roughness=PANEL_ROUGHNESS)
-    lamp = Emitter("lamp", color=(1.0, 0.95, 0.85), emittance=LAMP_EMITTANCE)
-    half_pi = np.pi / 2
-    width, height = PANEL_SIZE
     shapes = [
-        make_plane((0, 0, 0), (0, 0, 0), (8.0, 8.0), floor, "floor"),
-        make_plane((0, height / 2, PANEL_Z), (-half_pi, 0, 0), (width, height), panel, "panel"),
-        make_plane(LAMP_CENTRE, (np.pi, 0, 0), (LAMP_SIZE, LAMP_SIZE), lamp, "lamp"),
+        floor(Diffuse("floor", color=(0.5, 0.5, 0.5)), FLOOR_SIDE),
+        backdrop(panel, "panel", PANEL_Z, PANEL_SIZE),
+        square_lamp(LAMP_CENTRE, LAMP_SIZE, LAMP_EMITTANCE),
     ]
     for index, roughness in enumerate(SPHERE_ROUGHNESS):
         x = (index - (len(SPHERE_ROUGHNESS) - 1) / 2) * SPHERE_SPACING

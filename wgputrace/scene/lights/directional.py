@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .light import Light, LightShader, luminance, mitsuba_rgb, scaled
+from ..registry import mitsuba_rgb
+from .light import Light, LightShader, luminance
 
 
 @dataclass(eq=False)
@@ -33,26 +34,17 @@ class DirectionalLight(Light):
     )
     delta = True
     distant = True
+    strength = "irradiance"
 
-    def checked_parameters(self) -> dict[str, object]:
-        color = self.check_color("color", self.color)
-        return {
-            "direction": self.check_vector("direction", self.direction, unit=True),
-            "irradiance": self.check_strength("irradiance", self.irradiance, color),
-            "color": color,
-        }
+    def checked_placement(self) -> dict[str, object]:
+        return {"direction": self.check_vector("direction", self.direction, unit=True)}
 
     def fill_record(self, record) -> None:
-        record["direction"] = self.direction
-        record["emission"] = scaled(self.color, self.irradiance)
+        record["direction"], record["emission"] = self.direction, self.rgb_strength
 
     def weight(self, scene_radius: float) -> float:
         # the irradiance over a disc of the scene's radius, over the 2 pi of the triangles' units
-        return luminance(scaled(self.color, self.irradiance)) * scene_radius**2 / 2.0
+        return luminance(self.rgb_strength) * scene_radius**2 / 2.0
 
     def mitsuba_emitter(self) -> dict:
-        return {
-            "type": "directional",
-            "direction": list(self.direction),
-            "irradiance": mitsuba_rgb(scaled(self.color, self.irradiance)),
-        }
+        return {"type": "directional", "direction": list(self.direction), "irradiance": mitsuba_rgb(self.rgb_strength)}

@@ -7,9 +7,10 @@ descriptor, and like pbrt-v4's `Light` it answers what the light sampler and the
 | what                                      | on the class             | driven from it                                   |
 |-------------------------------------------|--------------------------|--------------------------------------------------|
 | the id the GPU switches on                | `kind`                   | `LIGHT_<NAME>` constants, the records' kind      |
-| parameters and their checks               | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)  |
-| its GPU record                            | `fill_record`            | render/scene_mirror.py's light source records      |
-| its sampling code (and what escaped rays see) | `shader`             | gpu/light_dispatch.py: generated dispatch        |
+| parameters and their checks               | dataclass fields, `checked_placement` | editing re-checks (`__setattr__`) |
+| the parameter that scales `color`         | `strength`               | its check, `rgb_strength`                        |
+| its GPU record                            | `fill_record`            | `SceneMirror`'s light source records             |
+| its sampling code (and what escaped rays see) | `shader`             | `light_dispatch`: generated dispatch             |
 | where its light paths start               | `shader.emission_sample` | lights/light_path_sampler.wgsl (bidirectional paths) |
 | a delta light (only light sampling finds it)? | `delta`              | integrators/path_tracer.wgsl: weight 1, under every integrator |
 | infinitely far (shadow rays to infinity)? | `distant`                | lights/direct_light_sampler.wgsl, the power estimate |
@@ -24,13 +25,12 @@ as it was) and bumps `version`, which is how a Renderer knows which light record
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
-from ..registry import Kind, KindRegistry
+from ..registry import Kind, KindRegistry, ParameterError, finite_non_negative, rgb_values
 
 # Rec. 709 luminance, the weights of the light sampler (render/lights.py) and the shaders.
 LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
@@ -39,12 +39,8 @@ LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
 INTENSITY_MAX = 1e20
 
 
-class LightError(ValueError):
+class LightError(ParameterError):
     """A light parameter is out of its documented range; `parameter` names it."""
-
-    def __init__(self, message: str, parameter: str | None = None) -> None:
-        super().__init__(message)
-        self.parameter = parameter
 
 
 @dataclass(frozen=True)
@@ -94,7 +90,7 @@ class Light(Kind):
     """Lights compare by identity, as materials do."""
 
     registry: ClassVar[KindRegistry] = LIGHT_KINDS
-    parameter_error: ClassVar[type[ValueError]] = LightError
+    parameter_error: ClassVar[type[ParameterError]] = LightError
     # the id the GPU switches on
     kind: ClassVar[int]
     shader: ClassVar[LightShader]
@@ -102,12 +98,32 @@ class Light(Kind):
     delta: ClassVar[bool] = False
     # infinitely far: its shadow rays run to infinity and its power is what crosses the scene
     distant: ClassVar[bool] = False
+    # the parameter that scales its `color` field: "intensity" (W/sr) or "irradiance" (W/m^2), which
+    # checked_parameters checks with check_strength (a kind with its own checked_parameters may have none)
+    strength: ClassVar[str]
 
     @property
     def label(self) -> str:
         """How errors name the light: its class, and its name where it has one."""
         name = getattr(self, "name", None)
         return type(self).__name__ + (f" {name!r}" if name else "")
+
+    def checked_parameters(self) -> dict[str, object]:
+        color = self.check_color("color", self.color)
+        checked = self.checked_placement()
+        checked[self.strength] = self.check_strength(self.strength, getattr(self, self.strength), color)
+        checked["color"] = color
+        return checked
+
+    def checked_placement(self) -> dict[str, object]:
+        """The kind's parameters besides `color` and its strength (where it is, which way it points, its
+        angles), checked and normalised after color and before the strength."""
+        raise NotImplementedError
+
+    @property
+    def rgb_strength(self) -> tuple[float, float, float]:
+        """color x the strength: the RGB intensity or irradiance."""
+        return scaled(self.color, getattr(self, self.strength))
 
     def fill_record(self, record: np.void) -> None:
         """Write the parameters into `record`, one LIGHT_SOURCE record (gpu/layout.py), by field name,
@@ -146,32 +162,14 @@ class Light(Kind):
 
     def check_color(self, parameter: str, value) -> tuple[float, float, float]:
         """An RGB triple (or one number for grey) of finite numbers >= 0."""
-        try:
-            rgb = np.asarray(value, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError):
-            rgb = np.zeros(0)
-        if rgb.size == 1:
-            rgb = np.repeat(rgb, 3)
-        if rgb.size != 3 or not np.all(np.isfinite(rgb)) or np.any(rgb < 0):
+        rgb = rgb_values(value)
+        if rgb is None or not finite_non_negative(rgb):
             raise LightError(f"{self.label}: {parameter} must be 3 finite numbers >= 0, got {value!r}", parameter)
         return (float(rgb[0]), float(rgb[1]), float(rgb[2]))
 
-    def check_number(self, parameter: str, value, *, low: float, high: float, low_inclusive: bool = True) -> float:
-        """A finite number in [low, high] (or (low, high] when low_inclusive is false)."""
-        bracket = "[" if low_inclusive else "("
-        message = f"{self.label}: {parameter} must be in {bracket}{low:g}, {high:g}], got {value!r}"
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            raise LightError(message, parameter) from None
-        below = number < low if low_inclusive else number <= low
-        if not math.isfinite(number) or below or number > high:
-            raise LightError(message, parameter)
-        return number
-
     def check_strength(self, parameter: str, value, color: tuple[float, float, float]) -> float:
         """An intensity or irradiance: finite, >= 0, and with its colour at most INTENSITY_MAX."""
-        strength = self.check_number(parameter, value, low=0.0, high=INTENSITY_MAX)
+        strength = self.check_number(parameter, value, low=0, high=INTENSITY_MAX)
         if max(color) * strength > INTENSITY_MAX:
             raise LightError(
                 f"{self.label}: {parameter} x color = {max(color) * strength:.3g} exceeds INTENSITY_MAX = "
@@ -179,11 +177,6 @@ class Light(Kind):
                 parameter,
             )
         return strength
-
-
-def mitsuba_rgb(value) -> dict:
-    """An RGB value as a Mitsuba 3 dict entry."""
-    return {"type": "rgb", "value": [float(v) for v in value]}
 
 
 def scaled(color, strength: float) -> tuple[float, float, float]:

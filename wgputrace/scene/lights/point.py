@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .light import Light, LightShader, luminance, mitsuba_rgb, scaled
+from ..registry import mitsuba_rgb
+from .light import Light, LightShader, luminance
 
 
 @dataclass(eq=False)
@@ -33,26 +34,17 @@ class PointLight(Light):
         emission_pdf="point_emission_pdf(light, direction)",
     )
     delta = True
+    strength = "intensity"
 
-    def checked_parameters(self) -> dict[str, object]:
-        color = self.check_color("color", self.color)
-        return {
-            "position": self.check_vector("position", self.position, unit=False),
-            "intensity": self.check_strength("intensity", self.intensity, color),
-            "color": color,
-        }
+    def checked_placement(self) -> dict[str, object]:
+        return {"position": self.check_vector("position", self.position, unit=False)}
 
     def fill_record(self, record) -> None:
-        record["position"] = self.position
-        record["emission"] = scaled(self.color, self.intensity)
+        record["position"], record["emission"] = self.position, self.rgb_strength
 
     def weight(self, scene_radius: float) -> float:
         # 4 pi I over the 2 pi of the triangles' units
-        return 2.0 * luminance(scaled(self.color, self.intensity))
+        return 2.0 * luminance(self.rgb_strength)
 
     def mitsuba_emitter(self) -> dict:
-        return {
-            "type": "point",
-            "position": list(self.position),
-            "intensity": mitsuba_rgb(scaled(self.color, self.intensity)),
-        }
+        return {"type": "point", "position": list(self.position), "intensity": mitsuba_rgb(self.rgb_strength)}

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .light import Light, LightError, LightShader, luminance, mitsuba_rgb, scaled
+from ..registry import mitsuba_rgb
+from .light import Light, LightError, LightShader, luminance
 
 # Mitsuba's default beam width, as a fraction of the cutoff angle.
 BEAM_WIDTH_FRACTION = 0.75
@@ -53,14 +54,14 @@ class SpotLight(Light):
         emission_pdf="spot_emission_pdf(light, direction)",
     )
     delta = True
+    strength = "intensity"
 
-    def checked_parameters(self) -> dict[str, object]:
-        color = self.check_color("color", self.color)
+    def checked_placement(self) -> dict[str, object]:
         cutoff = self.check_number(
-            "cutoff_angle_degrees", self.cutoff_angle_degrees, low=0.0, high=90.0, low_inclusive=False
+            "cutoff_angle_degrees", self.cutoff_angle_degrees, low=0, high=90, low_inclusive=False
         )
         beam = cutoff * BEAM_WIDTH_FRACTION if self.beam_width_degrees is None else self.beam_width_degrees
-        beam = self.check_number("beam_width_degrees", beam, low=0.0, high=90.0, low_inclusive=False)
+        beam = self.check_number("beam_width_degrees", beam, low=0, high=90, low_inclusive=False)
         if beam > cutoff:
             raise LightError(
                 f"{self.label}: beam_width_degrees {beam:g} is wider than cutoff_angle_degrees {cutoff:g}",
@@ -69,10 +70,8 @@ class SpotLight(Light):
         return {
             "position": self.check_vector("position", self.position, unit=False),
             "direction": self.check_vector("direction", self.direction, unit=True),
-            "intensity": self.check_strength("intensity", self.intensity, color),
             "cutoff_angle_degrees": cutoff,
             "beam_width_degrees": None if self.beam_width_degrees is None else beam,
-            "color": color,
         }
 
     @property
@@ -88,7 +87,7 @@ class SpotLight(Light):
         cutoff, beam = math.radians(self.cutoff_angle_degrees), math.radians(self.beam_width)
         record["position"] = self.position
         record["direction"] = self.direction
-        record["emission"] = scaled(self.color, self.intensity)
+        record["emission"] = self.rgb_strength
         record["cos_outer"], record["cos_inner"] = math.cos(cutoff), math.cos(beam)
         record["angle_outer"] = cutoff
         record["cone"] = 2.0 * math.sin(cutoff / 2.0) ** 2  # 1 - cos(cutoff), without cancellation
@@ -102,7 +101,7 @@ class SpotLight(Light):
             math.cos(math.radians(self.cutoff_angle_degrees)),
             math.cos(math.radians(self.beam_width)),
         )
-        return luminance(scaled(self.color, self.intensity)) * ((1.0 - cos_beam) + (cos_beam - cos_cutoff) / 2.0)
+        return luminance(self.rgb_strength) * ((1.0 - cos_beam) + (cos_beam - cos_cutoff) / 2.0)
 
     def mitsuba_emitter(self) -> dict:
         position = np.asarray(self.position)
@@ -113,7 +112,7 @@ class SpotLight(Light):
             "to_world": {
                 "look_at": {"origin": list(self.position), "target": list(position + self.direction), "up": list(up)}
             },
-            "intensity": mitsuba_rgb(scaled(self.color, self.intensity)),
+            "intensity": mitsuba_rgb(self.rgb_strength),
             "cutoff_angle": self.cutoff_angle_degrees,
             "beam_width": self.beam_width,
         }

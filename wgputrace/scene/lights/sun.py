@@ -43,17 +43,15 @@ class Sun(Light):
         emission_sample="sun_emission_sample(light, disk, u_position, u_direction)",
     )
     distant = True
+    strength = "irradiance"
 
-    def checked_parameters(self) -> dict[str, object]:
-        color = self.check_color("color", self.color)
+    def checked_placement(self) -> dict[str, object]:
         diameter = self.check_number(
-            "angular_diameter_degrees", self.angular_diameter_degrees, low=0.0, high=90.0, low_inclusive=False
+            "angular_diameter_degrees", self.angular_diameter_degrees, low=0, high=90, low_inclusive=False
         )
         return {
             "direction": self.check_vector("direction", self.direction, unit=True),
-            "irradiance": self.check_strength("irradiance", self.irradiance, color),
             "angular_diameter_degrees": diameter,
-            "color": color,
         }
 
     @property
@@ -71,7 +69,7 @@ class Sun(Light):
 
     def weight(self, scene_radius: float) -> float:
         # as a directional light of the same irradiance
-        return luminance(scaled(self.color, self.irradiance)) * scene_radius**2 / 2.0
+        return luminance(self.rgb_strength) * scene_radius**2 / 2.0
 
     def mitsuba_emitter(self) -> None:
         return None

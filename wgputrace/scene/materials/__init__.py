@@ -1,13 +1,9 @@
-"""Every material kind, one module each (material.py says what a kind declares).
+"""Every material kind, one module each (material.py says what a kind declares), each exported from
+this package, from wgputrace.scene and from wgputrace under its class name."""
 
-Each module of this package is imported here, so a class in a new module registers itself and is
-exported from this package, from wgputrace.scene and from wgputrace under its class name."""
-
-from ..registry import import_modules
 from .material import MATERIAL_KINDS, Material, MaterialError, MaterialShader, material_class, material_classes
 
-import_modules(__name__, __path__)
-KINDS = MATERIAL_KINDS.by_name()
+KINDS = MATERIAL_KINDS.import_package(__name__, __path__)
 globals().update(KINDS)
 
 __all__ = ["Material", "MaterialError", "MaterialShader", "material_class", "material_classes", *KINDS]

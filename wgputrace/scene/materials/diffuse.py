@@ -12,7 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialShader, check_color, mitsuba_rgb
+from ..registry import mitsuba_rgb
+from .material import Material, MaterialShader
 
 
 @dataclass(eq=False)
@@ -28,7 +29,7 @@ class Diffuse(Material):
     )
 
     def checked_parameters(self) -> dict[str, object]:
-        return {"color": check_color(self.name, "color", self.color, upper=1.0)}
+        return {"color": self.check_color("color", self.color, upper=1.0)}
 
     def fill_record(self, record) -> None:
         record["color"] = self.color

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .material import Material, MaterialError, check_color, check_number, mitsuba_rgb
+from ..registry import mitsuba_rgb
+from .material import Material, MaterialError
 
 # Far above any physical source (the sun's radiance is ~2e7 W/(sr m^2)), and low enough that the
 # float32 sums of billions of samples per pixel on the GPU stay finite (float32 ends at 3.4e38).
@@ -33,8 +34,8 @@ class Emitter(Material):
     emission_wgsl = "material.color"
 
     def checked_parameters(self) -> dict[str, object]:
-        color = check_color(self.name, "color", self.color, upper=None)
-        emittance = check_number(self.name, "emittance", self.emittance, low=0.0, high=float("inf"))
+        color = self.check_color("color", self.color, upper=None)
+        emittance = self.check_number("emittance", self.emittance, low=0.0, high=float("inf"))
         if max(color) * emittance > RADIANCE_MAX:
             raise MaterialError(
                 f"material {self.name!r}: radiance color x emittance = {max(color) * emittance:.3g} exceeds "

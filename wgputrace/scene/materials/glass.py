@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialShader, check_color, check_number, mitsuba_rgb
+from ..registry import mitsuba_rgb
+from .material import Material, MaterialShader
 
 # An ior far outside every real material is almost always a unit or typing mistake.
 IOR_MAX = 100.0
@@ -38,8 +39,8 @@ class Glass(Material):
 
     def checked_parameters(self) -> dict[str, object]:
         return {
-            "color": check_color(self.name, "color", self.color, upper=1.0),
-            "ior": check_number(self.name, "ior", self.ior, low=0.0, high=IOR_MAX, low_inclusive=False),
+            "color": self.check_color("color", self.color, upper=1.0),
+            "ior": self.check_number("ior", self.ior, low=0.0, high=IOR_MAX, low_inclusive=False),
         }
 
     def fill_record(self, record) -> None:

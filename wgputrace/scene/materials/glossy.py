@@ -16,7 +16,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .material import Material, MaterialShader, check_color, check_number, mitsuba_rgb
+from ..registry import mitsuba_rgb
+from .material import Material, MaterialShader
 
 
 @dataclass(eq=False)
@@ -35,8 +36,8 @@ class Glossy(Material):
 
     def checked_parameters(self) -> dict[str, object]:
         return {
-            "color": check_color(self.name, "color", self.color, upper=1.0),
-            "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
+            "color": self.check_color("color", self.color, upper=1.0),
+            "roughness": self.check_number("roughness", self.roughness, low=0.0, high=1.0),
         }
 
     def fill_record(self, record) -> None:

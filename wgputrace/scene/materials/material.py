@@ -27,70 +27,20 @@ knows which material record to upload again.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
-from ..registry import Kind, KindRegistry
+from ..registry import Kind, KindRegistry, ParameterError, finite_non_negative, rgb_values
 from ..texture import Texture
 
 # glTF's alphaMode values, numbered for the GPU in this order (a MATERIAL_TEXTURES record's alpha_mode)
 ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
 
 
-class MaterialError(ValueError):
+class MaterialError(ParameterError):
     """A material parameter is out of its documented range; `parameter` names it."""
-
-    def __init__(self, message: str, parameter: str | None = None) -> None:
-        super().__init__(message)
-        self.parameter = parameter
-
-
-def check_color(material_name: str, parameter: str, value, *, upper: float | None) -> tuple[float, float, float]:
-    """An RGB triple of finite, non-negative numbers (at most `upper` where energy must be conserved)."""
-    try:
-        rgb = np.asarray(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise MaterialError(
-            f"material {material_name!r}: {parameter} must be 3 numbers, got {value!r}", parameter
-        ) from None
-    if rgb.size == 1:
-        rgb = np.repeat(rgb, 3)
-    if rgb.size != 3:
-        raise MaterialError(f"material {material_name!r}: {parameter} must be 3 numbers, got {value!r}", parameter)
-    if not np.all(np.isfinite(rgb)) or np.any(rgb < 0):
-        raise MaterialError(
-            f"material {material_name!r}: {parameter} must be finite and >= 0, got {value!r}", parameter
-        )
-    if upper is not None and np.any(rgb > upper):
-        raise MaterialError(
-            f"material {material_name!r}: {parameter} must be <= {upper} (a reflectance above 1 creates energy), got {value!r}",
-            parameter,
-        )
-    return (float(rgb[0]), float(rgb[1]), float(rgb[2]))
-
-
-def check_number(
-    material_name: str, parameter: str, value, *, low: float, high: float, low_inclusive: bool = True
-) -> float:
-    """A finite number in [low, high] (or (low, high] when low_inclusive is false)."""
-    bracket = "[" if low_inclusive else "("
-    message = f"material {material_name!r}: {parameter} must be in {bracket}{low}, {high}], got {value!r}"
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise MaterialError(message, parameter) from None
-    below = number < low if low_inclusive else number <= low
-    if not math.isfinite(number) or below or number > high:
-        raise MaterialError(message, parameter)
-    return number
-
-
-def mitsuba_rgb(value) -> dict:
-    """An RGB value as a Mitsuba 3 dict entry."""
-    return {"type": "rgb", "value": [float(v) for v in value]}
 
 
 @dataclass(frozen=True)
@@ -126,7 +76,7 @@ class Material(Kind):
     name: str
 
     registry: ClassVar[KindRegistry] = MATERIAL_KINDS
-    parameter_error: ClassVar[type[ValueError]] = MaterialError
+    parameter_error: ClassVar[type[ParameterError]] = MaterialError
     # the id the GPU switches on; trac0r's numbering for the first four (emitter 1 ... glossy 4)
     kind: ClassVar[int]
     # its BSDF code; None: it reflects nothing
@@ -142,6 +92,25 @@ class Material(Kind):
     two_sided_wgsl: ClassVar[str | None] = None
     # WGSL vec3<f32> over `material`: the radiance it emits; None: it emits nothing
     emission_wgsl: ClassVar[str | None] = None
+
+    @property
+    def label(self) -> str:
+        return f"material {self.name!r}"
+
+    def check_color(self, parameter: str, value, *, upper: float | None) -> tuple[float, float, float]:
+        """An RGB triple (or one number for grey) of finite numbers >= 0, at most `upper` where energy
+        must be conserved."""
+        rgb = rgb_values(value)
+        if rgb is None:
+            raise MaterialError(f"{self.label}: {parameter} must be 3 numbers, got {value!r}", parameter)
+        if not finite_non_negative(rgb):
+            raise MaterialError(f"{self.label}: {parameter} must be finite and >= 0, got {value!r}", parameter)
+        if upper is not None and np.any(rgb > upper):
+            raise MaterialError(
+                f"{self.label}: {parameter} must be <= {upper} (a reflectance above 1 creates energy), got {value!r}",
+                parameter,
+            )
+        return (float(rgb[0]), float(rgb[1]), float(rgb[2]))
 
     @classmethod
     def light_sampling(cls) -> str:

@@ -43,10 +43,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..registry import mitsuba_rgb
 from ..texture import Texture
 from .emitter import RADIANCE_MAX
 from .glass import IOR_MAX
-from .material import ALPHA_MODES, Material, MaterialError, MaterialShader, check_color, check_number, mitsuba_rgb
+from .material import ALPHA_MODES, Material, MaterialError, MaterialShader
 
 # the texture parameters, `<slot>_texture` for each MATERIAL_TEXTURES slot Principled reads
 _TEXTURE_SLOTS = ("base_color", "metallic_roughness", "normal", "emission")
@@ -109,21 +110,21 @@ class Principled(Material):
                 f"material {self.name!r}: double_sided must be True or False, got {self.double_sided!r}", "double_sided"
             )
         return {
-            "alpha": check_number(self.name, "alpha", self.alpha, low=0.0, high=1.0),
+            "alpha": self.check_number("alpha", self.alpha, low=0.0, high=1.0),
             "alpha_mode": self.alpha_mode,
-            "alpha_cutoff": check_number(self.name, "alpha_cutoff", self.alpha_cutoff, low=0.0, high=1.0),
+            "alpha_cutoff": self.check_number("alpha_cutoff", self.alpha_cutoff, low=0.0, high=1.0),
             "double_sided": self.double_sided,
-            "emission": check_color(self.name, "emission", self.emission, upper=None),
-            "emission_strength": check_number(
-                self.name, "emission_strength", self.emission_strength, low=0.0, high=RADIANCE_MAX
+            "emission": self.check_color("emission", self.emission, upper=None),
+            "emission_strength": self.check_number(
+                "emission_strength", self.emission_strength, low=0.0, high=RADIANCE_MAX
             ),
-            "base_color": check_color(self.name, "base_color", self.base_color, upper=1.0),
-            "metallic": check_number(self.name, "metallic", self.metallic, low=0.0, high=1.0),
-            "spec_trans": check_number(self.name, "spec_trans", self.spec_trans, low=0.0, high=1.0),
-            "roughness": check_number(self.name, "roughness", self.roughness, low=0.0, high=1.0),
-            "eta": check_number(self.name, "eta", self.eta, low=0.0, high=IOR_MAX, low_inclusive=False),
-            "normal_scale": check_number(
-                self.name, "normal_scale", self.normal_scale, low=-NORMAL_SCALE_MAX, high=NORMAL_SCALE_MAX
+            "base_color": self.check_color("base_color", self.base_color, upper=1.0),
+            "metallic": self.check_number("metallic", self.metallic, low=0.0, high=1.0),
+            "spec_trans": self.check_number("spec_trans", self.spec_trans, low=0.0, high=1.0),
+            "roughness": self.check_number("roughness", self.roughness, low=0.0, high=1.0),
+            "eta": self.check_number("eta", self.eta, low=0.0, high=IOR_MAX, low_inclusive=False),
+            "normal_scale": self.check_number(
+                "normal_scale", self.normal_scale, low=-NORMAL_SCALE_MAX, high=NORMAL_SCALE_MAX
             ),
         }
 
