@@ -55,7 +55,7 @@ def memory(renderer: Renderer) -> dict:
         "triangles": records.triangles.nbytes,
         "bvh nodes": records.nodes.nbytes,
         "materials": records.materials.nbytes,
-        "lights": renderer.lights.entries.nbytes,
+        "lights": records.lights.nbytes,
     }
     return {
         "scene_bytes_allocated": renderer.gpu_scene_bytes,

@@ -23,7 +23,7 @@ import wgpu
 
 from .device import GpuContext, reporting
 from .layout import TRIANGLE, WIDE_BVH_NODE, GpuStruct
-from .tracked_buffer import SPARE_FRACTION, UploadCount, contiguous_records, merged_runs
+from .tracked_buffer import TrackedRecords
 
 GENERATED_TEXEL_LOADERS = "generated/texel_loaders.wgsl"
 # The structs the renderer keeps in texels; the others stay in storage buffers (materials and the
@@ -94,27 +94,20 @@ def texel_loaders(structs: tuple[GpuStruct, ...]) -> str:
     return header + '//! include "common/texels.wgsl"\n\n' + "\n\n".join(texel_loader(s) for s in structs) + "\n"
 
 
-class TrackedTexels:
-    """A texture of records following a numpy array; the same interface as TrackedBuffer
-    (`upload`, `generation`, `uploads`, `capacity_bytes`), bound through `resource`."""
+class TrackedTexels(TrackedRecords):
+    """A texture of records following a numpy array, bound through `resource` (a texture view)."""
+
+    what = "texture"
 
     def __init__(self, context: GpuContext, label: str, data: np.ndarray, *, spare: bool = True) -> None:
-        self.context, self.label, self.spare = context, label, spare
-        self.dtype = data.dtype
         self.texels_per_record = texels_per_record(data.dtype)
-        self.generation = 0
-        self.uploads = UploadCount()
         self.texture = None
-        self._allocate(np.ascontiguousarray(data))
+        super().__init__(context, label, data, spare=spare)
 
     @property
     def capacity_bytes(self) -> int:
         width, height = self.texture.size[0], self.texture.size[1]
         return width * height * TEXEL_BYTES
-
-    @property
-    def capacity_records(self) -> int:
-        return self.capacity_bytes // self.dtype.itemsize
 
     @property
     def resource(self) -> wgpu.GPUTextureView:
@@ -123,23 +116,12 @@ class TrackedTexels:
     def destroy(self) -> None:
         self.texture.destroy()
 
-    def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
-        """Make the texture equal `data`, given that only `rows` (sorted, unique) differ from the
-        last upload, rows beyond the old length included; None means every row."""
-        data = contiguous_records(data, self.dtype, f"texture {self.label!r}")
-        if len(data) > self.capacity_records:
-            self._allocate(data)
-            return
-        runs = [(0, len(data))] if rows is None else merged_runs(rows)
-        for start, stop in runs:
-            self._write(start, data[start:stop])
+    def _most_records(self) -> int:
+        # spare only as far as the tallest texture allowed: records that fit must not be refused
+        # for want of room for the next additions
+        return most_texel_records(self.context, self.dtype)
 
-    def _allocate(self, data: np.ndarray) -> None:
-        regrowth = self.spare and self.texture is not None
-        records = len(data) + (int(np.ceil(len(data) * SPARE_FRACTION)) if regrowth else 0)
-        # Spare only as far as the tallest texture allowed: records that fit must not be refused
-        # for want of room for the next additions.
-        records = max(len(data), min(records, most_texel_records(self.context, self.dtype)))
+    def _allocate(self, data: np.ndarray, records: int) -> None:
         width, height = require_texels(self.context, self.label, records, self.dtype)
         if self.texture is not None:
             self.texture.destroy()
@@ -153,8 +135,6 @@ class TrackedTexels:
                 usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST | wgpu.TextureUsage.COPY_SRC,
             )
         self._view = self.texture.create_view()
-        self.generation += 1
-        self._write(0, data)
 
     def _write(self, first_record: int, records: np.ndarray) -> None:
         """Write records starting at `first_record`: a run spanning texture rows is at most three
@@ -179,6 +159,5 @@ class TrackedTexels:
                     {"offset": 0, "bytes_per_row": count * TEXEL_BYTES, "rows_per_image": rows},
                     (count, rows, 1),
                 )
-            self.uploads.bytes += block.nbytes
-            self.uploads.calls += 1
+            self._count(block.nbytes)
             done += count * rows

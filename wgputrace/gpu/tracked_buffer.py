@@ -1,10 +1,10 @@
-"""GPU buffers that follow a numpy array of records and upload only the rows that changed.
+"""GPU memory that follows a numpy array of records and uploads only the rows that changed
+(TrackedRecords), as buffers here and as texels (TrackedTexels).
 
-Rows given as changed are merged into runs of consecutive rows, and each run is one
-`queue.write_buffer`. A buffer is first allocated at the size of its records; growing past the
-capacity reallocates with spare capacity, so a scene that is being extended keeps its buffer (and
-the bind groups that point at it) for its next small additions, uploads everything, and bumps
-`generation` so the owner knows to rebind. wgpu's errors come out as GpuFailure naming the buffer.
+Rows given as changed are merged into runs of consecutive rows, one write each. Memory is first
+allocated at the size of its records; growing past the capacity reallocates with spare capacity,
+so a scene being extended keeps its memory (and the bind groups pointing at it) for its next small
+additions, and bumps `generation` so the owner knows to rebind. wgpu's errors name the memory.
 """
 
 from __future__ import annotations
@@ -33,18 +33,72 @@ class UploadCount:
     calls: int = 0
 
 
-class TrackedBuffer:
+class TrackedRecords:
+    """GPU memory following a numpy array of records: `upload` writes only the rows given as
+    changed, merged into runs, and reallocates (bumping `generation`) once the records outgrow the
+    capacity. Subclasses hold the memory: `capacity_bytes`, `resource`, `destroy`,
+    `_allocate(data, records)` and `_write(first_record, records)`."""
+
+    what = "records"
+
+    def __init__(self, context: GpuContext, label: str, data: np.ndarray, *, spare: bool) -> None:
+        self.context, self.label, self.spare = context, label, spare
+        self.dtype = data.dtype
+        self.generation = 0
+        self.uploads = UploadCount()
+        self._reallocate(np.ascontiguousarray(data))
+
+    @property
+    def capacity_bytes(self) -> int:
+        raise NotImplementedError
+
+    @property
+    def capacity_records(self) -> int:
+        return self.capacity_bytes // self.dtype.itemsize
+
+    def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
+        """Make the GPU copy equal `data`, given that only `rows` (sorted, unique) differ from the
+        last upload, rows beyond the old length included; None means every row."""
+        data = contiguous_records(data, self.dtype, f"{self.what} {self.label!r}")
+        if len(data) > self.capacity_records:
+            self._reallocate(data)
+            return
+        self._uploaded(data)
+        for start, stop in [(0, len(data))] if rows is None else merged_runs(rows):
+            self._write(start, data[start:stop])
+
+    def _reallocate(self, data: np.ndarray) -> None:
+        """New memory for `data` (with SPARE_FRACTION more records once it outgrew its first, at most
+        `_most_records`), all of it written."""
+        grown = self.spare and self.generation > 0
+        records = len(data) + (int(np.ceil(len(data) * SPARE_FRACTION)) if grown else 0)
+        self._allocate(data, max(len(data), min(records, self._most_records())))
+        self.generation += 1
+        self._uploaded(data)
+        self._write(0, data)
+
+    def _most_records(self) -> int:
+        """The most records the adapter lets this memory hold."""
+        raise NotImplementedError
+
+    def _uploaded(self, data: np.ndarray) -> None:
+        """`data` is what the GPU copy holds from now on."""
+
+    def _count(self, nbytes: int) -> None:
+        self.uploads.bytes += nbytes
+        self.uploads.calls += 1
+
+
+class TrackedBuffer(TrackedRecords):
+    what = "buffer"
+
     def __init__(
         self, context: GpuContext, label: str, usage: int, data: np.ndarray, *, binding_limit: str, spare: bool = True
     ) -> None:
-        self.context, self.label, self.usage = context, label, usage
-        self.binding_limit, self.spare = binding_limit, spare
-        self.generation = 0
-        self.uploads = UploadCount()
+        self.usage, self.binding_limit = usage, binding_limit
         self.used_bytes = 0
         self.buffer = None
-        self.dtype = data.dtype
-        self._allocate(np.ascontiguousarray(data))
+        super().__init__(context, label, data, spare=spare)
 
     @property
     def capacity_bytes(self) -> int:
@@ -58,39 +112,26 @@ class TrackedBuffer:
     def destroy(self) -> None:
         self.buffer.destroy()
 
-    def upload(self, data: np.ndarray, rows: np.ndarray | None = None) -> None:
-        """Make the GPU copy equal `data`, given that only `rows` (sorted, unique) differ from the
-        last upload, rows beyond the old length included; None means every row."""
-        data = contiguous_records(data, self.dtype, f"buffer {self.label!r}")
-        if data.nbytes > self.buffer.size:
-            self._allocate(data)
-            return
-        self.used_bytes = data.nbytes
-        if rows is None:
-            self._write(0, data)
-            return
-        for start, stop in merged_runs(rows):
-            self._write(start * data.itemsize, data[start:stop])
+    def _most_records(self) -> int:
+        # rounded up: the spare of a buffer near its limit takes the binding's bytes to the last one
+        return -(-self.context.device.limits[self.binding_limit] // self.dtype.itemsize)
 
-    def _allocate(self, data: np.ndarray) -> None:
+    def _allocate(self, data: np.ndarray, records: int) -> None:
         require_records(self.context, self.label, len(data), data.itemsize, self.binding_limit)
-        capacity = data.nbytes
-        if self.spare and self.buffer is not None:
-            spare_rows = int(np.ceil(len(data) * SPARE_FRACTION))
-            capacity = min(data.nbytes + spare_rows * data.itemsize, self.context.device.limits[self.binding_limit])
         if self.buffer is not None:
             self.buffer.destroy()
-        self.buffer = create_buffer(self.context, self.label, max(capacity, MIN_BUFFER_BYTES), self.usage)
-        self.generation += 1
-        self.used_bytes = data.nbytes
-        self._write(0, data)
+        limit = self.context.device.limits[self.binding_limit]
+        capacity = max(min(records * data.itemsize, limit), MIN_BUFFER_BYTES)
+        self.buffer = create_buffer(self.context, self.label, capacity, self.usage)
 
-    def _write(self, offset: int, data: np.ndarray) -> None:
-        if data.nbytes == 0:
+    def _uploaded(self, data: np.ndarray) -> None:
+        self.used_bytes = data.nbytes
+
+    def _write(self, first_record: int, records: np.ndarray) -> None:
+        if records.nbytes == 0:
             return
-        write_buffer(self.context, self.buffer, offset, data)
-        self.uploads.bytes += data.nbytes
-        self.uploads.calls += 1
+        write_buffer(self.context, self.buffer, first_record * records.itemsize, records)
+        self._count(records.nbytes)
 
 
 def require_records(context: GpuContext, label: str, record_count: int, record_bytes: int, binding_limit: str) -> None:

@@ -32,7 +32,6 @@ from ..kernels.variant import KernelVariant
 from ..scene import Camera, Scene
 from .gpu_records import GpuRecords
 from .interrupts import Deferral, deferred_signals
-from .lights import LightTable
 from .limits import atlas_side, check_image_size, check_scene_size, fit_environment
 from .rng_seed import pixel_rng_states
 from .scene_mirror import TEXTURE_ATLAS, SceneMirror
@@ -162,7 +161,6 @@ class Renderer:
         for array in method.pixel_arrays:
             self._sums[array.binding.name] = self._zeroed_sums(array.binding.name, array.bytes_per_pixel)
         self._submits = SubmitPlan()
-        self._device = self.context.device
         self._bind()
 
     @property
@@ -177,10 +175,6 @@ class Renderer:
     def records(self) -> SceneRecords:
         """The scene's GPU records as last uploaded (triangles in BVH order, nodes, materials, BVH)."""
         return self._mirror.records
-
-    @property
-    def lights(self) -> LightTable:
-        return self._mirror.lights
 
     @property
     def triangle_count(self) -> int:
@@ -302,7 +296,7 @@ class Renderer:
         if seed is not None and seed != self.seed:
             self.seed = seed
             write_buffer(self.context, self._rng_at_seed, 0, self._sampler_states(replicate=0))
-        encoder = self._device.create_command_encoder()
+        encoder = self.context.device.create_command_encoder()
         for buffer in self._sums.values():
             encoder.clear_buffer(buffer)
         encoder.copy_buffer_to_buffer(self._rng_at_seed, 0, self._rng, 0, self._rng.size)
@@ -356,8 +350,8 @@ class Renderer:
         record["width"], record["height"] = width, height
         record["max_depth"] = _UNLIMITED_DEPTH_GPU if self.max_depth == UNLIMITED_DEPTH else self.max_depth
         record["node_count"] = len(self._mirror.nodes)
-        record["light_count"] = self.lights.count
-        record["light_weight_total"] = self.lights.total_weight
+        lights = self._mirror.lights
+        record["light_count"], record["light_weight_total"] = lights.count, lights.total_weight
         return record
 
     def render(

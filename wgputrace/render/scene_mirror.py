@@ -142,7 +142,9 @@ class SceneMirror:
 
     @property
     def records(self) -> SceneRecords:
-        return SceneRecords(self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.corner_attributes)
+        return SceneRecords(
+            self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.corner_attributes, self.lights.entries
+        )
 
     @property
     def arrays(self) -> dict[str, np.ndarray | None]:

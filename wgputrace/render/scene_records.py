@@ -26,6 +26,7 @@ class SceneRecords:
     acceleration: BVH  # the canonical binary tree (or flat list)
     wide: WideBVH | None = None  # a BVH's 4-wide form, whose records `nodes` holds
     corner_attributes: np.ndarray | None = None  # CORNER_ATTRIBUTES.dtype like `triangles`; None: no normals
+    lights: np.ndarray | None = None  # LIGHT.dtype: the light sampler's alias table
 
 
 def material_records(materials: list[Material]) -> np.ndarray:

@@ -1,0 +1,98 @@
+"""KernelVariant is the one statement of what a kernel compiles in: every feature it names changes
+the generated files or the bind groups, equal variants are one cached kernel, and a variant that
+cannot exist (rows under an integrator without a band-of-rows kernel, an unknown sampler or
+acceleration) is refused in one line."""
+
+from __future__ import annotations
+
+from dataclasses import fields, replace
+
+import pytest
+
+from wgputrace import Camera, Diffuse, PointLight, Scene, make_box
+from wgputrace.integrators import integrator
+from wgputrace.kernels.compile import tracing_kernel
+from wgputrace.kernels.hooks import HOOKS
+from wgputrace.kernels.light_dispatch import LightFeatures
+from wgputrace.kernels.variant import DEFAULT_VARIANT, KernelVariant, SceneFeatures
+from wgputrace.render.scene_mirror import SceneMirror
+
+MIS = KernelVariant(integrator=integrator("mis"))
+
+
+def boolean_fields(value) -> list[str]:
+    return [f.name for f in fields(value) if f.type == "bool"]
+
+
+def test_every_hook_file_is_generated_for_every_variant():
+    assert set(HOOKS) <= set(DEFAULT_VARIANT.files())
+    assert set(HOOKS) <= set(MIS.files())
+
+
+@pytest.mark.parametrize("name", boolean_fields(SceneFeatures))
+def test_each_scene_feature_changes_what_is_compiled(name):
+    on = KernelVariant(replace(SceneFeatures(), **{name: True}), integrator("mis"))
+    changed = {file for file, text in on.files().items() if MIS.files()[file] != text}
+    groups_changed = on.groups() != MIS.groups()
+    assert changed or groups_changed, f"SceneFeatures.{name} compiles in nothing"
+    assert on != MIS and hash(on) != hash(MIS)
+    assert on.label != MIS.label, "the label names every feature that is on"
+
+
+@pytest.mark.parametrize("name", boolean_fields(KernelVariant))
+def test_each_kernel_option_changes_what_is_compiled(name):
+    on = replace(MIS, **{name: True})
+    files_changed = on.files() != MIS.files()
+    assert files_changed or on.groups() != MIS.groups() or on.entry != MIS.entry
+    assert on.label != MIS.label
+
+
+def test_lights_choose_the_lights_group_and_its_bindings():
+    assert "lights" not in {group.name for group in MIS.groups()}
+    points = MIS.with_scene(SceneFeatures(lights=LightFeatures((PointLight.kind,))))
+    lights = next(group for group in points.groups() if group.name == "lights")
+    assert [binding.name for binding in lights.bindings] == ["lighting", "light_sources"]
+    assert "PointLight" in points.label
+
+
+def test_the_pixels_group_has_the_guides_and_the_integrators_arrays():
+    names = lambda variant: [binding.name for binding in variant.pixels_group().bindings]  # noqa: E731
+    assert names(MIS) == ["rng_states", "accumulation"]
+    assert names(replace(MIS, guides=True)) == ["rng_states", "accumulation", "guide_sums"]
+    bdpt = replace(MIS, integrator=integrator("bdpt"), guides=True)
+    assert names(bdpt) == ["rng_states", "accumulation", "guide_sums", "splats"]
+
+
+def test_overrides_are_one_key_whatever_their_order():
+    a = replace(MIS, overrides=(("B", 1.0), ("A", 2.0)))
+    b = replace(MIS, overrides=(("A", 2.0), ("B", 1.0)))
+    assert a == b and hash(a) == hash(b)
+    assert a.constants == {"INTEGRATOR": 2, "A": 2.0, "B": 1.0}
+
+
+def test_impossible_variants_are_refused_in_one_line():
+    with pytest.raises(ValueError, match="bdpt integrator renders whole images only"):
+        KernelVariant(integrator=integrator("bdpt"), rows=True)
+    with pytest.raises(ValueError, match="sampler must be one of independent, sobol, got 'halton'"):
+        KernelVariant(sampler="halton")
+    with pytest.raises(ValueError, match="acceleration must be one of"):
+        SceneFeatures(acceleration="octree")
+    with pytest.raises(ValueError, match="names no integrator"):
+        _ = DEFAULT_VARIANT.entry
+
+
+def test_the_mirror_states_the_scenes_part():
+    lamp = make_box((0, 1, 0), (0, 0, 0), (0.2, 0.01, 0.2), Diffuse("lamp"), "lamp")
+    scene = Scene([lamp], Camera())
+    features = SceneMirror(scene, "bvh").features
+    assert features.material_kinds == (Diffuse.kind,) and not features.lights.any
+    scene.add_light(PointLight((0, 2, 0), 1.0))
+    assert SceneMirror(scene, "flat").features.lights.kinds == (PointLight.kind,)
+
+
+@pytest.mark.gpu
+def test_equal_variants_are_one_compiled_kernel(gpu_context):
+    first = tracing_kernel(gpu_context, MIS)
+    assert tracing_kernel(gpu_context, KernelVariant(integrator=integrator("mis"))) is first
+    assert tracing_kernel(gpu_context, replace(MIS, count_rays=True)) is not first
+    assert "ray_counts" in tracing_kernel(gpu_context, replace(MIS, count_rays=True)).source.text
