@@ -5,11 +5,9 @@ Each case renders once per session as independent batches (our variance per pixe
 spread); the reference, averaged down to the case's size (exact under a box filter), brings its own
 standard error. Per block and channel, Welch's t-test at Sidak's share of the family's significance;
 a failure writes ours, the reference, their difference and the failing blocks under tests/failures/.
-Shaders broken on purpose (2026-11-23) fail here: glass Fresnel as the s-polarised term alone
-(glass_grazing, 59 of 192 blocks), GGX masking with alpha^2 halved (glossy_spheres, 49), Russian
-roulette not divided by its survival (66 to 165 blocks), an absolute ray offset (cornell_1e-4, the
-scaled boxes), edge hits missed within 1e-4 (slivers, z 7.9 over the whole image), next-event
-shadow rays from the unmoved point (tiny_light, 178 blocks: the bug this found).
+Shaders broken on purpose (2026-11-23) each failed cases here: glass Fresnel's s-polarised term
+alone, GGX masking with alpha^2 halved, roulette not divided by survival, an absolute ray offset, edge
+hits missed within 1e-4, and next-event shadow rays from the unmoved point (the bug this found).
 """
 
 from __future__ import annotations
