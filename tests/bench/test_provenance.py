@@ -30,6 +30,7 @@ PYTHON = "/opt/venv/bin/python"
         ),
         (["-c", "--out", "results"], "python -c --out results"),
     ],
+    ids=["suite", "benchmark", "out-equals", "script", "dash-c"],
 )
 def test_the_command_is_recorded_as_typed_in_the_checkout(argv, typed):
     assert typed_command([str(word) for word in argv], PYTHON) == typed
