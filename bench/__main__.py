@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from bench.mitsuba import mitsuba_missing
-from bench.provenance import RESULTS_DIR, Run
+from bench.provenance import RESULTS_DIR, Run, recorded_path
 from bench.result_files import SETTINGS_KEYS, result_stem, write_result
 from wgputrace.denoise import INSTALL_HINT, denoiser_available
 
@@ -497,7 +497,7 @@ def run(benchmark: Benchmark, preset: str | None, out: Path) -> dict:
         "git_revision": result["git_revision"],
         "created_utc": result["environment"]["created_utc"],
         "seconds": seconds,
-        "result_file": str(path),
+        "result_file": recorded_path(path),
         "settings": {key: result.get(key) for key in SETTINGS_KEYS},
         "targets": [vars(target) for target in benchmark.targets(result)],
     }

@@ -326,7 +326,8 @@ def cornell_against_baseline(revision: str, size: int, spp: int, rounds: int) ->
     ratios = {clock: round_ratios(current, old, key) for clock, key in (("wall", "wall"), ("process_cpu", "cpu"))}
     return {
         "baseline_revision": revision,
-        "modules": {name: str(worker.module) for name, worker in workers.items()},
+        # relative to each process's own checkout (CornellWorker refuses another's): no folder of this machine
+        "modules": {name: worker.module.relative_to(worker.checkout).as_posix() for name, worker in workers.items()},
         "picture": next(iter(pictures.values())),
         "runs": runs,
         "median_seconds": {name: statistics.median(run["wall"] for run in entries) for name, entries in runs.items()},

@@ -9,6 +9,7 @@ import platform
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
@@ -72,8 +73,47 @@ def environment() -> dict:
         "cpu_count": os.cpu_count(),
         # llvmpipe runs one thread per core unless told otherwise.
         "LP_NUM_THREADS": os.environ.get("LP_NUM_THREADS"),
-        "command": " ".join([Path(sys.executable).name, *sys.argv]),
+        "command": typed_command(sys.argv, sys.executable),
     }
+
+
+def typed_command(argv: Sequence[str], python: str) -> str:
+    """`python ARGV` as typed in the checkout's root: a module of the checkout as `-m bench.NAME`, a
+    script inside it by its relative path, and an absolute path argument as DIR (--out's) or PATH,
+    so that no folder of the machine it ran on is recorded."""
+    program, *arguments = argv
+    words = [Path(python).name, *typed_program(program)]
+    for previous, argument in zip(["", *arguments], arguments, strict=False):
+        option, equals, value = argument.partition("=") if argument.startswith("--") else ("", "", argument)
+        if Path(value).is_absolute():
+            value = "DIR" if "--out" in (option, previous) else "PATH"
+        words.append(f"{option}{equals}{value}")
+    return " ".join(words)
+
+
+def typed_program(program: str) -> list[str]:
+    """sys.argv[0] as typed: `-m bench` for bench/__main__.py, `-m bench.throughput` for a module run
+    with -m, a script's path relative to the checkout, `-m pytest` for another package's __main__.py."""
+    path = Path(program)
+    if not path.is_file():  # "-c", or the interactive interpreter's ""
+        return [program]
+    path = path.resolve()
+    if path.is_relative_to(REPO_ROOT):
+        relative = path.relative_to(REPO_ROOT)
+        packages = list(relative.parents)[:-1]
+        if packages and all((REPO_ROOT / package / "__init__.py").is_file() for package in packages):
+            parts = relative.with_suffix("").parts
+            return ["-m", ".".join(parts[:-1] if parts[-1] == "__main__" else parts)]
+        return [relative.as_posix()]
+    if path.name == "__main__.py":
+        return ["-m", path.parent.name]
+    return [path.name]
+
+
+def recorded_path(path: Path) -> str:
+    """A file as a result names it: relative to the checkout when inside it, else by its name alone."""
+    path = Path(path).resolve()
+    return path.relative_to(REPO_ROOT).as_posix() if path.is_relative_to(REPO_ROOT) else path.name
 
 
 def load_average() -> list[float] | None:

@@ -121,6 +121,11 @@ class ConsoleCount:
                 self.tracebacks.append(line)
 
 
+def recorded_lines(lines: list[str], workdir: Path) -> list[str]:
+    """Console lines as the result records them: the scene's temporary folder as WORKDIR, no folder of this machine."""
+    return [line.replace(str(workdir), "WORKDIR") for line in lines]
+
+
 def scene_text(rng: np.random.Generator) -> str:
     color = tuple(round(float(c), 3) for c in rng.uniform(0.1, 0.9, 3))
     shift = [round(float(s), 3) for s in rng.uniform(-BOX_SHIFT, BOX_SHIFT, 3)]
@@ -223,13 +228,13 @@ def soak_viewer(minutes: float, workdir: Path, cap_kib: int) -> dict:
         "actions": counts,
         "reloads": console.reloads,
         "failures_reported": console.failures_reported,
-        "tracebacks": console.tracebacks[:20],
+        "tracebacks": recorded_lines(console.tracebacks[:20], workdir),
         "exit_code": exit_code,
         "stopped_over_memory_cap": over_cap is not None,
         "rss_kib": {"seconds": seconds, "kib": kib},
         "rss_trend": {**trend, "unit": "minute"},
         "failures": failures,
-        "console_tail": app.log[-40:],
+        "console_tail": recorded_lines(app.log[-40:], workdir),
     }
 
 

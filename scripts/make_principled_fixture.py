@@ -1,6 +1,6 @@
 """Writes tests/shaders/data/principled_mitsuba.npz: Mitsuba 3's `principled` BSDF evaluated (eval,
 which includes cos theta_o, and pdf) at random directions for a few parameter sets, the independent
-implementation tests/shaders/test_principled.py compares shaders/materials/principled.wgsl with.
+implementation `test_eval_and_pdf_match_mitsuba` compares WGSL `principled_eval` and `principled_pdf` with.
 Without transmission both directions lie above the surface (ours is two-sided there, Mitsuba's
 black below); with it, anywhere on the sphere (inside, reflection and refraction included).
 

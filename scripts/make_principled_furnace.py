@@ -2,7 +2,7 @@
 `principled` BSDF, what a white (base colour 1) surface keeps of light arriving from outside, on a
 grid of roughness x metallic x spec_trans x incident angle: the mean of `sample`'s weights (eval /
 pdf, cosine included, in radiance transport) over SAMPLES draws, with its standard error.
-tests/shaders/test_principled.py holds ours to these values, and to at most 1 wherever these are.
+`test_white_furnace_is_mitsubas` holds ours to these values, and to at most 1 wherever these are.
 
 Light from outside only: from inside, transmission's radiance weight carries eta^2 (the solid angle
 compressed on the way out), which is above 1 by design.

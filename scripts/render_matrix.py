@@ -3,7 +3,7 @@ guides on the Cornell box), small and short, to check that a change leaves rende
 they were at the same seed.
 
     python scripts/render_matrix.py --out after.npz
-    PYTHONPATH=/path/to/older/checkout python scripts/render_matrix.py --out before.npz   (run by path, not -m)
+    PYTHONPATH=OLD_CHECKOUT python scripts/render_matrix.py --out before.npz   (run by path, not -m)
     python scripts/render_matrix.py --compare before.npz after.npz
 
 The renders use whichever wgputrace Python imports, so PYTHONPATH selects the checkout measured

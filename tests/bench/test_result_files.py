@@ -30,6 +30,8 @@ def test_a_result_carries_metadata_and_settings(gpu_context, tmp_path):
     # what lavapipe's speed depends on: the driver's version and the processor
     assert written["environment"]["driver"] == written["adapter"]["description"] and written["environment"]["cpu"]
     assert written["wall_seconds"] >= 0 and len(written["load_average_before_after"]) == 2
+    # the command as typed in the checkout: no folder of this machine
+    assert not any(word.startswith("/") for word in written["environment"]["command"].split())
     # the file is named by benchmark and adapter, and the chart sees what the file holds
     assert paths["json"].name.startswith("example_") and paths["png"].with_suffix(".json") == paths["json"]
     assert plotted == written

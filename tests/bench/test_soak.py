@@ -1,4 +1,4 @@
-"""bench.soak: its trend measure and its place outside the default benchmark run."""
+"""bench.soak: its trend measure, its console lines as recorded, and its place outside the default benchmark run."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from bench.__main__ import BENCHMARKS
-from bench.soak import FLAT_GROWTH_MIB, WARMUP_FRACTION, memory_trend
+from bench.soak import FLAT_GROWTH_MIB, WARMUP_FRACTION, memory_trend, recorded_lines
 
 
 def test_a_steady_leak_is_measured_and_not_flat():
@@ -28,3 +28,8 @@ def test_warm_up_growth_alone_is_flat():
 def test_soak_runs_only_when_named():
     soak = next(benchmark for benchmark in BENCHMARKS if benchmark.name == "soak")
     assert not soak.in_default_run
+
+
+def test_console_lines_are_recorded_without_the_scene_folder(tmp_path):
+    lines = [f"wgputrace view: {tmp_path / 'soak_scene.py'} changed, reloading"]
+    assert recorded_lines(lines, tmp_path) == ["wgputrace view: WORKDIR/soak_scene.py changed, reloading"]

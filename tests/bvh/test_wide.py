@@ -1,4 +1,4 @@
-"""bvh/wide.py: the 4-wide tree covers every triangle and record once, adopts until full, maps
+"""WideBVH (`collapse`): the 4-wide tree covers every triangle and record once, adopts until full, maps
 each slot to the binary node whose box it holds, and fits the shader's stack."""
 
 from __future__ import annotations

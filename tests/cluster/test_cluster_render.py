@@ -1,4 +1,4 @@
-"""Rendering on the two-node cluster of conftest.py: the same bits for one worker (in tiles), for
+"""Rendering on the two-node `cluster` fixture: the same bits for one worker (in tiles), for
 two (through `wgputrace render --ray`), and for three with one of them killed mid-run; the picture wgputrace.render converges to; and clear
 errors, bounded in time, for a bad address, a scene that fails on the workers and an image larger
 than the workers' device allows.

@@ -1,4 +1,4 @@
-"""`wgputrace render-frames` on the cluster of conftest.py, as a user runs it inside the
+"""`wgputrace render-frames` on the `cluster` fixture, as a user runs it inside the
 cluster's namespace: a job stopped by Ctrl-C (SIGINT) keeps the frames it finished, whole, and the
 same command then renders the others without writing those again; each frame is the image
 wgputrace.render makes of scene(frame)."""

@@ -1,5 +1,5 @@
-"""wt.denoise on a real render with the renderer's own guides (tests/render/test_denoise_guides.py
-checks the guides themselves): they pass denoise's checks, and the guided result is much closer to
+"""wt.denoise on a real render with the renderer's own guides (the guides' own tests check
+them): they pass denoise's checks, and the guided result is much closer to
 the Mitsuba reference than the raw image, on the scene whose guides are noisiest (through glass)."""
 
 from __future__ import annotations

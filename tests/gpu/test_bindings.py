@@ -55,7 +55,7 @@ def test_the_acceleration_variant_changes_only_the_nodes():
 def test_no_shipped_shader_declares_a_binding_or_a_workgroup_by_hand():
     for path in sorted(shader_root().rglob("*.wgsl")):
         text = path.read_text()
-        assert "@group(" not in text, f"{path.name}: bindings belong in gpu/bindings.py declarations"
+        assert "@group(" not in text, f"{path.name}: bindings belong in BindGroup declarations"
         sizes = re.findall(r"@workgroup_size\(([^)]*)\)", text)
         assert all(not re.search(r"\d", size) for size in sizes), f"{path.name}: @workgroup_size({sizes})"
 

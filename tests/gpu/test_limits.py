@@ -1,4 +1,4 @@
-"""Limits checked before anything is allocated (render/limits.py): images and scenes just within
+"""Limits checked before anything is allocated (`check_image_size`, `check_scene_size`): images and scenes just within
 each of the device's limits pass and just beyond are refused, with a message naming the limit, the
 value asked for and the largest allowed; the host-memory model holds what the code really holds;
 the bound of 4-wide BVH records holds for trees built, lopsided ones too."""

@@ -1,4 +1,4 @@
-"""Records kept as texels (gpu/texels.py): the generated WGSL loader reassembles every field of
+"""Records kept as texels (`TrackedTexels`, `texel_loader`): the generated WGSL loader reassembles every field of
 every struct bit for bit, at indices spread over many texture rows; changed rows are written and
 nothing else; a first allocation has no spare capacity, growth past it reallocates with spare."""
 

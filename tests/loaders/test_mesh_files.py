@@ -13,7 +13,7 @@ from wgputrace import Diffuse, Renderer, SceneLoadError, SceneLoadWarning, load_
 
 SPHERE = make_icosphere((0.5, 0.25, -1.0), (0, 0, 0), 1.0, 2, Diffuse("unused"))
 FORMATS = {"binary.ply": {"encoding": "binary"}, "ascii.ply": {"encoding": "ascii"}, "binary.stl": {}, "ascii.stl": {}}
-# A big mesh for CI (the 1,000,000-triangle case is bench/big_mesh.py's): 2 x 160 x 160 triangles.
+# A big mesh for CI (the 1,000,000-triangle case is `bench.big_mesh`'s): 2 x 160 x 160 triangles.
 GRID_CELLS = 160
 BIG_MESH_SECONDS = 60.0  # load + BVH build + one tiny render; ~3 s here, a hang or a quadratic step fails
 

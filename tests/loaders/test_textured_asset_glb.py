@@ -1,6 +1,6 @@
-"""The built-in `textured_asset` scene's model written as a .glb (wgputrace/testing/gltf_files.py
-textured_asset_glb) loads back as the scene's own shapes and materials: so the Mitsuba comparison
-of that scene (tests/render/test_references.py) is one of a textured glTF model with a
+"""The built-in `textured_asset` scene's model written as a .glb (`textured_asset_glb`) loads back as
+the scene's own shapes and materials: so the Mitsuba comparison of that scene (its reference case)
+is one of a textured glTF model with a
 normal map and an emissive texture, read by our loader."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The Mitsuba scene built from ours (wgputrace/reference/mitsuba_scene.py) holds the same
+"""The Mitsuba scene built from ours (`mitsuba_scene`) holds the same
 triangles, emitters and camera. Needs mitsuba (the `reference` extra), which CI does not install."""
 
 from __future__ import annotations

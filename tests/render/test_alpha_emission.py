@@ -1,7 +1,7 @@
-"""Alpha and sidedness (shaders/shading/alpha.wgsl): cut-out texels (MASK) let every ray through, the
+"""Alpha and sidedness (WGSL `surface_blocks`): cut-out texels (MASK) let every ray through, the
 camera's and the shadow rays', in the fraction the texture cuts; BLEND passes 1 - alpha of the
 rays; OPAQUE ignores alpha; a single-sided surface is invisible from behind. Emission
-(shaders/lights/surface_emission.wgsl): a panel with an emissive texture lights a room as a uniform emitter of the
+(WGSL `surface_emission`): a panel with an emissive texture lights a room as a uniform emitter of the
 texture's mean radiance does, and weighs in the light table by that mean."""
 
 from __future__ import annotations

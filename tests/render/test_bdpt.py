@@ -1,19 +1,11 @@
-"""Bidirectional path tracing (shaders/integrators/bdpt.wgsl) against the path tracer and against itself.
+"""Bidirectional path tracing against the path tracer and against itself.
 
 pbrt's debugging method: each strategy (s, t) alone, unweighted (the BDPT_ONLY_S/T overrides),
 estimates the paths of s + t - 1 edges that it can sample; on a box of diffuse surfaces every
-strategy can sample every path, so each must converge to what the path tracer's MIS finds for paths
-of exactly that many edges (its image at max_depth k minus its image at k - 1). Per block and
-channel, Welch's t-test, Sidak's share of FAMILY_SIGNIFICANCE over every block, channel and
-strategy. The strategies of paths of 3 edges are each kind once: emission found (s = 0),
-next-event estimation (s = 1), a connection between stored vertices (s = 2, t = 2) and light
-tracing, whose splats reach image() and go with reset() (s = 3, t = 1); those of 2 edges are the
-same code at one vertex less (each costs a kernel compile in CI). Then: the splat buffer's fixed
-point sums bit for bit alike whatever the order (the same seed gives the same image twice) and
-progressively (16 + 16 samples = 32), max_depth beyond what the kernel keeps is refused, the splat
-buffer is counted before allocating, and scenes that no other bdpt test renders give no
-non-finite sample.
-"""
+strategy can sample every path, so each must converge to the path tracer's paths of exactly that
+many edges (its image at max_depth k minus its image at k - 1), by Welch's t-test per block and
+channel. Then: splat sums alike whatever the order and progressively, max_depth beyond what the
+kernel keeps refused, the splat buffer counted before allocating, and no non-finite sample."""
 
 from __future__ import annotations
 
@@ -46,10 +38,13 @@ SEED = 18
 BATCHES = 8
 SPP = 8
 FAMILY_SIGNIFICANCE = 1e-3
-# (s, t) of every strategy for paths of 3 edges
+# (s, t) of every strategy for paths of 3 edges, each kind once: emission found (s = 0), next-event
+# estimation (s = 1), a connection between stored vertices (2, 2) and light tracing, whose splats
+# reach image() and go with reset() (3, 1). Those of 2 edges, the same code at one vertex less, are
+# left out: each strategy costs a kernel compile in CI.
 STRATEGIES = ((0, 4), (1, 3), (2, 2), (3, 1))
-# Built-in scenes that no other bdpt test renders to radiance (the bdpt reference cases,
-# tests/render/test_references.py, assert no non-finite sample on their own): the tiny lamp, the
+# Built-in scenes that no other bdpt test renders to radiance (the bdpt reference cases assert no
+# non-finite sample on their own): the tiny lamp, the
 # box 1e4 times its size, zero-area triangles, an environment black but for one texel (densities
 # that round to 0), and glass at grazing angles (total internal reflection on light paths).
 NAN_SCENES = ("tiny_light", "cornell_1e4", "slivers", "env_one_texel", "glass_grazing")
@@ -146,7 +141,7 @@ def test_no_nan_or_infinity(gpu_context, scene):
 
 
 def test_the_splat_buffer_is_counted_before_allocating(gpu_context, monkeypatch):
-    """render/limits.py counts the splat sums as the renderer allocates them; a host with just
+    """The limits count the splat sums as the renderer allocates them; a host with just
     enough memory for the path tracer's image refuses the same image under bdpt, in one line."""
     renderer = Renderer(diffuse_box(), SIZE, SIZE, integrator="bdpt")
     assert renderer.gpu_image_bytes["splats"] == SIZE * SIZE * SPLATS.bytes_per_pixel

@@ -1,6 +1,6 @@
 """The bidirectional kernel's MIS weights sum to one over the strategies that can sample a path,
-checked on the GPU for the paths it samples (override BDPT_CHECK_WEIGHT_SUMS,
-shaders/integrators/bdpt/weight_sum_check.wgsl): every light kind (triangles, textured emission, point, spot,
+checked on the GPU for the paths it samples (override BDPT_CHECK_WEIGHT_SUMS, WGSL
+`check_weight_sums`): every light kind (triangles, textured emission, point, spot,
 directional, sun, environment) and material (diffuse, glossy, glass, principled, textures) in the
 scenes below. A strategy whose density another weight sees differently (a stand-in used on one
 side only, a shading normal chosen differently from the light's end) breaks the sum."""

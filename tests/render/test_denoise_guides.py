@@ -1,4 +1,4 @@
-"""The denoiser's guides the path tracer accumulates (shaders/integrators/denoiser_guides.wgsl): against a
+"""The denoiser's guides the path tracer accumulates (WGSL `accumulate_guides`): against a
 brute-force cast through sub-pixel positions on the Cornell box, through a glass pane by Fresnel's
 odds, through the glass scene's sphere; image() unchanged by them; nothing of them compiled or
 allocated without them; the viewer's band-of-rows kernel with and without them."""
@@ -33,7 +33,7 @@ Z_LIMIT = 5.0
 
 
 def camera_rays(renderer: Renderer, offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(origins, unit directions) of shape (H, W, len(offsets), 3): camera_ray (camera/camera_ray.wgsl)
+    """(origins, unit directions) of shape (H, W, len(offsets), 3): WGSL `camera_ray`
     through each pixel at each (x, y) offset in [0, 1]^2."""
     right, up, forward = renderer.scene.camera.image_plane(renderer.width, renderer.height)
     x = (np.arange(renderer.width)[None, :, None] + offsets[None, None, :, 0]) / renderer.width * 2 - 1

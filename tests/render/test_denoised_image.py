@@ -1,6 +1,6 @@
 """A denoised image and what it takes: Renderer.image(denoised=True) denoises the colour alone
 without guides and uses the guides where they are on; the guide sums count in the limits checked
-before allocation (render/limits.py); an EXR keeps the raw image and the guides as layers beside
+before allocation (`limits.pixel_buffers`); an EXR keeps the raw image and the guides as layers beside
 the main RGB (image_io.save_image(layers=), load_layers)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""footprint_means (render/emission_footprints.py) against a brute-force box filter: the mean of the
+"""footprint_means against a brute-force box filter: the mean of the
 texels in each triangle's padded bounding rectangle, indices wrapped as the GPU wraps them."""
 
 from __future__ import annotations

@@ -1,18 +1,10 @@
-"""White furnace: each non-emitting material with color 1 inside a closed emitter of uniform
-radiance L (wgputrace/testing/scenes.py) returns L times what the material keeps of the light.
-
-That is L exactly for diffuse and for lossless glass (a closed cube, unlimited depth: every path
-ends on the emitter; the eta^2 radiance scaling cancels on the way out, so a wrong scaling that
-cancels too goes unseen here: tests/shaders/test_bsdf.py checks the weight). Glossy is
-single-scattering GGX, which loses the light that its microfacets would reflect a second time,
-more so the rougher it is: it must return its directional albedo A(wi), the integral of the
-shipped bsdf_eval over the hemisphere (wgputrace/testing/bsdf_grid.py, on the GPU). A plane seen
-through a narrow camera fixes the angle of incidence; max_depth 2 lets one bounce, and a plane
-cannot be hit twice, so nothing but A enters.
-
-Every image mean is z-tested with the standard error from the spread over its pixels (each pixel
-has its own random sequence, so pixels are independent samples).
-"""
+"""White furnace: each non-emitting material of colour 1 inside a closed emitter of uniform radiance L
+(`inside_emitter`) returns L times what it keeps of the light. That is L exactly for diffuse and for
+lossless glass (every path ends on the emitter; the eta^2 scaling cancels on the way out, so a
+wrong one goes unseen here: the BSDF sampling tests check it). Single-scattering GGX loses what its
+microfacets would reflect a second time: one bounce off a plane at a fixed angle must return its
+directional albedo A(wi), the shipped bsdf_eval integrated on the GPU (`integrate_bsdf`). Image means
+are z-tested with the standard error of their pixels, which are independent samples."""
 
 from __future__ import annotations
 
@@ -57,8 +49,8 @@ PLANE_SIZE = 4.0
 DIFFUSE = Diffuse("diffuse", color=(1, 1, 1))
 GLOSSY = [Glossy(f"glossy {r}", color=(1, 1, 1), roughness=r) for r in (0.01, 0.1, 0.5, 1.0)]
 # BSDF sampling alone tests the samples' weights; MIS (the default) adds light samples weighted
-# by bsdf_pdf, the enclosure being the light (glossy below GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS,
-# integrators/path_tracer.wgsl, samples no lights: MIS is BSDF sampling there); bidirectional path tracing
+# by bsdf_pdf, the enclosure being the light (glossy below GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS
+# samples no lights: MIS is BSDF sampling there); bidirectional path tracing
 # adds light paths from the enclosure, connected and traced to the camera. Diffuse keeps A = 1 at
 # every angle, so one suffices.
 INTEGRATORS = ("bsdf", "mis")
@@ -89,7 +81,7 @@ def plane_facing_camera(material, cos_theta: float) -> Scene:
 
 def pixel_cosines(scene: Scene) -> np.ndarray:
     """|cos theta| at the plane of camera rays through SUBPIXELS^2 points of each pixel
-    (SIZE, SIZE, SUBPIXELS^2), as camera/camera_ray.wgsl builds them (row 0 at the top)."""
+    (SIZE, SIZE, SUBPIXELS^2), as WGSL `camera_ray` builds them (row 0 at the top)."""
     right, up, forward = scene.camera.image_plane(SIZE, SIZE)
     offsets = (np.arange(SUBPIXELS) + 0.5) / SUBPIXELS
     x = ((np.arange(SIZE)[:, None] + offsets) / SIZE * 2.0 - 1.0).ravel()

@@ -2,12 +2,11 @@
 
 Random edits (shapes added and removed, transforms, vertices, material parameters, material
 reassignments, cameras), valid and not: each either takes effect or raises the documented error
-(SceneError or MaterialError, both ValueErrors), leaving the scene usable. At render steps the
-renderer must produce a finite image (no NaN reaches it), its GPU buffers must hold exactly its
-host records (no upload lost), and those records must equal a fresh build's up to the BVH's order
-(the same triangles, materials and lights): the incremental path never drifts from the full one.
-(Bit-equal images after edits are asserted in test_scene_editing.py on scenes without exact hit
-ties; random geometry here can stack coincident triangles, whose tie order depends on the tree.)
+(SceneError or MaterialError, both ValueErrors), leaving the scene usable. At render steps the image
+is finite, the GPU buffers hold exactly the host records (no upload lost), and those equal a fresh
+build's up to the BVH's order: the incremental path never drifts from the full one. (The scene
+editing tests assert bit-equal images after edits on scenes without exact hit ties; random geometry
+here can stack coincident triangles, whose tie order depends on the tree.)
 """
 
 from __future__ import annotations

@@ -1,11 +1,11 @@
-"""Closed forms for the lights that tests/render/test_light_kinds.py does not render (it has the
-constant-environment furnace and a plane under a directional and a point light): a plane under a
-sun, the sun's disc seen directly, a spot light's footprint on a plane, and the environment map's
-direction convention pinned by a map black but for one texel.
+"""Closed forms for the lights whose kinds' tests render none (those have the constant-environment
+furnace and a plane under a directional and a point light): a plane under a sun, the sun's disc
+seen directly, a spot light's footprint on a plane, and the environment map's direction convention
+pinned by a map black but for one texel.
 
-Each rendered expectation is tested by Welch's t-test (wgputrace/testing/image_statistics.py)
-against the exact value, its variance from K independent batches; the significance of each test
-is Sidak's share of FAMILY_SIGNIFICANCE over every test of this module."""
+Each rendered expectation is tested by Welch's t-test (`compare_blocks`) against the
+exact value, its variance from K independent batches; the significance of each test is Sidak's
+share of FAMILY_SIGNIFICANCE over every test of this module."""
 
 from __future__ import annotations
 
@@ -138,7 +138,7 @@ def spot_radiance(x: np.ndarray, z: np.ndarray) -> np.ndarray:
 
 def spot_pixels(camera: Camera, size: int, quadrature: int) -> np.ndarray:
     """(size, size) mean floor radiance over each pixel, by the camera's own ray model
-    (shaders/camera/camera_ray.wgsl: ndc from the pixel's jittered position, row 0 at the top)."""
+    (WGSL `camera_ray`: ndc from the pixel's jittered position, row 0 at the top)."""
     right, up, forward = camera.image_plane(size, size)
     offsets = (np.arange(quadrature) + 0.5) / quadrature
     positions = (np.arange(size)[:, None] + offsets[None, :]).ravel() / size * 2.0 - 1.0

@@ -1,4 +1,4 @@
-"""Light paths' first vertex (shaders/lights/light_path_sampler.wgsl) for every light kind, on the GPU against
+"""Light paths' first vertex (WGSL `sample_emission`) for every light kind, on the GPU against
 theory: radiance x cos / (pdf_position x pdf_direction) estimates each light's emitted power in
 closed form (z-tested, bounds from the sample variance); sampled directions follow the density
 they report (chi-square); emission_pdf and emission_pdf_distant give back the sample's densities;

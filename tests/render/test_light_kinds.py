@@ -1,6 +1,6 @@
 """Lights besides emissive triangles: each kind's shipped WGSL against its definition (Mitsuba 3's
 point, spot and directional; the sun's cone sampled against its pdf by chi-square), the environment
-map's GPU lookup, density and sampling against scene/lights/environment.py's numpy references, the one
+map's GPU lookup, density and sampling against the numpy references of `Environment`, the one
 light table's choices (chi-square over every kind), closed forms rendered (a white furnace under a
 constant environment, a plane under a directional and under a point light), no non-finite sample
 for degenerate lights and maps, and edits that upload only what they change."""

@@ -21,7 +21,7 @@ SIGNIFICANCE = 1e-3
 CHI_SQUARE_TESTS = 1
 # Subcells per light triangle: its three corner triangles and the middle one, each 1/4 of the area.
 SUBCELLS = 4
-# shaders/lights/direct_light_sampler.wgsl's SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (default)
+# the direct light sampler's override SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (its default)
 SPHERICAL_SAMPLING_MIN_SOLID_ANGLE = 3e-4
 # f32 solid angles of a few steradians down to 1e-3 carry a few ulps of rounding each
 PDF_RTOL = 1e-4
@@ -74,7 +74,7 @@ def light_scene(rng):
 
 
 # Seen from this far away every triangle of light_scene subtends far less than
-# SPHERICAL_SAMPLING_MIN_SOLID_ANGLE (common/constants.wgsl): points are sampled by area.
+# SPHERICAL_SAMPLING_MIN_SOLID_ANGLE: points are sampled by area.
 FAR_AWAY = (3e3, 0.0, 0.0)
 
 SAMPLE_KERNEL = """

@@ -1,6 +1,6 @@
 """Host memory stays flat while the path tracer runs: Mesa 22.3's lavapipe kept about 1.1 MiB per
-dispatch of a kernel that read a uniform buffer (gpu/bindings.py: why parameters are bound as
-read-only storage). The soak benchmark (bench/soak.py) watches the same over minutes."""
+dispatch of a kernel that read a uniform buffer (why `bindings.UNIFORM` parameters are bound as
+read-only storage). The soak benchmark (`bench.soak`) watches the same over minutes."""
 
 from __future__ import annotations
 

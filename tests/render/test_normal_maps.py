@@ -1,4 +1,4 @@
-"""Normal maps (Principled.normal_texture, shaders/shading/normal_map.wgsl) rendered: a quad facing the
+"""Normal maps (Principled.normal_texture, WGSL `normal_mapped`) rendered: a quad facing the
 camera under a grazing directional light. A flat map (and scale 0) renders like no map; a map
 tilted towards the light brightens the quad, tilted away darkens it, and a tilted map renders as the
 same tilt given as corner normals (the same shading normal and shading_weight); the scene's
@@ -104,7 +104,7 @@ def test_grazing_views_noisy_maps_and_degenerate_uvs_give_no_nan():
 
 def test_the_mitsuba_export_wraps_the_map_flipping_green_for_left_handed_tangents():
     """Mitsuba's `normalmap` reads green along n x dP/du, glTF's along the bitangent w (n x t); the
-    scale multiplies x and y (tests/render/test_references.py renders it against Mitsuba)."""
+    scale multiplies x and y (the `normal_mapped_plane` reference case renders it against Mitsuba)."""
     tilted = material(normal_texture=normal_texture((0.0, 0.6, 0.8)), normal_scale=0.5)
     right, left = tilted.mitsuba_bsdf(tangent_handedness=1.0), tilted.mitsuba_bsdf(tangent_handedness=-1.0)
     assert right["type"] == "normalmap" and right["bsdf"]["type"] == "principled"

@@ -1,4 +1,4 @@
-"""The ray counter (render/ray_count.py): exact counts where every path's rays are known in advance,
+"""The ray counter (`count_rays`): exact counts where every path's rays are known in advance,
 and a counted render that equals the uncounted one bit for bit, so counts belong to timed paths."""
 
 from __future__ import annotations

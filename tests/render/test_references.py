@@ -1,28 +1,13 @@
 """Our renderer against Mitsuba 3, per block of pixels, on every case of
 wgputrace.testing.reference_cases (which says what each family of cases is for).
 
-Each case renders once per session as independent batches; our variance per pixel comes from the
-spread of the batches. The reference (128x128, averaged down to the case's size, which a box
-filter makes exact) brings its own standard error. Per block and channel, Welch's t-test asks
-whether the two expectations differ, at Sidak's share of the family's significance. A failure
-writes ours, the reference, their difference and a map of the failing blocks under tests/failures/.
-
-What the path tracer's cases catch, each shader broken on purpose in a copy of the tree (2026-11-23):
-- glass Fresnel as the s-polarised term alone: glass_grazing (59 of 192 8x8 blocks), cornell
-  and both scaled boxes (3 to 6 blocks, the glass sphere);
-- GGX masking G1 with alpha^2 halved: glossy_spheres (49 blocks);
-- Russian roulette without dividing by the survival probability: cornell, tiny_light,
-  glass_grazing, axis_boxes and the scaled boxes (66 to 165 blocks), not glossy_spheres or slivers;
-- an absolute ray offset (1e-5) instead of a relative one: cornell_1e-4 against Mitsuba (71
-  blocks) and both scaled boxes against the unscaled one;
-- a triangle test that misses hits within 1e-4 (barycentric) of an edge: slivers, red over the
-  whole image (z = 7.9: the hidden lamp seen through the gaps; no single block shows it);
-- the shadow ray of next-event estimation measured from the unmoved point (the bug this found):
-  tiny_light (178 blocks), cornell (70; the ceiling beside the lamp a third too dark, z -16) and
-  the scaled boxes (42), and test_light_near_surface.py.
-
-One module for every family: the comparison is the same for all of them, and the registry, not
-the module, says what differs (size, samples, seed, integrator, overrides, blocks, family).
+Each case renders once per session as independent batches (our variance per pixel from their
+spread); the reference, averaged down to the case's size (exact under a box filter), brings its own
+standard error. Per block and channel, Welch's t-test at Sidak's share of the family's significance;
+a failure writes ours, the reference, their difference and the failing blocks under tests/failures/.
+Shaders broken on purpose (2026-11-23) each failed cases here: glass Fresnel's s-polarised term
+alone, GGX masking with alpha^2 halved, roulette not divided by survival, an absolute ray offset, edge
+hits missed within 1e-4, and next-event shadow rays from the unmoved point (the bug this found).
 """
 
 from __future__ import annotations

@@ -1,20 +1,14 @@
-"""What our shading normals add to Mitsuba's, on the scenes the reference cases compare without
-it (wgputrace.testing.reference_cases, family shading_normals): a smooth low-poly sphere
-(wgputrace.scenes.smooth_sphere: an 80-triangle icosphere with the sphere's normals at its
-corners, above its flat version, lit from the side) and a normal-mapped plane under a grazing
-light (wgputrace.scenes.normal_mapped).
+"""What our shading normals add to Mitsuba's, on the scenes the `shading_normals` reference cases
+compare without it: a smooth 80-triangle icosphere (`smooth_sphere`) and a normal-mapped plane
+under a grazing light (`normal_mapped`).
 
-What the terminator term is for: a shading normal can tilt a facet towards a light its own plane
-barely faces (geometric cosine near 0); without the term that facet is lit by the larger
-shading cosine and goes black at once where the light passes its plane, a hard facet-shaped step
-at the shadow terminator. Chiang et al. 2019's weight G' = G (1 + G - G^2) of G = min(1, cos_g /
-(cos_s n_s.n_g)) is at most 1.25 G, so a Lambertian facet's radiance rho/pi E cos_s G' is at most
-1.25 / (n_s.n_g) times its flat version's rho/pi E cos_g: with the term, the smooth sphere fades
-to its geometric horizon as the flat one does, never brighter than that bound, and the step is no
-larger than the flat sphere's own. The test renders the smooth sphere and the same sphere with its
-normals dropped under the point light alone (direct light, same seed), pixel by pixel: with the
-term every pixel keeps the bound, without it pixels near the terminator break it (so the test can
-fail), and the term only darkens (never brightens) and darkens the sphere by at most a tenth.
+The terminator term: a shading normal can tilt a facet towards a light its own plane barely faces;
+without the term that facet goes black at once where the light passes its plane, a facet-shaped
+step. Chiang et al. 2019's G' = G (1 + G - G^2), G = min(1, cos_g / (cos_s n_s.n_g)), bounds a
+Lambertian facet's radiance by 1.25 / (n_s.n_g) times its flat version's. The smooth sphere and the
+same sphere without its normals, under the point light alone: with the term every pixel keeps the
+bound, without it pixels near the terminator break it (so the test can fail); the term only
+darkens, by at most a tenth.
 """
 
 from __future__ import annotations

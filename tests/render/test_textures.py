@@ -1,4 +1,4 @@
-"""Textures: texture_sample (shaders/shading/textures.wgsl) against a numpy oracle of glTF's lookup (bilinear
+"""Textures: WGSL `texture_sample` against a numpy oracle of glTF's lookup (bilinear
 between texel centres, each wrap mode, KHR_texture_transform); a marked corner renders where glTF's
 convention puts it and an sRGB texel decodes as its linear value; scenes without textures bind,
 upload and compile none of it; edits upload only what changed; textures over the device's side

@@ -35,8 +35,8 @@ def test_samples_continue_across_render_calls():
 
 def test_restart_repeats_and_reset_rescrambles():
     """restart goes back to every pixel's first sample; reset starts the next replicate, the same
-    sample counts under another scramble (tests/sampler/test_sobol_points.py: independent of the
-    first), which the next restart forgets."""
+    sample counts under another scramble (`test_user_seeds_and_replicates_scramble_independently`:
+    independent of the first), which the next restart forgets."""
     renderer = sobol_renderer()
     first = image_after(renderer, 8)
     renderer.restart()

@@ -1,6 +1,6 @@
-"""The Owen-scrambled Sobol sampler's points (render/sobol.py, shaders/sampling/sobol_points.wgsl): the GPU draws
-the numpy reference's points bit for bit, so the statistics checked here on millions of numpy
-points hold for the renderer's.
+"""The Owen-scrambled Sobol sampler's points (`sobol_point_2d`, `sobol_point_1d`, in numpy and WGSL):
+the GPU draws the numpy reference's points bit for bit, so the statistics checked here on millions
+of numpy points hold for the renderer's.
 
 Stratification is exact (Sobol's (0, 2)-sequence property survives nested uniform scrambling and
 the block-preserving shuffle); uniformity and independence are chi-square tests, one Sidak family
@@ -157,8 +157,8 @@ fn compute(i: u32) -> vec4<u32> {
 
 
 def test_gpu_draws_the_reference_points(gpu_context):
-    """shaders/sampling/sobol_points.wgsl and render/sobol.py agree bit for bit: seeds, draws, indices from small
-    to the top of the 32-bit range."""
+    """The WGSL points and the numpy ones agree bit for bit: seeds, draws, indices from small to the
+    top of the 32-bit range."""
     rng = np.random.default_rng(11)
     count = 20_000
     seeds = rng.integers(0, 2**32, count, dtype=np.uint64).astype(np.uint32)

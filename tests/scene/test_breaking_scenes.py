@@ -1,5 +1,5 @@
-"""The scenes that break path tracers (wgputrace/scenes/door_ajar.py, caustic.py,
-glossy_through_glossy.py) have the geometry they exist for, checked with a numpy segment test."""
+"""The scenes that break path tracers (the built-in `door_ajar`, `caustic` and `glossy_through_glossy`)
+have the geometry they exist for, checked with a numpy segment test."""
 
 from __future__ import annotations
 

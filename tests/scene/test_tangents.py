@@ -1,4 +1,4 @@
-"""scene/tangents.py against hand-computed tangents: dP/du of a plain, a stretched, a sheared and a
+"""mikktspace_tangents and corner_tangents against hand-computed tangents: dP/du of a plain, a stretched, a sheared and a
 mirrored UV map (w the bitangent's sign, up the image as glTF's normal maps mean it), the angle
 weighting where triangles share a vertex, and a valid tangent, never NaN, where texture coordinates
 or normals are degenerate. Shape(tangents=): checked, mirrored with the shape, preferred over

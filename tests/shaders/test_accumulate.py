@@ -1,4 +1,4 @@
-"""accumulate_sample (integrators/accumulate.wgsl): 100,000 heavy-tailed float32 samples per pixel summed
+"""accumulate_sample: 100,000 heavy-tailed float32 samples per pixel summed
 without drift, and non-finite samples counted instead of added."""
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""Sampling consistency of the shipped BSDFs (materials/bsdf.wgsl and materials/*.wgsl), with the random
-numbers fed from numpy so every run sees the same samples. The chi-square suite is separate."""
+"""Sampling consistency of the shipped BSDFs (WGSL `bsdf_sample`, `bsdf_eval`, `bsdf_pdf` over every
+material), with the random numbers fed from numpy so every run sees the same samples. The
+chi-square suite is separate."""
 
 from __future__ import annotations
 

@@ -3,7 +3,7 @@
 0.01 to 1, incident angles down to grazing (cos theta = 1e-3) and from below. Glass's two delta
 lobes are tested by the frequency of each choice against Fresnel and by their exact directions.
 
-Expected counts integrate bsdf_pdf over the cells of wgputrace/testing/bsdf_grid.py. Samples the pdf
+Expected counts integrate bsdf_pdf over the cells of a `HemisphereGrid`. Samples the pdf
 does not cover (none for diffuse; for glossy, microfacets that reflect below the horizon) come
 back invalid: a binomial test checks that bsdf_pdf integrates to the fraction of valid samples.
 """

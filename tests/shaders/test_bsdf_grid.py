@@ -1,4 +1,4 @@
-"""The hemisphere grids of bsdf_grid.py, on which the chi-square and furnace tests rest: their
+"""The hemisphere grids of `wgputrace.testing.bsdf_grid`, on which the chi-square and furnace tests rest: their
 quadrature integrates known functions, and their histogram puts each direction in the cell whose
 quadrature covers it. Pure numpy."""
 

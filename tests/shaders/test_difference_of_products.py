@@ -1,4 +1,4 @@
-"""geometry/difference_of_products.wgsl: a * b - c * d never of the wrong sign, zero for equal products,
+"""WGSL `difference_of_products`: a * b - c * d never of the wrong sign, zero for equal products,
 negated when the products swap.
 
 The watertight triangle test relies on all three: a shared edge's function must change sign with

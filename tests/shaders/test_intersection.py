@@ -1,5 +1,5 @@
-"""Ray/triangle and ray/box intersection (geometry/intersect_triangle.wgsl, geometry/intersect_box.wgsl,
-geometry/ray.wgsl) against float64 numpy: random rays, shared edges and vertices, axis-parallel rays, degenerate
+"""Ray/triangle and ray/box intersection (WGSL `intersect_triangle`, `intersect_box`, `offset_ray_origin`)
+against float64 numpy: random rays, shared edges and vertices, axis-parallel rays, degenerate
 triangles, and rays leaving a surface."""
 
 from __future__ import annotations
@@ -311,7 +311,7 @@ def degenerate_triangles(rng: np.random.Generator, count: int, kind: str) -> np.
 
 # Exactly collinear corners are not in this list: f32 rounding of the sheared edge functions can
 # leave all three of one sign, so the intersector alone may report them. Scenes drop them before
-# upload (wgputrace.scene.scene.zero_area); tests/render/test_closed_form.py checks a render.
+# upload (wgputrace.scene.scene.zero_area); `test_zero_area_triangles_never_reach_the_gpu` checks a render.
 @pytest.mark.parametrize("kind", ["repeated corner"])
 def test_degenerate_triangles_are_never_hit(gpu_context, rng, kind):
     count = 3_000

@@ -1,6 +1,6 @@
-"""loop_budget_spent (integrators/loop_budget.wgsl): on llvmpipe it tells when an invocation's loops together
+"""loop_budget_spent: on llvmpipe it tells when an invocation's loops together
 ran past the driver's budget of 65,535 iterations, and never before; elsewhere it is never true.
-drop_cut_short_sample (integrators/accumulate.wgsl) counts such a sample instead of adding it."""
+drop_cut_short_sample counts such a sample instead of adding it."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""shading/normal_map.wgsl against a numpy oracle and hand-worked cases: the texel's tangent-space normal
+"""WGSL `normal_mapped` against a numpy oracle and hand-worked cases: the texel's tangent-space normal
 (x and y scaled) in the frame of the shading normal and the Gram-Schmidt tangent, bitangent
 cross(n, t) * w; the unmapped normal where the tangent or texel is degenerate, the mapped normal
 would fall below the geometric surface or hide the viewer; never NaN."""

@@ -1,21 +1,14 @@
-"""The principled material (scene/materials/principled.py, shaders/materials/principled.wgsl) on
-the GPU: its eval and pdf against Mitsuba 3's `principled` at random directions (a fixture written
-by scripts/make_principled_fixture.py; with transmission, from inside and outside, reflected and
-refracted), chi-square tests of its sampling against its pdf over the parameter range (with
-transmission on a grid of both hemispheres, crowding around the mirror and the refracted
-direction), white furnaces (the integral of its eval; Mitsuba's own furnace), and finite samples
-at the extremes of every parameter and at grazing angles.
+"""The principled material (`Principled`, WGSL `principled_eval`, `principled_pdf`, `principled_sample`)
+on the GPU: eval and pdf against Mitsuba 3's `principled` at random directions (FIXTURE, written by
+the make_principled_fixture script), chi-square tests of its sampling against its pdf over the
+parameter range (with transmission on a grid of both hemispheres), white furnaces (the integral of
+its eval; Mitsuba's own), and finite samples at the extremes of every parameter and at grazing angles.
 
-What the white furnace can ask: Mitsuba's principled adds its Disney diffuse lobe, weighted by
-1 - metallic and not by what the specular layer leaves, to the dielectric specular lobe, and the
-diffuse lobe's retro-reflection term grows with roughness: at metallic 0 and base colour 1 it
-reflects more than it receives (1.02 at normal incidence, roughness 0.05; 1.07 at cos 0.5,
-roughness 1; up to 1.584 at cos 0.01, roughness 1, spec_trans 0: Mitsuba's own furnace,
-scripts/make_principled_furnace.py). We reproduce the model (the lead's decision: match Mitsuba),
-so the furnace test holds ours to Mitsuba's furnace on a grid of roughness x metallic x spec_trans
-x incident angle, and to at most 1 wherever Mitsuba's is; every case of the quadrature test is held
-to its eval integral.
-"""
+We reproduce Mitsuba's model (the lead's decision), which at metallic 0 and base colour 1 reflects
+more than it receives: its Disney diffuse lobe is weighted by 1 - metallic, not by what the specular
+layer leaves, and its retro-reflection grows with roughness (up to 1.584 at cos 0.01, roughness 1).
+So the furnace holds ours to Mitsuba's own (MITSUBA_FURNACE, from the make_principled_furnace
+script), and to at most 1 wherever Mitsuba's is."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""shading/smooth_normals.wgsl against a numpy oracle: the interpolated, normalised corner normal turned to
+"""WGSL `shading_normal` against a numpy oracle: the interpolated, normalised corner normal turned to
 the geometric side, the geometric normal where a triangle is flat, the interpolation cancels or the
 viewer is between the two horizons; the weight 0 where geometric and shading normals disagree on
 reflection against transmission, else Chiang et al. 2019's shadowing term, never above 1."""

@@ -1,5 +1,5 @@
-"""closest_hit of both traversals (geometry/traverse_bvh.wgsl over the binned-SAH tree, geometry/traverse_flat.wgsl
-over per-shape boxes) against float64 brute force over every triangle."""
+"""closest_hit of both traversals (the BVH's over the binned-SAH tree, the flat list's over per-shape
+boxes) against float64 brute force over every triangle."""
 
 from __future__ import annotations
 
@@ -120,7 +120,7 @@ def test_every_triangle_is_reachable(gpu_context, rng, acceleration):
     shape_of = (cells[:, 0] * SOUP_SHAPES // GRID).astype(int)
     records = soup_records(triangles, shape_of, acceleration)
 
-    # The triangles' texture (gpu/texels.py) has many rows, and with 3 texels a triangle some straddle
+    # The triangles' texture (`texture_shape`) has many rows, and with 3 texels a triangle some straddle
     # two: a triangle read from the wrong texel would not be the one its ray is aimed at.
     width, height = texture_shape(len(records.triangles) * texels_per_record(TRIANGLE))
     assert height > 1 and width % texels_per_record(TRIANGLE)

@@ -93,8 +93,8 @@ def test_guides_are_the_first_hit_through_each_pixel_centre(gpu_context, display
 
 
 def atrous_oracle(mean: np.ndarray, guides: dict[str, np.ndarray], weight: float) -> np.ndarray:
-    """The filter in float64: demodulate (view/resolve.wgsl), FILTER_PASSES edge-stopped B3 passes
-    (view/atrous.wgsl), remodulate and blend (view/resolve.wgsl)."""
+    """The filter in float64: demodulate (the resolve kernel), FILTER_PASSES edge-stopped B3 passes
+    (the a-trous kernel), remodulate and blend (the resolve kernel)."""
     albedo = np.maximum(guides["albedo"], FILTER_ALBEDO_MIN)
     normal, depth = guides["normal"], guides["depth"].astype(np.float64)
     hit = depth > 0
