@@ -1,23 +1,9 @@
 """Binned surface-area-heuristic BVH builder, vectorized over all nodes of one tree level at a time.
 
-Parameters of `build_bvh`:
-    bin_count      16  centroid bins per axis and node; splits are tried between neighbouring bins
-    max_leaf_size   4  a node with at most this many triangles becomes a leaf; a larger node is
-                       always split, even where SAH would call a leaf cheaper, so the GPU's
-                       per-leaf loop stays short (only max_depth can make a larger leaf)
-    max_depth      64  levels at most (DEFAULT_MAX_DEPTH); a node on the last level becomes a leaf
-                       whatever its size. The renderer builds with bvh/wide.py's BUILD_MAX_DEPTH,
-                       which bounds its GPU traversal stack
-    workers      None  processes growing subtrees side by side (forked_subtrees.py); None: every
-                       CPU this process may use (Linux; elsewhere 1). The tree does not depend on it
-
-Each level keeps the triangles of its nodes contiguous per node, nodes in order, as one record per
-triangle (box, centroid, id), so a partition moves a triangle with a single 40-byte gather.
-Per-(bin, axis, node) counts and bounds are `bincount` and `ufunc.at` over flat cell keys, scans
-over bins give every split's cost and the children's boxes, and the chosen split becomes a stable
-partition of each node's range computed from cumulative sums. Python loops run over levels, axes,
-bins and cache-sized batches of nodes, never over single nodes or triangles. Once a level's nodes
-fall into groups of about equal size, each group's subtrees grow in a worker process of their own.
+Python loops run over levels, axes, bins and cache-sized batches of nodes, never over single nodes
+or triangles: a level keeps each node's triangles contiguous, one 40-byte record per triangle
+(box, centroid, id), so a partition is one gather. Once a level's nodes fall into groups of about
+equal size, each group's subtrees grow in a worker process of their own (`grow_groups`).
 """
 
 from __future__ import annotations
@@ -60,7 +46,14 @@ def build_bvh(
     max_depth: int = DEFAULT_MAX_DEPTH,
     workers: int | None = None,
 ) -> BVH:
-    """Build a BVH over (N, 3, 3) float32 triangles (triangle, corner, xyz)."""
+    """Build a BVH over (N, 3, 3) float32 triangles (triangle, corner, xyz).
+
+    `bin_count`: centroid bins per axis and node. `max_leaf_size`: a larger node is always split, even
+    where SAH would call a leaf cheaper, so the GPU's per-leaf loop stays short. `max_depth`: a node on
+    that level becomes a leaf whatever its size (the renderer passes `BUILD_MAX_DEPTH`, which bounds
+    its traversal stack). `workers`: processes growing subtrees (None: every CPU this process may
+    use); the tree does not depend on it.
+    """
     started = perf_counter()
     triangles = validated_vertices(vertices)
     workers = available_workers() if workers is None else workers

@@ -1,17 +1,11 @@
 """Growing a BVH's subtrees side by side in forked worker processes.
 
-numpy runs a level of the binned builder on one core, and its `ufunc.at` scatters hold the GIL,
-so threads cannot share that part of the work. Subtrees are
-independent, though: once a level's nodes can be cut into groups of about equal triangle counts,
-each group is grown to its leaves by its own process. Workers are `os.fork` children (Linux
-only): they inherit the level's records without a copy, write nodes and triangle slots straight
-into arrays in shared memory, and leave with `os._exit`, touching nothing else of the parent
-(not its GPU device, not its threads). A worker that fails loses nothing: the parent grows its
-group again itself.
-
-Each group numbers its nodes in its own id range, so the merged tree is renumbered breadth first
-(`levels.breadth_first_levels`), the order a single process numbers in: the tree does not depend
-on the worker count.
+numpy's `ufunc.at` scatters hold the GIL, so threads cannot share a level's work, but independent
+subtrees can go to processes. Workers are `os.fork` children (Linux only): they inherit the
+level's records without a copy, write into shared memory and leave with `os._exit`, touching
+nothing else of the parent's (not its GPU device, not its threads); a failed worker's group is
+grown again by the parent. The merged tree is renumbered breadth first, as one process numbers it,
+so the tree does not depend on the worker count.
 """
 
 from __future__ import annotations

@@ -1,11 +1,9 @@
 """Refitting a BVH whose triangles moved: bottom-up bounds updates of the affected nodes only, and
 the tree's SAH cost kept up to date so callers can tell when a rebuild pays.
 
-The topology (which triangles each leaf holds, which nodes are children of which) never changes;
-only bounds do, in place in the BVH's arrays. A refit tree stays correct whatever the motion, but
-its boxes grow where moved and unmoved triangles share a subtree, so rays visit more of them:
-`degradation` (refit SAH cost / cost when built) measures that; bench/refit_threshold.py measures
-what it costs in render time.
+The topology never changes, only bounds, in place. A refit tree stays correct whatever the
+motion, but its boxes grow where moved and unmoved triangles share a subtree: `degradation` (refit
+SAH cost / cost when built) measures that, `python -m bench.refit_threshold` its render time.
 """
 
 from __future__ import annotations

@@ -1,31 +1,11 @@
 """The canonical binary tree collapsed into a 4-wide one, the layout the GPU traverses.
 
-Only the GPU sees the wide tree: the builder, refit, the viewer's levels and the tests keep the
-binary BVH (tree.py), and the wide tree is derived from it. It is collapsed top down, one wide
-level at a time: a wide node starts with its binary node's two children and adopts the children
-of its largest-area interior child, twice, so it ends with four children unless only leaves were
-left to choose from. Record 0 holds the root's children (a tree that is a single leaf gets a record
-holding just it); the interior children of the records of one level become the records of the
-next, numbered in order.
-
-A child is one word, so traversal keeps a one-word stack: an interior child is its record index;
-a leaf has WIDE_LEAF set, its first triangle above WIDE_COUNT_BITS and its triangle count minus
-one below; an empty slot is WIDE_EMPTY (its box is never tested). Leaves of more than
-WIDE_LEAF_MAX triangles (only the builder's depth limit makes them) are first split, in a copy of
-the binary tree, into halves under their own box until every piece fits.
-
-Every slot remembers the binary node it came from (`WideBVH.slot_node`), so a refit, which keeps
-the topology, regathers the slots' boxes from the refit binary nodes instead of collapsing again.
-
-The stack: a traversal pushes every child of a record it enters but the nearest, so it holds at
-most (WIDTH - 1) entries per wide level above it. A record of wide level L comes from a binary
-interior node at depth L or deeper, so a tree whose leaves lie at most D deep has at most D wide
-levels and needs at most (WIDTH - 1) D entries. The renderer builds with max_depth=BUILD_MAX_DEPTH;
-splitting the leaves the builder made at that limit adds at most LEAF_SPLIT_LEVELS levels below
-it, so STACK_SIZE entries hold every tree the renderer makes (the Cornell box with a cluster of
-tiny triangles peeled off one per level needs 102). `collapse` counts each tree's need exactly
-(`WideBVH.max_stack`), so the renderer compiles a stack of only that size (`traversal_stack_size`), and
-refuses a tree that could need more than it is allowed.
+Only the GPU sees the wide tree; the builder, refit, the viewer's levels and the tests keep the
+binary `BVH`. A wide node starts with its binary node's two children and adopts the children of
+its largest-area interior child, twice. A child is one word (a record index, a leaf's WIDE_LEAF |
+first << WIDE_COUNT_BITS | count - 1, or WIDE_EMPTY), so traversal keeps a one-word stack. Every
+slot remembers its binary node (`WideBVH.slot_node`), so a refit regathers boxes instead of
+collapsing again.
 """
 
 from __future__ import annotations
@@ -51,7 +31,11 @@ WIDE_FIRST_LIMIT = 1 << (31 - WIDE_COUNT_BITS)
 # Halving a leaf of fewer than WIDE_FIRST_LIMIT triangles until it holds at most WIDE_LEAF_MAX takes
 # at most this many levels.
 LEAF_SPLIT_LEVELS = (31 - WIDE_COUNT_BITS) - WIDE_COUNT_BITS
-# Stack entries every tree the renderer builds fits in (the module docstring says why).
+# Stack entries every tree the renderer builds fits in. A traversal pushes every child of a record
+# but the nearest, so it holds at most WIDTH - 1 entries per wide level above it, and a tree whose
+# leaves lie at most D binary levels deep has at most D wide levels. Splitting the leaves the
+# builder made at BUILD_MAX_DEPTH adds at most LEAF_SPLIT_LEVELS. `collapse` counts each tree's
+# exact need (`WideBVH.max_stack`), the stack the renderer compiles.
 STACK_SIZE = (WIDTH - 1) * (BUILD_MAX_DEPTH + LEAF_SPLIT_LEVELS)
 WIDE_EMPTY = 0xFFFFFFFF
 EMPTY_SLOT = -1
@@ -60,7 +44,9 @@ EMPTY_SLOT = -1
 @dataclass
 class WideBVH:
     """A 4-wide tree over the binary tree's triangle order: per record and slot, the child word
-    (`refs`) and the binary node whose box the slot holds (`slot_node`, EMPTY_SLOT where unused)."""
+    (`refs`) and the binary node whose box the slot holds (`slot_node`, EMPTY_SLOT where unused).
+    Record 0 holds the root's children; each level's interior children are the next level's records.
+    """
 
     refs: np.ndarray  # (records, WIDTH) uint32
     slot_node: np.ndarray  # (records, WIDTH) int64
