@@ -21,9 +21,9 @@ from .scene.lights.environment import Environment
 from .scene.materials import KINDS
 from .scenes import default_scene
 
-# every material kind (Diffuse, Emitter, Glass, Glossy, and any module added to scene/materials/)
+# every material kind (Diffuse, Emitter, Glass, Glossy, and any module added to wgputrace.scene.materials)
 globals().update(KINDS)
-# every light kind (DirectionalLight, PointLight, SpotLight, Sun, and any module added to scene/lights/)
+# every light kind (DirectionalLight, PointLight, SpotLight, Sun, and any module added to wgputrace.scene.lights)
 globals().update(LIGHT_KINDS)
 
 # one source of the version: pyproject.toml, as installed

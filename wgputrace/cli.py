@@ -1,15 +1,13 @@
 """Command line: `wgputrace render` (headless, to PNG/EXR/NPY; on a Ray cluster with --ray),
 `wgputrace render-frames` (an animation's frames on a Ray cluster), `wgputrace info [FILE]` and
-`wgputrace view` (the window). The benchmarks live in the source checkout, not in the package:
-`python -m bench`.
+`wgputrace view` (the window). The benchmarks live in the checkout: `python -m bench`.
 
-Every error is one line on stderr, `--debug` adds its traceback. Exit status: 0 done; 2 bad use (the
-arguments, the scene, more than the device allows); 1 a failure while rendering or writing; 130 or
-143 stopped by SIGINT or SIGTERM. The first of those during a render stops it after the dispatch in
-flight and writes the samples done (denoised, with --denoise); a second aborts at once, writing
-nothing. On a cluster (render --ray, render-frames) the first ends the workers at once: a render
-writes nothing, render-frames keeps the frames it wrote; a worker's failure is status 1, its
-message naming the worker (--debug adds the worker's traceback)."""
+Every error is one line on stderr (`--debug` adds its traceback). Exit status: 0 done; 2 bad use
+(arguments, scene, more than the device allows); 1 a failure while rendering or writing; 130 or
+143 stopped by SIGINT or SIGTERM. The first signal stops a render after the dispatch in flight and
+writes the samples done; a second aborts, writing nothing. On a cluster the first ends the workers
+at once (render-frames keeps the frames it wrote); a worker's failure is status 1, naming it.
+"""
 
 from __future__ import annotations
 

@@ -1,9 +1,10 @@
-"""The command line's arguments: those `wgputrace render` and the viewer (`wgputrace view`, app.py)
-share, so both read a scene, a size and its lighting the same way, and the viewer's own; the
-argparse types that refuse values the renderer cannot use (a negative spp, a NaN exposure) before
-anything starts; the parser whose errors are one line; and `apply_lighting`, which lights a loaded
-scene as --env, --env-intensity and --env-rotation say, or by the default environment when it
-brings no light."""
+"""The command line's arguments: those `wgputrace render` and the viewer (`wgputrace view`,
+`python app.py`) share, so both read a scene, a size and its lighting the same way, and the
+viewer's own; argparse types that refuse values the renderer cannot use (a negative spp, a NaN
+exposure) before anything starts; the parser whose errors are one line; and `apply_lighting`,
+which lights a loaded scene as --env, --env-intensity and --env-rotation say, or by the default
+environment when it brings no light.
+"""
 
 from __future__ import annotations
 
@@ -196,7 +197,7 @@ def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int
 
 
 def add_view_arguments(parser: argparse.ArgumentParser) -> None:
-    """The viewer's arguments, for app.py and `wgputrace view`."""
+    """The viewer's arguments, for `python app.py` and `wgputrace view`."""
     add_scene_arguments(parser, size=(640, 480), scene_note="; files reload on change")
     parser.add_argument("--fps", type=positive_float, default=20.0, help="target frames per second (default 20)")
     parser.add_argument("--filter", action="store_true", help="start with the pre-convergence filter on (key N)")

@@ -1,36 +1,12 @@
 """Intel Open Image Denoise (OIDN) on a rendered image: `denoise(image, albedo, normal)`.
 
-What OIDN gets, and why:
-- The image as linear HDR radiance (`hdr` on, `inputScale` left for OIDN to derive from the
-  image): our renders are unbounded radiance, never display-encoded. Its filter is OIDN's `RT`
-  ("ray tracing"), trained on path-traced images like ours (box-filtered samples, no splatting).
-- Optional guides, as OIDN documents them: the albedo in [0, 1] and the shading normal in
-  [-1, 1] of the first non-specular hit, averaged over the same samples as the image (so they are
-  anti-aliased like it). OIDN takes a normal only beside an albedo.
-- Our guides are noisy wherever a pixel's samples disagree about what they see: behind glass (each
-  sample refracts or reflects at random) and at edges. OIDN offers two ways with noisy guides:
-  pass them as noisy (`cleanAux` off), or denoise each with its own `RT` filter first and pass
-  the results as clean (`cleanAux` on). We always prefilter: against the Mitsuba references at
-  128x128 and 1, 4 and 16 spp, guides passed as noisy came out 2 to 5.4 dB below colour-only
-  denoising on the glass scene (OIDN copies their noise into the picture), where prefiltered ones
-  matched it, and prefiltered guides did as well as noisy ones or better on the Cornell box and
-  the glossy spheres (-0.05 to +1.3 dB), at every quality. The price: two more filter runs, and
-  at "high" a larger network for clean guides: on two CPU cores guided denoising cost about 7
-  times colour-only at "high" and 3 times at "balanced" and "fast".
-- Never a non-finite or negative pixel: one NaN spreads through the network's receptive field
-  (three-gpu-pathtracer issue 777), so every input is checked here first and a bad one is a
-  ValueError naming the array and its first bad pixel.
-
-The device is OIDN's CUDA device where it loads (an NVIDIA GPU with a driver OIDN supports), else
-its CPU device; `denoiser_device()` says which. OIDN's own `OIDN_DEVICE_CUDA=0` forces the CPU.
-One device serves the process. Filters and their buffers are kept for the last few image
-configurations (size, guides, quality): OIDN asks for a filter to be reused across images of one
-size, and a new one is set up again only when the configuration changes. Images go through OIDN
-buffers, not shared pointers, so the same code serves a GPU that cannot read host memory. A lock
-makes `denoise` safe to call from any thread; OIDN serialises work on a device anyway.
-
-pyoidn (which bundles OIDN) is imported on first use, so `import wgputrace` works without it;
-without it the functions here raise DenoiserMissing, which says how to install it.
+OIDN's `RT` filter (trained on path-traced images) gets the image as linear HDR radiance and,
+optionally, the albedo and shading normal of the first non-specular hit averaged over the same
+samples. Every input is checked first: one NaN spreads through the network's receptive field.
+One device serves the process (CUDA where OIDN's CUDA device loads, else the CPU;
+`OIDN_DEVICE_CUDA=0` forces the CPU), filters are kept for the last few image configurations as
+OIDN asks, and a lock lets any thread call `denoise`. pyoidn is imported on first use, so
+`import wgputrace` works without it; DenoiserMissing says how to install it.
 """
 
 from __future__ import annotations
@@ -196,7 +172,10 @@ class _Denoiser:
         buffers = {name: self.pyoidn.Buffer(self.device, nbytes) for name in (*names, "output")}
         self.check(f"allocate {len(buffers)} buffers of {width}x{height} pixels")
         size = (width, height)
-        # A guide's prefilter denoises it in place, so that the image's filter reads it as clean.
+        # Our guides are noisy where a pixel's samples disagree (behind glass, at edges); passed as
+        # noisy (`cleanAux` off) OIDN copies that noise into the picture (2 to 5.4 dB below colour
+        # only on the glass scene). So each guide's own RT filter denoises it in place first, and the
+        # image's filter reads it as clean. Buffers, not shared pointers, serve a GPU device too.
         guide_filters = [
             self.new_filter({guide: buffers[guide], "output": buffers[guide]}, size, quality, {}) for guide in names[1:]
         ]

@@ -1,14 +1,13 @@
-"""Images to files: PNG (tone-mapped sRGB, 8 bit), EXR (linear float) or NPY (linear float32),
-chosen by the file's extension, with text metadata: PNG text chunks, EXR string attributes, and
-for an .npy a sidecar JSON file named after it (`out.npy.json`, so it cannot be taken for another
-file's and sorts beside its image). An EXR can carry more images as layers beside its main RGB
-(`layers`: the channels `<layer>.R`, `.G`, `.B`, as OpenEXR names layered channels, which
-exrheader, Nuke and Blender show as layers); load_image reads the main RGB, load_layers the rest.
+"""Images to files: PNG (tone-mapped sRGB, 8 bit), EXR (linear float) or NPY (linear float32), chosen
+by the file's extension, with text metadata: PNG text chunks, EXR string attributes, or an .npy's
+sidecar JSON named after it (`out.npy.json`, so it sorts beside its image). An EXR can carry more
+images as layers (channels `<layer>.R`, `.G`, `.B`, as OpenEXR names them); `load_image` reads the
+main RGB, `load_layers` the rest.
 
 Every file is written whole or not at all: into a hidden temporary file in the target's folder
-(`.out.png.<random>.tmp`; the same folder, so the same filesystem, where os.replace is atomic),
-renamed over the target once complete, and removed when anything (Ctrl-C included) stops the
-write. A reader of the target sees the old file or the new one, never a part."""
+(the same filesystem, where `os.replace` is atomic), renamed over the target once complete, and
+removed when anything (Ctrl-C included) stops the write.
+"""
 
 from __future__ import annotations
 

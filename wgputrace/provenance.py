@@ -1,4 +1,4 @@
-"""How an image was made, kept in the image file (image_io.py puts it in PNG text chunks, EXR
+"""How an image was made, kept in the image file (`save_image` puts it in PNG text chunks, EXR
 header attributes or an .npy's sidecar JSON), and read back by `wgputrace info FILE`.
 
 Every value is a string; each key is written as `wgputrace:<key>`:
@@ -17,6 +17,7 @@ Every value is a string; each key is written as `wgputrace:<key>`:
 | seed              | the Renderer's seed                                                     |
 | integrator        | mis, nee, bsdf or bdpt                                                  |
 | sampler           | sobol or independent                                                    |
+| kernel            | the kernel variant's label (`KernelVariant.label`)                      |
 | max_depth         | Mitsuba's max_depth (1: emitters seen directly only); -1 for no limit   |
 | accel             | bvh or flat                                                             |
 | adapter, backend  | the GPU adapter's name and its API (Vulkan, Metal, ...)                 |
