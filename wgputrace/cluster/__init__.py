@@ -7,8 +7,8 @@ without it raises RayMissing saying how to install it.
     img = wt.cluster.render(scene, spp=1024, width=512, height=512, seed=1, address="auto")
 
 The image is the same, bit for bit, for any number of workers and any order in which they finish
-(batches.py, merge.py), and converges to wgputrace.render's picture; a worker lost mid-render has
-its batches run again elsewhere with the same result (pool.py).
+(`split_samples`, `OrderedSum`), and converges to wgputrace.render's picture; a worker lost
+mid-render has its batches run again elsewhere with the same result (`WorkerPool`).
 """
 
 from .batch_render import BatchTiming, ClusterRender, render, render_batches

@@ -1,8 +1,8 @@
-"""One image rendered across a Ray cluster: its samples cut into batches (batches.py), and the image
-into tiles where it is larger than a device allows (tiles.py), each batch of each tile rendered by
-whichever worker is free (pool.py), the batch images merged per tile in batch order in float64
-(merge.py). The image is the same, bit for bit, for any number of workers and any order of
-completion, and a render in one batch is `wgputrace.render`'s image.
+"""One image rendered across a Ray cluster: its samples cut into batches (`split_samples`), the image
+into tiles where it is larger than a device allows (`split_image`), each batch of each tile
+rendered by whichever worker is free (`WorkerPool`), and the batch images merged per tile in batch
+order in float64 (`TiledSum`). The image is the same, bit for bit, for any number of workers and
+any order of completion, and a render in one batch is `wgputrace.render`'s image.
 
 The scene goes into Ray's object store once (ray.put); every worker reads it from there and builds
 its Renderer once, then renders batch after batch with it.

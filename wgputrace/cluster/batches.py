@@ -15,11 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 
 # Batches when the caller does not say (fewer where there are fewer samples per pixel). Each batch
-# costs the same fixed time (read-back, the call, the driver's fetch and merge: bench/cluster.py
-# measured 57 ms at 512x512), so a fixed count keeps the job's overhead a share that shrinks as
-# its samples grow: at 512x512, 3.7% of 64 spp on one lavapipe thread, 5.9% of 65,536 spp at an
-# H100's speed (bench/README.md, "Rendering on a cluster"). It also caps the workers a job can
-# use: a larger cluster wants more batches (batches=, --batches).
+# costs the same fixed time (read-back, the call, the driver's fetch and merge), so a fixed count
+# keeps the job's overhead a share that shrinks as its samples grow (bench/README.md, "Rendering on
+# a cluster"). It also caps the workers a job can use: a larger cluster wants more batches
+# (batches=, --batches).
 DEFAULT_BATCHES = 64
 _SEED_BITS = 0xFFFF_FFFF_FFFF_FFFF
 

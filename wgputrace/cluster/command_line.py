@@ -1,6 +1,6 @@
 """`wgputrace render SCENE --ray ADDRESS` and `wgputrace render-frames FILE --ray ADDRESS`: one
 progress bar over all batches or frames, with the whole cluster's samples per second and the live
-workers, and a summary. cli.py parses the arguments and maps errors to exit statuses; Ctrl-C there
+workers, and a summary. `wgputrace.cli` parses the arguments and maps errors to exit statuses; Ctrl-C there
 raises at once, which ends the workers (their queued tasks with them) and, for frames, keeps every
 frame already written.
 """

@@ -1,16 +1,11 @@
 """Workers as Ray actors, and tasks spread over them with the lost ones run again.
 
-Placement is Ray's: one actor per GPU where the cluster has GPUs (num_gpus=1), else one per CPU
-slot (num_cpus=1, lavapipe on one thread). The driver keeps IN_FLIGHT tasks queued on every
-worker, so a worker never waits for the driver between tasks and a faster worker takes more of
-them: the work balances by measured speed, with no speed model to go wrong.
-
-Faults: a worker that dies (its process killed, its node lost) fails its queued tasks with a
-RayActorError; they go back to the front of the queue and a replacement worker is started, up to
-as many replacements as there were workers. Each task's result depends on the task alone, so the
-job's result is the one without the fault. An exception raised by the worker's own code (the scene
-or the device refusing the job) would be raised by any worker: it ends the job as WorkerFailed,
-with the worker's traceback, instead of being retried.
+One actor per GPU where the cluster has GPUs, else one per CPU slot (lavapipe on one thread). The
+driver keeps IN_FLIGHT tasks queued on every worker, so the work balances by measured speed. A
+worker that dies fails its queued tasks with a RayActorError; they go back to the front of the
+queue and a replacement starts (as many as there were workers). Each task's result depends on the
+task alone, so the job's result is the one without the fault. An exception of the worker's own
+code would be raised by any worker: it ends the job as WorkerFailed instead of being retried.
 """
 
 from __future__ import annotations

@@ -1,18 +1,14 @@
 """A Ray cluster of several nodes on 127.0.0.1, inside a network namespace of its own, for the
-tests and the benchmark: calls made through it run in a process of that namespace, which reaches
-the cluster at `address`, so the work crosses node processes while no packet leaves loopback.
-
-Ray binds to the machine's own address wherever it can see one; in a fresh network namespace
-loopback is the only address there is. The namespace is also a PID namespace whose first process
-is the server below: it starts every node with `ray start --block` and ends them by their pids, and
-when it exits the kernel ends whatever is left in the namespace. Each cluster has its own auth
-token (in the environment, never on disk) and its own temporary folder, removed at the end.
+tests and the benchmark: work crosses node processes while no packet leaves loopback (Ray binds
+to the machine's own address wherever it can see one; a fresh namespace has only loopback). The
+namespace is also a PID namespace whose first process is the server below, so when it exits the
+kernel ends whatever is left. Each cluster has its own auth token (in the environment, never on
+disk) and temporary folder.
 
     with NamespacedCluster(nodes=2, cpus_per_node=2) as cluster:
         image = cluster.call(function, *args)  # function(*args) inside, connected to the cluster
 
-`function` must be importable by name (a module-level function); its exceptions come back raised
-in the caller, with the server's traceback as their __cause__.
+`function` must be a module-level function; its exceptions come back raised in the caller.
 """
 
 from __future__ import annotations

@@ -73,7 +73,7 @@ class TileCamera(Camera):
         return cls(camera.position, camera.forward, camera.up, camera.vfov_degrees, width, height, tile)
 
     def image_plane(self, width: int, height: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        # camera/camera_ray.wgsl: direction = forward + ndc.x right - ndc.y up, ndc in [-1, 1] over the image;
+        # `camera_ray`: direction = forward + ndc.x right - ndc.y up, ndc in [-1, 1] over the image;
         # a tile's ndc maps to (2 x + w) / W - 1 + ndc w / W on the whole image, alike for rows
         right, up, forward = Camera.image_plane(self, self.image_width, self.image_height)
         tile = self.tile

@@ -1,7 +1,7 @@
 """The work one Ray actor does: a Renderer built once for the job's scene, then batch after batch
 from it; or an animation's frames, each from the scene file's text.
 
-`RenderWorker` is a plain class (pool.py makes it an actor), so its work can be checked without
+`RenderWorker` is a plain class (`WorkerPool` makes it an actor), so its work can be checked without
 Ray. A batch restarts the same Renderer at the batch's seed (`Renderer.restart(seed)`), so the scene, its BVH,
 its buffers and its pipelines are built once per worker, not per batch.
 """
