@@ -18,7 +18,7 @@ from .device import GpuContext
 from .layout import GpuStruct
 
 # The workgroup of every kernel that runs one invocation per pixel: its y extent is also the
-# height of the viewer's bands of rows (view/banded.py).
+# height of the viewer's bands of rows (`BandedRenderer`).
 IMAGE_WORKGROUP = (8, 8)
 # The workgroup of kernels over a flat array (the WGSL test harness).
 ARRAY_WORKGROUP = (64, 1)

@@ -1,7 +1,7 @@
 """Storage and uniform buffers created from numpy arrays, and read back into them.
 
 wgpu's errors while creating, filling or reading a buffer come out as GpuFailure naming the buffer
-and its size (gpu/device.py `reporting`)."""
+and its size (`reporting`)."""
 
 from __future__ import annotations
 
@@ -39,13 +39,13 @@ def storage_buffer(context: GpuContext, label: str, data: np.ndarray, *, read_ba
     return buffer
 
 
-# Parameter structs (bindings.py UNIFORM) are bound as read-only storage: see bindings.py for why.
+# Parameter structs (UNIFORM bindings) are bound as read-only storage: UNIFORM's comment says why.
 PARAMETER_USAGE = wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_DST
 PARAMETER_BINDING_LIMIT = "max-storage-buffer-binding-size"
 
 
 def uniform_buffer(context: GpuContext, label: str, data: np.ndarray) -> wgpu.GPUBuffer:
-    """A buffer for a parameter struct (a UNIFORM binding of gpu/bindings.py) holding `data`."""
+    """A buffer for a parameter struct (a UNIFORM binding) holding `data`."""
     data = np.ascontiguousarray(data)
     context.require(PARAMETER_BINDING_LIMIT, data.nbytes, f"parameters {label!r}")
     buffer = create_buffer(context, label, max(data.nbytes, MIN_BUFFER_BYTES), PARAMETER_USAGE)

@@ -1,23 +1,11 @@
 """The one place that owns the wgpu adapter and device.
 
 One device per process, created on first use with the adapter's own maxima for the limits a path
-tracer needs (some wgpu implementations default lower than what the hardware offers). Scenes
-check their needs against these limits and fail with a message naming the limit and both values.
-
-What wgpu-py 0.32 does with errors, and what we make of them:
-- A validation or out-of-memory error of a call (create_buffer, write_buffer, ...) is raised by
-  that call as wgpu.GPUValidationError / GPUOutOfMemoryError (subclasses of wgpu.GPUError), with
-  wgpu-native's multi-line message; its backend has no push_error_scope/pop_error_scope. Code that
-  creates or fills GPU memory runs under `reporting(what)`, which turns them into one-line
-  GpuFailure errors saying what was being done (which buffer, its size).
-- A lost device is only logged (logger "wgpu": "The WGPU device was lost (<reason>):\n<message>",
-  once wgpu-native processes events, e.g. at the next submit); `device.lost_async` raises
-  NotImplementedError. Every later call on it fails with "Parent device is lost", except
-  queue.submit, where wgpu-native aborts the whole process (SIGABRT) instead: ask before submitting
-  work that was encoded while the device lived. So
-  `GpuContext.lost_reason` asks the device for a tiny buffer and, when that fails, gives the
-  logged reason; `gpu()` makes a new device once the one it handed out is lost, so a viewer can
-  recreate its renderer (and whatever else held the old device) from `gpu()`.
+tracer needs (some wgpu implementations default lower than the hardware offers); scenes check
+their needs against them and fail naming the limit and both values. wgpu-py 0.32 raises a call's
+validation and out-of-memory errors with wgpu-native's multi-line message (no error scopes), which
+`reporting` makes one line; a lost device is only logged, so `GpuContext.lost_reason` probes it,
+and `gpu()` makes a new device once the one it handed out is lost.
 """
 
 from __future__ import annotations
@@ -40,9 +28,9 @@ LIMITS_WE_USE = (
     "max-compute-workgroups-per-dimension",
     "max-compute-invocations-per-workgroup",
     "max-storage-buffers-per-shader-stage",
-    # texture rows: how many triangles and BVH nodes fit (gpu/texels.py); the environment map's size
+    # texture rows: how many triangles and BVH nodes fit (`TrackedTexels`); the environment map's size
     "max-texture-dimension-2d",
-    # the lights group sits at index 4 (gpu/bindings.py lights_group)
+    # the lights group sits at index 4 (`lights_group`)
     "max-bind-groups",
 )
 
@@ -51,8 +39,8 @@ _FENCE_BYTES = 4
 
 # llvmpipe (Mesa's CPU driver) gives an invocation one budget of this many loop iterations, shared
 # by all its loops (nested or one after another) and by the 8 invocations it runs in lockstep, and
-# silently ends every loop once it is spent; measured here with Mesa 22.3
-# (tests/shaders/test_loop_budget.py). shaders/integrators/loop_budget.wgsl tells a shader when it happened.
+# silently ends every loop once it is spent (Mesa 22.3; the shaders' `test_loop_budget` measures it).
+# `loop_budget_spent` tells a shader when it happened.
 LLVMPIPE_LOOP_ITERATION_LIMIT = 65_535
 
 
@@ -117,7 +105,9 @@ class GpuContext:
 
     def submit(self, encoder: wgpu.GPUCommandEncoder, what: str) -> None:
         """Finish `encoder` and submit it, after making sure the device lives: wgpu-native aborts the
-        process on a submit to a lost device, where every other call raises."""
+        process (SIGABRT) on a submit to a lost device, where every other call raises "Parent device is
+        lost".
+        """
         with reporting(f"encoding {what}"):
             commands = encoder.finish()
         lost = self.lost_reason
@@ -129,7 +119,9 @@ class GpuContext:
     @property
     def lost_reason(self) -> str | None:
         """Why the device was lost ("(destroyed): Device lost", the driver's words), or None while it
-        works. Asks the device for a tiny buffer: a device that cannot make one is gone."""
+        works. wgpu-py only logs a loss (`device.lost_async` is not implemented), so this asks the device
+        for a tiny buffer: a device that cannot make one is gone.
+        """
         try:
             self.device.create_buffer(label="lost probe", size=_FENCE_BYTES, usage=wgpu.BufferUsage.COPY_DST).destroy()
         except wgpu.GPUError as error:

@@ -1,13 +1,11 @@
 """An rgba32float texture following a float32 (H, W, 4) array, or an rgba8unorm one following a
-uint8 array (shaders read its texels as floats in [0, 1]), with the interface of TrackedBuffer
-(`upload`, `generation`, `uploads`, `capacity_bytes`, `resource`): the environment map, the
-texture atlas (render/texture_atlas.py).
+uint8 array (read as floats in [0, 1]), with TrackedBuffer's interface (`upload`, `generation`,
+`uploads`, `capacity_bytes`, `resource`): the environment map and the texture atlas (`Atlas`).
 
-Shaders read it with textureLoad and filter by hand (shaders/lights/environment_map.wgsl): filtering
-float32 textures is an optional WebGPU feature. An upload writes the texel rows it is given as changed
-(runs of consecutive rows, one write each), or the whole texture; one of another size or texel
-type reallocates it, writes it whole and bumps `generation`, so the owner rebinds. wgpu's errors come out as
-GpuFailure naming the texture.
+Shaders read it with textureLoad and filter by hand (`environment_texel`): filtering float32
+textures is an optional WebGPU feature. An upload writes the rows given as changed, one write per
+run, or the whole texture; another size or texel type reallocates it and bumps `generation`, so
+the owner rebinds. wgpu's errors come out as GpuFailure naming the texture.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Render pipelines (their layouts from gpu/bindings.py) and textures: what presenting to a window
+"""Render pipelines (their layouts from `BindGroup`s) and textures: what presenting to a window
 needs besides compute kernels, with the same include mechanism and compile errors naming files."""
 
 from __future__ import annotations
@@ -84,7 +84,7 @@ def target_texture(context: GpuContext, label: str, width: int, height: int, tar
 def image_texture(context: GpuContext, label: str, width: int, height: int, texture_format: str) -> wgpu.GPUTexture:
     """A texture kernels write (storage) and later kernels read (textureLoad), copyable both ways:
     the viewer's per-pixel images. Reads through textures are several times faster than through
-    storage buffers on CPU adapters (gpu/texels.py)."""
+    storage buffers on CPU adapters (why `TrackedTexels` exists)."""
     usage = (
         wgpu.TextureUsage.STORAGE_BINDING
         | wgpu.TextureUsage.TEXTURE_BINDING

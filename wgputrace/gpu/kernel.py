@@ -1,4 +1,4 @@
-"""Kernels: a shader file compiled against declared bind groups (gpu/bindings.py), with compile
+"""Kernels: a shader file compiled against declared bind groups (`BindGroup`), with compile
 errors that name the original .wgsl file and line, bind groups made by binding name, and for
 compute kernels the one place that encodes, dispatches and submits."""
 

@@ -88,9 +88,9 @@ BVH_NODE = GpuStruct(
     (("bounds_min", "vec3<f32>"), ("left_or_first", "u32"), ("bounds_max", "vec3<f32>"), ("triangle_count", "u32")),
     "32-byte BVH node: interior (count 0) -> left child, right = left + 1; leaf -> first triangle.",
 )
-# What the GPU traverses (bvh/wide.py): a record per 4-wide node, its children's boxes by axis (min_x
+# What the GPU traverses (`WideBVH`): a record per 4-wide node, its children's boxes by axis (min_x
 # of the four children in one vec4, ...), seven texels where four boxes with a word beside each
-# would take eight, and one word per child (leaf, record or empty, bvh/wide.py's encoding).
+# would take eight, and one word per child (leaf, record or empty, as `collapse` encodes them).
 WIDE_BVH_NODE = GpuStruct(
     "WideBvhNode",
     (
@@ -98,7 +98,7 @@ WIDE_BVH_NODE = GpuStruct(
         *((f"max_{axis}", "vec4<f32>") for axis in "xyz"),
         ("children", "vec4<u32>"),
     ),
-    "Up to four children of a 4-wide BVH node: their boxes by axis, and one word each (bvh/wide.py).",
+    "Up to four children of a 4-wide BVH node: their boxes by axis, and one word each (see `WideBVH`).",
 )
 MATERIAL = GpuStruct(
     "Material",
@@ -140,9 +140,9 @@ LIGHT = GpuStruct(
     "Light",
     (("triangle", "u32"), ("alias_index", "u32"), ("threshold", "f32")),
     "A light in an alias table: keep this entry when u < threshold, else take entry `alias_index`. "
-    "`triangle`: an emissive triangle's index, or a light source (gpu/light_dispatch.py's encoding).",
+    "`triangle`: an emissive triangle's index, or a light source (`LIGHT_SOURCE_FLAG`'s encoding).",
 )
-# A light that is not a triangle nor the environment (scene/lights/): what its kind's WGSL reads.
+# A light that is not a triangle nor the environment (a `Light`): what its kind's WGSL reads.
 LIGHT_SOURCE = GpuStruct(
     "LightSource",
     (
@@ -157,10 +157,10 @@ LIGHT_SOURCE = GpuStruct(
         ("angle_outer", "f32"),
         ("inverse_transition", "f32"),
     ),
-    "A point, spot, directional or sun light, its fields as its kind (scene/lights/) fills them; "
+    "A point, spot, directional or sun light, its fields as its `Light` kind fills them; "
     "probability: the light sampler's chance of choosing it.",
 )
-# The lights group's parameters (gpu/bindings.py lights_group): the environment's, so that an edit of
+# The lights group's parameters (`lights_group`): the environment's, so that an edit of
 # its intensity, rotation or visibility uploads this struct only, and how many light sources there are.
 LIGHTING = GpuStruct(
     "Lighting",
@@ -180,7 +180,7 @@ LIGHTING = GpuStruct(
 )
 
 # Per-corner attributes of a triangle, in the triangles' (BVH) order, bound only for scenes that
-# have some (gpu/bindings.py shading_group): the shading normals, zero for a flat triangle. Texture
+# have some (`shading_group`): the shading normals, zero for a flat triangle. Texture
 # coordinates and tangents join as fields of their own.
 CORNER_ATTRIBUTES = GpuStruct(
     "CornerAttributes",
@@ -195,14 +195,14 @@ CORNER_UVS = GpuStruct(
     (("uv0", "vec2<f32>"), ("uv1", "vec2<f32>"), ("uv2", "vec2<f32>")),
     "A triangle's texture coordinates (glTF's: v down), zero where its shape has none.",
 )
-# A triangle's tangents at its corners for normal maps (scene/tangents.py), in BVH order like
+# A triangle's tangents at its corners for normal maps (`corner_tangents`), in BVH order like
 # CORNER_UVS; bound in textured scenes, one zero record unless a material reads a normal map.
 CORNER_TANGENTS = GpuStruct(
     "CornerTangents",
     (("tangent0", "vec4<f32>"), ("tangent1", "vec4<f32>"), ("tangent2", "vec4<f32>")),
     "A triangle's corner tangents: xyz along dP/du, w the bitangent's sign (glTF's TANGENT).",
 )
-# One texture's rectangle in the texture atlas (render/texture_atlas.py) and how it is looked up.
+# One texture's rectangle in the texture atlas (`pack_atlas`) and how it is looked up.
 TEXTURE = GpuStruct(
     "Texture",
     (
@@ -215,7 +215,7 @@ TEXTURE = GpuStruct(
         ("srgb", "u32"),
     ),
     "u' = dot(transform_u, (u, v, 1)), v' likewise (KHR_texture_transform); wrap modes as "
-    "scene/texture.py WRAP_MODES indexes them; the texels at origin, size in the atlas; srgb: 1 "
+    "`WRAP_MODES` indexes them; the texels at origin, size in the atlas; srgb: 1 "
     "where its colour channels are sRGB bytes to decode.",
 )
 # Which textures a material reads (an index into the TEXTURE records, NO_TEXTURE for none), one
@@ -235,10 +235,9 @@ MATERIAL_TEXTURES = GpuStruct(
         ("normal_scale", "f32"),
     ),
     "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's); "
-    "alpha_mode as scene/materials/principled.py ALPHA_MODES numbers them, its cutoff, and 0 for a "
-    "single-sided surface (shaders/shading/alpha.wgsl); the radiance it emits (x the emission texture's: "
-    "shaders/lights/surface_emission.wgsl); the normal texture's strength "
-    "(shaders/shading/normal_texture.wgsl), in the padding after `emitted`.",
+    "alpha_mode as `ALPHA_MODES` numbers them, its cutoff, and 0 for a single-sided surface "
+    "(`surface_blocks`); the radiance it emits (x the emission texture's: `surface_emission`); the "
+    "normal texture's strength (`mapped_normal`), in the padding after `emitted`.",
 )
 
 ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)

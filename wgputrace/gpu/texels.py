@@ -1,19 +1,11 @@
 """Records kept in rgba32uint textures ("texels") for shaders that read them at random.
 
 On lavapipe a random texture load costs a fraction of a storage-buffer load, so the BVH's nodes
-and the triangles are read from texels: traversal, shading and light sampling alike, and no
-storage buffer holds them (figures in bench/README.md's optimization log;
-`python -m bench.kernel_profile --variants storage_triangles` measures the triangles' part).
-
-A record of S bytes (gpu.layout pads every struct to a multiple of 16) is S / 16 consecutive
-texels holding the bytes of its storage-buffer layout; texel t lies at column t % width and row
-t // width of a texture whose width is a power of two, so the shader finds it with a mask and a
-shift (`texel_at` in shaders/common/texels.wgsl) rather than a division. The WGSL loader of a struct,
-`load_<Struct>(texels, index)`, is generated from its layout (`texel_loaders`), so the two cannot
-drift. `TrackedTexels` follows a numpy array of records the way TrackedBuffer does: only rows
-that changed are written, and once the records outgrow the texture it is reallocated with spare
-capacity for the next small additions (not before: a scene as loaded costs only its records).
-wgpu's errors come out as GpuFailure naming the texture (gpu/device.py `reporting`).
+and the triangles live in texels only (`python -m bench.kernel_profile --variants
+storage_triangles` measures the triangles' part). A record of S bytes is S / 16 consecutive texels
+of its storage-buffer layout; texel t lies at column t % width, row t // width, width a power of
+two, so `texel_at` finds it with a mask and a shift. Each struct's WGSL loader is generated from its
+layout (`texel_loaders`). `TrackedTexels` follows a numpy array of records as TrackedBuffer does.
 """
 
 from __future__ import annotations

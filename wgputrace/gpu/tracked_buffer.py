@@ -20,7 +20,7 @@ from .device import GpuContext
 # Headroom allocated beyond the current size, as a fraction of it, once records have outgrown their
 # buffer: a few more added shapes then fit without reallocating. Not on the first allocation, so a
 # scene as loaded costs only its records (triangles: 48 rather than 60 bytes each; a million-triangle
-# mesh, bench/big_mesh.py: 67 rather than 84 scene bytes per triangle), and an edited one stays
+# mesh, `python -m bench.big_mesh`: 67 rather than 84 scene bytes per triangle), and an edited one stays
 # within this fraction of what it uses.
 SPARE_FRACTION = 0.25
 
