@@ -1,17 +1,9 @@
-"""The per-scene material code, generated from the material classes (`Material`): what the BSDF
-helpers, the integrators and light sampling call, switching over only the kinds a scene uses and
-including only their files, so a scene without glass compiles no dielectric code (llvmpipe
-compiles per line, so unused code costs compile time).
-
-| function                      | returns                                           | from the class          |
-|-------------------------------|---------------------------------------------------|-------------------------|
-| material_sample / _eval / _pdf | the BSDF's sample, f cos, density                 | `shader`                |
-| material_is_two_sided         | mirror wi below the surface to +z first?          | `two_sided`             |
-| material_samples_lights       | can a light sample land in the lobe?              | `light_sampling()`      |
-| material_reflects             | does a path go on from here?                      | `shader` is set         |
-| material_emits / _emitted     | does it emit, and what radiance                   | `emission_wgsl`         |
-
-A kind the function does not concern (an emitter's BSDF) takes the default case.
+"""The per-scene material code, generated from the material classes (`Material`): `material_sample`,
+`material_eval` (f cos), `material_pdf` and the questions the integrators ask
+(`material_is_two_sided`, `material_samples_lights`, `material_reflects`, `material_emits`,
+`material_emitted`), each a switch over only the kinds a scene uses, including only their files:
+a scene without glass compiles no dielectric code (llvmpipe compiles per line, so unused code
+costs compile time). A kind a function does not concern (an emitter's BSDF) takes the default.
 """
 
 from __future__ import annotations

@@ -21,11 +21,11 @@ GENERATED_SHADING_NORMALS = "generated/shading_normals.wgsl"
 # and a cosine product this small means a grazing direction, whose shadowing term is 1 anyway.
 SHADING_NORMAL_MIN_LENGTH = 1e-6
 # Overrides that turn off what we add to shading normals and Mitsuba 3 does not: Chiang et al.'s
-# terminator term (shading_weight.wgsl) and the geometric normal for viewers between the shading
-# and geometric horizons (shading_normal in shading_normals.wgsl). Both off
-# (Renderer(shader_overrides=MITSUBA_SHADING_NORMALS)), smooth and normal-mapped surfaces shade as
-# Mitsuba shades them, which the smooth_sphere reference test compares. Every
-# variant declares them, so any scene takes them; overrides, so the default pipeline pays nothing.
+# terminator term (`shading_weight`) and the geometric normal for viewers between the shading and
+# geometric horizons (`shading_normal`). Both off (Renderer(shader_overrides=MITSUBA_SHADING_NORMALS)),
+# smooth and normal-mapped surfaces shade as Mitsuba shades them, which the smooth_sphere reference
+# test compares. Every variant declares them, so any scene takes them; overrides, so the default
+# pipeline pays nothing.
 SHADOW_TERMINATOR_TERM = "SHADOW_TERMINATOR_TERM"
 SILHOUETTE_GEOMETRIC_NORMAL = "SILHOUETTE_GEOMETRIC_NORMAL"
 MITSUBA_SHADING_NORMALS = {SHADOW_TERMINATOR_TERM: False, SILHOUETTE_GEOMETRIC_NORMAL: False}
