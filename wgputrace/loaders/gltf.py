@@ -1,52 +1,13 @@
-"""glTF 2.0 (.gltf with its buffers, or binary .glb): triangles, node transforms, materials, camera,
-punctual lights.
+"""glTF 2.0 (.gltf with its buffers, or binary .glb): triangles, node transforms, materials
+(`GltfMaterials`), camera and punctual lights; errors name the file and the JSON path.
 
-Why not trimesh's glTF reader, which the PLY and STL loaders use: its PBRMaterial drops every key
-it does not know, so KHR_materials_transmission and KHR_materials_ior never reach us (nor which
-file material a primitive used), and it ignores cameras without the optional aspectRatio.
-
-What is read: the default scene's node tree (`matrix` or translation/rotation/scale), each mesh
-instance becoming one Shape per primitive with the node's world matrix as its `transform`;
-primitives in mode TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN (points and lines are skipped with a
-SceneLoadWarning), their POSITION (float VEC3), NORMAL (float VEC3: the corner normals of smooth
-shading; a primitive without them shades flat, as the glTF specification asks) and indices; the
-first perspective camera met in the tree (looking along its node's -z, +y up, vertical field of
-view `yfov`). Sparse accessors, skins, morph targets and TEXCOORD_1 and above are not read; closed shapes are
-wound outwards (orientation.py).
-
-Materials: gltf_materials.py (pbrMetallicRoughness, its textures and extensions; the table of
-every field read and every one ignored). A primitive whose material has textures gets its
-TEXCOORD_0 (float, or normalized unsigned byte or short, VEC2) as the shape's corner uvs; one with a
-normal texture its TANGENT (float VEC4) as corner tangents, else MikkTSpace's apply (scene/tangents.py).
-
-Lights (`KHR_lights_punctual`): each node naming a light by `extensions.KHR_lights_punctual.light`
-instances it at the node's world translation, shining along the node's world -z (as glTF's cameras
-look), so one light placed by two nodes is two lights. Units are taken 1:1 as the renderer's
-radiometric ones (no 683 lm/W: glTF's photometric values become radiance scales, as in most path
-tracers that read them):
-
-| glTF light                                      | wgputrace light |
-|-------------------------------------------------|-----------------|
-| `point`: intensity (candela), color             | PointLight: intensity (W/sr) = intensity, color |
-| `spot`: intensity (candela), color, `spot.innerConeAngle` (default 0), `spot.outerConeAngle` (default pi/4), radians | SpotLight: intensity on the axis, beam_width = innerConeAngle, cutoff_angle = outerConeAngle (in degrees) |
-| `directional`: intensity (lux), color           | DirectionalLight: irradiance = intensity, color |
-
-Differences from glTF's own model: `range` is ignored (glTF makes it an optional smooth cut-off
-for real-time engines; a physical light, as ours and Mitsuba's, falls off with 1/d^2 only). A spot
-light's falloff between its cones is Mitsuba's `spot` (full intensity inside beam_width, falling
-linearly in ANGLE to 0 at cutoff_angle) where glTF recommends the square of a ramp linear in the
-COSINE of the angle: same cones, a somewhat different edge. glTF requires innerConeAngle <
-outerConeAngle, but exporters write them equal for a hard-edged spot (Blender with a blend of 0), so
-equal cones are read as a hard edge; an inner cone wider than the outer is an error.
-
-Errors name the file and the JSON path of the offending entry (`meshes[0].primitives[1].indices`,
-`extensions.KHR_lights_punctual.lights[2].intensity`).
-
-Extensions: the ones read above, and KHR_draco_mesh_compression when DracoPy (the `draco` extra)
-is installed (gltf_compression.py: the decoded arrays stand in for the primitive's accessors). As
-glTF requires, a file whose `extensionsRequired` names any other is refused, naming each one and,
-where there is one, the way to support it; one that is only in `extensionsUsed` is ignored with a
-SceneLoadWarning (the file then holds what a reader without it needs, such as uncompressed data).
+Not trimesh's glTF reader: its PBRMaterial drops keys it does not know (KHR_materials_transmission,
+KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each mesh instance in
+the default scene's node tree becomes one Shape per triangle primitive, the node's world matrix its
+`transform`, NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
+material's textures need them (else MikkTSpace's tangents). Sparse accessors, skins, morph targets
+and TEXCOORD_1 and above are not read. A required extension outside READ_EXTENSIONS (and Draco's
+where DracoPy imports) is refused by name; one that is only used is ignored with a warning.
 """
 
 from __future__ import annotations
@@ -588,8 +549,19 @@ def _node_light(reader: _Reader, node: dict, where: str) -> int | None:
 
 
 def _light(reader: _Reader, index: int, world: np.ndarray, where: str) -> Light:
-    """Light `index` of the extension placed by a node of world matrix `world`, by the table in
-    this module's docstring."""
+    """Light `index` of KHR_lights_punctual placed by a node of world matrix `world`: at its
+    translation, shining along its -z (as glTF's cameras look), so one light placed by two nodes is
+    two lights. Units are taken 1:1 as radiometric (no 683 lm/W, as most path tracers read them):
+
+    | glTF light                                      | wgputrace light |
+    |-------------------------------------------------|-----------------|
+    | `point`: intensity (candela), color             | PointLight: intensity (W/sr) = intensity, color |
+    | `spot`: intensity (candela), color, `spot.innerConeAngle` (default 0), `spot.outerConeAngle` (default pi/4), radians | SpotLight: intensity on the axis, beam_width = innerConeAngle, cutoff_angle = outerConeAngle (in degrees) |
+    | `directional`: intensity (lux), color           | DirectionalLight: irradiance = intensity, color |
+
+    `range` is ignored (a real-time engines' cut-off; a physical light falls off with 1/d^2 only). A
+    spot's edge is Mitsuba's (linear in angle between the cones), not glTF's (a squared ramp in cosine).
+    """
     entry = reader.item(LIGHTS, index, f"{where}.extensions.{LIGHTS_EXTENSION}.light")
     light_where = f"{LIGHTS}[{index}]"
     kind = reader.get(entry, "type", str, light_where)
@@ -620,7 +592,10 @@ def _light(reader: _Reader, index: int, world: np.ndarray, where: str) -> Light:
 
 
 def _spot_cones(reader: _Reader, entry: dict, where: str) -> tuple[float, float]:
-    """A spot light's inner and outer cone angles (radians), in glTF's range, equal ones allowed."""
+    """A spot light's inner and outer cone angles (radians), in glTF's range. glTF asks inner < outer,
+    but exporters write them equal for a hard-edged spot (Blender with a blend of 0), so equal ones
+    are allowed; an inner cone wider than the outer is an error.
+    """
     spot = reader.get(entry, "spot", dict, where, {})
     where = f"{where}.spot"
     inner = reader.get(spot, "innerConeAngle", float, where, DEFAULT_INNER_CONE)

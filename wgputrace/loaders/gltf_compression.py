@@ -1,15 +1,10 @@
 """Draco-compressed glTF meshes (KHR_draco_mesh_compression), decoded through DracoPy, the `draco`
 extra; imported on first use, so that the glTF loader works without it and says how to get it.
 
-Why DracoPy: Google's own Draco decoder (1.5.7) in a 5 MB manylinux wheel with no dependencies,
-Apache-2.0, maintained by the Seung lab (release 2.2.0, 2026); it decodes a 203k-triangle sphere
-with normals and UVs (2.1 MB compressed, 5.7 MB raw) in about 60 ms on one core, and it encodes
-too, so the tests compress their own meshes. EXT_meshopt_compression and KTX2 textures have no
-decoder here (gltf.py refuses them by name).
-
-What a Draco primitive holds: its extension names one bufferView of compressed bytes and maps
-each glTF attribute (POSITION, NORMAL, TEXCOORD_0, ...) to a Draco attribute id; the primitive's
-accessors keep their count, componentType and type, and the decoded arrays stand in for their data.
+DracoPy is Google's own Draco decoder in a small dependency-free wheel, and it encodes too, so
+the tests compress their own meshes. A Draco primitive's extension names one bufferView of
+compressed bytes and maps each glTF attribute to a Draco attribute id; the primitive's accessors
+keep their count, componentType and type, and the decoded arrays stand in for their data.
 """
 
 from __future__ import annotations

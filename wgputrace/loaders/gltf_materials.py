@@ -1,45 +1,11 @@
-"""glTF materials: pbrMetallicRoughness and its extensions mapped to wgputrace materials, their
-textures decoded (images embedded in a .glb's buffer views, base64 data URIs, or files beside the
-.gltf).
+"""glTF materials: pbrMetallicRoughness and its extensions mapped to wgputrace materials (the
+tables: `GltfMaterials._mapped`), their textures decoded (images in a .glb's buffer views, base64
+data URIs, or files beside the .gltf).
 
-A material with any texture, with alphaMode MASK or BLEND, or with transmission, becomes a
-Principled (Mitsuba 3's `principled`, which glTF's metallic-roughness model was built after),
-every texture read:
-
-| glTF field                                                   | Principled parameter |
-|--------------------------------------------------------------|----------------------|
-| `pbrMetallicRoughness.baseColorFactor` (default 1, 1, 1, 1)   | base_color = rgb, alpha = a (1 for alphaMode OPAQUE, which ignores alpha) |
-| `pbrMetallicRoughness.baseColorTexture` (sRGB)               | base_color_texture (RGB x base_color, A x alpha) |
-| `pbrMetallicRoughness.metallicFactor`, `roughnessFactor` (default 1) | metallic, roughness (perceptual, as Principled's) |
-| `pbrMetallicRoughness.metallicRoughnessTexture` (linear)     | metallic_roughness_texture (G x roughness, B x metallic) |
-| `normalTexture` (linear, tangent space), its `scale`          | normal_texture, normal_scale |
-| `emissiveFactor`, `emissiveTexture` (sRGB)                   | emission, emission_texture |
-| `KHR_materials_emissive_strength.emissiveStrength`            | emission_strength |
-| `KHR_materials_ior.ior` (default 1.5)                         | eta |
-| `KHR_materials_transmission.transmissionFactor` (default 0)   | spec_trans (rough dielectric transmission, glTF's roughness) |
-| `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
-
-An emissive texture thus lights its triangles in proportion to the texture, never the whole mesh
-as a uniform lamp. A texture's `sampler` gives its wrap modes (wrapS/wrapT: 10497 repeat, 33071
-clamp, 33648 mirror; default repeat); `KHR_texture_transform` its offset, rotation and scale.
-Ignored: `occlusionTexture` (the path tracer computes occlusion itself), the samplers' filters
-(textures are sampled bilinearly), a `texCoord` other than 0 (TEXCOORD_0 is read, with a
-SceneLoadWarning), `KHR_materials_transmission.transmissionTexture` (spec_trans takes no texture:
-the factor alone, with a SceneLoadWarning).
-
-Any other material keeps the mapping it had before textures (the first rule that applies):
-
-| glTF material                                                          | wgputrace material |
-|------------------------------------------------------------------------|--------------------|
-| `emissiveFactor` x `KHR_materials_emissive_strength.emissiveStrength` > 0 | Emitter: color = emissiveFactor, emittance = emissiveStrength (default 1) |
-| `pbrMetallicRoughness.metallicFactor` (default 1) >= 0.5               | Glossy: color = baseColorFactor rgb, roughness = roughnessFactor^2 (glTF's roughness is perceptual; GGX alpha is its square) |
-| anything else                                                          | Diffuse: color = baseColorFactor rgb |
-| a primitive without a material                                         | Diffuse: grey 0.8 (not glTF's default, which is a rough metal) |
-
-Images with a KHR_texture_basisu (KTX2) or
-EXT_texture_webp source only are refused by name; an image that is missing, unreadable, corrupt,
-or 0 or over 65,536 pixels a side is a SceneLoadError naming the file, the JSON path and the
-problem.
+A texture's `sampler` gives its wrap modes (WRAP_MODES, default repeat; its filters are ignored:
+textures are sampled bilinearly), `KHR_texture_transform` its offset, rotation and scale. Images
+with only a KTX2 or WebP source are refused by name; one that is missing, unreadable, corrupt, or
+0 or over 65,536 pixels a side is a SceneLoadError naming the file, the JSON path and the problem.
 """
 
 from __future__ import annotations
@@ -77,7 +43,7 @@ class GltfMaterials:
     """The materials of one glTF file, each mapped once, and the textures they share."""
 
     def __init__(self, reader) -> None:
-        # gltf.py's _Reader of the file (not imported: gltf.py imports this module)
+        # the glTF reader's `_Reader` of the file (not imported: its module imports this one)
         self.reader = reader
         self._materials: dict[int | None, Material] = {}
         self._textures: dict[tuple, Texture] = {}
@@ -92,7 +58,33 @@ class GltfMaterials:
         return self._materials[index]
 
     def _mapped(self, index, where: str) -> Material:
-        """The wgputrace material for glTF material `index`, by the tables in this module's docstring."""
+        """The wgputrace material for glTF material `index`. One with any texture, alphaMode MASK or
+        BLEND, or transmission becomes a Principled (Mitsuba 3's `principled`, after which glTF's model
+        was built), every texture read, so an emissive texture lights its triangles as the texture says:
+
+        | glTF field                                                   | Principled parameter |
+        |--------------------------------------------------------------|----------------------|
+        | `pbrMetallicRoughness.baseColorFactor` (default 1, 1, 1, 1)   | base_color = rgb, alpha = a (1 for alphaMode OPAQUE, which ignores alpha) |
+        | `pbrMetallicRoughness.baseColorTexture` (sRGB)               | base_color_texture (RGB x base_color, A x alpha) |
+        | `pbrMetallicRoughness.metallicFactor`, `roughnessFactor` (default 1) | metallic, roughness (perceptual, as Principled's) |
+        | `pbrMetallicRoughness.metallicRoughnessTexture` (linear)     | metallic_roughness_texture (G x roughness, B x metallic) |
+        | `normalTexture` (linear, tangent space), its `scale`          | normal_texture, normal_scale |
+        | `emissiveFactor`, `emissiveTexture` (sRGB)                   | emission, emission_texture |
+        | `KHR_materials_emissive_strength.emissiveStrength`            | emission_strength |
+        | `KHR_materials_ior.ior` (default 1.5)                         | eta |
+        | `KHR_materials_transmission.transmissionFactor` (default 0)   | spec_trans (rough dielectric transmission, glTF's roughness) |
+        | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
+
+        Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
+        `transmissionTexture` (both with a warning). Any other material (the first rule that applies):
+
+        | glTF material                                                          | wgputrace material |
+        |------------------------------------------------------------------------|--------------------|
+        | `emissiveFactor` x `KHR_materials_emissive_strength.emissiveStrength` > 0 | Emitter: color = emissiveFactor, emittance = emissiveStrength (default 1) |
+        | `pbrMetallicRoughness.metallicFactor` (default 1) >= 0.5               | Glossy: color = baseColorFactor rgb, roughness = roughnessFactor^2 (glTF's roughness is perceptual; GGX alpha is its square) |
+        | anything else                                                          | Diffuse: color = baseColorFactor rgb |
+        | a primitive without a material                                         | Diffuse: grey 0.8 (not glTF's default, which is a rough metal) |
+        """
         reader = self.reader
         if index is None:
             return Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)

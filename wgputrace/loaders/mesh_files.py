@@ -2,7 +2,7 @@
 
 Neither format carries materials we could map (PLY colours are ignored), nor a camera. Vertices are
 taken as written (trimesh's `process=False`: no merging, no reordering), faces with more than
-three corners are triangulated by trimesh, and closed meshes are wound outwards (orientation.py).
+three corners are triangulated by trimesh, and closed meshes are wound outwards (`wind_outwards`).
 """
 
 from __future__ import annotations

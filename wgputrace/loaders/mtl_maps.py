@@ -1,5 +1,5 @@
 """MTL texture maps: the `map_*`, `bump` and `norm` statements of an MTL material, their options,
-and the textures of the Principled material they make (the mapping: obj.py's docstring).
+and the textures of the Principled material they make (the mapping: the OBJ reader's `_mapping`).
 
 A statement is `map_Kd [options] file`; the file is resolved beside the .mtl (backslashes read as
 slashes, as Windows exporters write them). Options read: `-clamp on` (clamp both axes, else

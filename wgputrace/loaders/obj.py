@@ -1,50 +1,11 @@
 """Wavefront OBJ with MTL materials, read line by line so that every error names its file and line.
 
-Why not trimesh's OBJ reader, which the other formats use: it renamed and reordered the objects
-of tests/data/cornell_trac0r.obj (all ten came back as "wall_left_N", last first), skips
-lines it cannot parse without saying which, and keeps MTL keys it does not know only as strings.
-
-Geometry: `v x y z` (a fourth coordinate or vertex colours are ignored); `f` with `i`, `i/t`,
-`i//n` or `i/t/n` references, negative ones counting back from the latest vertex; a polygon
-becomes a fan of triangles (right for convex polygons). `o`, `g` and `usemtl` each start a new
-shape, named after the latest `o` or `g` (the file's stem before any). `vn` normals referenced by
-faces (`i//n`, `i/t/n`) become the shape's corner normals (smooth shading); a shape none of whose
-faces names a normal shades flat, and a face without them in a shape with some takes its flat
-normal at its corners. `vt u v` texture coordinates referenced by faces (`i/t`, `i/t/n`) become
-the corner uvs of a shape whose material has a texture map, in glTF's convention (v = 1 - v_obj:
-OBJ's v runs up the image); a corner naming none reads (0, 0). Smoothing groups, lines, points
-and free-form geometry are ignored. Closed shapes are wound outwards (orientation.py), which Glass needs.
-
-Materials come from `mtllib` files beside the OBJ. A material with any of the maps below (files
-beside the .mtl; statement options: mtl_maps.py) becomes a Principled, unless it is transparent by
-`d` < 1 or `Tr` > 0 without a `map_d` (then Glass, as below, its maps ignored with a
-SceneLoadWarning):
-
-| MTL statement                          | Principled parameter                                           |
-|----------------------------------------|----------------------------------------------------------------|
-| `Kd` (default 0.8), `map_Kd` (sRGB)     | base_color = Kd, or 1 where map_Kd is given (exporters write their default Kd beside it); base_color_texture = map_Kd |
-| `Pm` (default 0), `map_Pm`              | metallic; the map's first channel as the metallic-roughness texture's B |
-| `Pr`, else from `Ns` (sqrt of Walter et al.'s alpha), else 0.5; `map_Pr` | roughness; the map's first channel as G |
-| `Ni` (default 1.5)                      | eta                                                            |
-| `Ke` (default 1 under map_Ke), `map_Ke` (sRGB) | emission, emission_texture                              |
-| `d` (default 1), `map_d`                | alpha = d; the map's first channel as the base colour texture's alpha, alpha_mode BLEND (dissolve is a blend) |
-| `bump`, `map_Bump`, `norm` (`-bm` scale) | normal_texture (read as a tangent-space normal map, as exporters of PBR materials write it; not a height map), normal_scale |
-
-`map_Ks` has no Principled counterpart (no specular tint) and is ignored with a SceneLoadWarning;
-`map_Ka`, `map_Ns`, `disp`, `decal` and `refl` are ignored. Any other material (the first rule
-that applies):
-
-| MTL statements                                           | wgputrace material                              |
-|----------------------------------------------------------|-------------------------------------------------|
-| `Ke` with a component > 0                                | Emitter: color = Ke / max(Ke), emittance = max(Ke), so radiance = Ke |
-| `d` < 1, `Tr` > 0, or `illum` 4, 6, 7 or 9 (transparent) | Glass: color = `Tf` (default 1), ior = `Ni` (default 1.5) |
-| `Pm` >= 0.5, or no `Pm` and `Ks` > 0 with `Kd` = 0       | Glossy: color = `Ks` if > 0, else `Kd`; roughness = `Pr` as the GGX alpha, else sqrt(2 / (`Ns` + 2)) (Walter et al. 2007's Phong-to-microfacet rule), else 0.1 |
-| anything else                                            | Diffuse: color = `Kd` (default 0.8)             |
-
-`Ka` and the other `illum` models have no counterpart and are ignored. A `usemtl`
-naming no material, or a missing `mtllib` file, is a SceneLoadWarning and a grey Diffuse. The
-materials check their values: a negative or NaN value, `Kd` above 1 or `Ni 0` is a SceneLoadError
-at the line that set it.
+Not trimesh's OBJ reader: it renamed and reordered the Cornell box file's objects, skips lines it
+cannot parse without saying which, and keeps MTL keys it does not know only as strings. `o`, `g`
+and `usemtl` each start a shape; a polygon becomes a fan (right for convex ones); `vn` and `vt`
+referenced by faces become corner normals and, where the material has a map, corner uvs; closed
+shapes are wound outwards (`wind_outwards`), which Glass needs. Smoothing groups, lines, points
+and free-form geometry are ignored. Materials come from `mtllib` files beside the OBJ (`_mapping`).
 """
 
 from __future__ import annotations
@@ -334,7 +295,9 @@ def _read_mtl(obj_path: Path, obj_line: int, path: Path) -> dict[str, Material]:
 
 
 def _material(path: Path, entry: _MtlEntry, images: MapImages) -> Material:
-    """The wgputrace material for one MTL entry, by the tables in this module's docstring."""
+    """The wgputrace material for one MTL entry, as `_mapping` maps it, with its maps' textures; a
+    value the material refuses (negative, NaN, `Kd` above 1, `Ni 0`) fails at the line that set it.
+    """
     kind, parameters, sources = _mapping(path, entry)
     if "map_ks" in entry.maps:
         warnings.warn(
@@ -363,7 +326,31 @@ def _material(path: Path, entry: _MtlEntry, images: MapImages) -> Material:
 
 
 def _mapping(path: Path, entry: _MtlEntry) -> tuple[type[Material], dict, dict[str, str]]:
-    """(material class, its parameters, the MTL key each parameter came from)."""
+    """(material class, its parameters, the MTL key each parameter came from).
+
+    A material with any map (`PRINCIPLED_MAPS`; options: `parse_map`) becomes a Principled, unless it
+    is transparent by `d` < 1 or `Tr` > 0 without a `map_d` (then Glass, its maps ignored):
+
+    | MTL statement                          | Principled parameter                                           |
+    |----------------------------------------|----------------------------------------------------------------|
+    | `Kd` (default 0.8), `map_Kd` (sRGB)     | base_color = Kd, or 1 where map_Kd is given (exporters write their default Kd beside it); base_color_texture = map_Kd |
+    | `Pm` (default 0), `map_Pm`              | metallic; the map's first channel as the metallic-roughness texture's B |
+    | `Pr`, else from `Ns` (sqrt of Walter et al.'s alpha), else 0.5; `map_Pr` | roughness; the map's first channel as G |
+    | `Ni` (default 1.5)                      | eta                                                            |
+    | `Ke` (default 1 under map_Ke), `map_Ke` (sRGB) | emission, emission_texture                              |
+    | `d` (default 1), `map_d`                | alpha = d; the map's first channel as the base colour texture's alpha, alpha_mode BLEND (dissolve is a blend) |
+    | `bump`, `map_Bump`, `norm` (`-bm` scale) | normal_texture (read as a tangent-space normal map, as exporters of PBR materials write it; not a height map), normal_scale |
+
+    `map_Ks` (no specular tint here) is ignored with a warning; `map_Ka`, `map_Ns`, `disp`, `decal`,
+    `refl`, `Ka` and other `illum` models are ignored. Any other material (the first rule that applies):
+
+    | MTL statements                                           | wgputrace material                              |
+    |----------------------------------------------------------|-------------------------------------------------|
+    | `Ke` with a component > 0                                | Emitter: color = Ke / max(Ke), emittance = max(Ke), so radiance = Ke |
+    | `d` < 1, `Tr` > 0, or `illum` 4, 6, 7 or 9 (transparent) | Glass: color = `Tf` (default 1), ior = `Ni` (default 1.5) |
+    | `Pm` >= 0.5, or no `Pm` and `Ks` > 0 with `Kd` = 0       | Glossy: color = `Ks` if > 0, else `Kd`; roughness = `Pr` as the GGX alpha, else sqrt(2 / (`Ns` + 2)) (Walter et al. 2007's Phong-to-microfacet rule), else 0.1 |
+    | anything else                                            | Diffuse: color = `Kd` (default 0.8)             |
+    """
     kd, ks, ke, tf = (entry.get(key) for key in _COLOR_KEYS)
     ns, ni, dissolve, tr, pr, pm, illum = (
         None if entry.get(key) is None else entry.get(key)[0] for key in _NUMBER_KEYS

@@ -5,7 +5,7 @@ A shape whose triangles, welded by exact corner position, form a closed surface 
 by exactly two triangles) is made consistent (neighbours traverse their shared edge in opposite
 directions) and then turned so its enclosed volume is positive, component by component. Open or
 non-manifold shapes (planes, cards, soups) are left as they are. A triangle is turned by swapping
-its corners 1 and 2, the same convention as a mirroring transform (scene/shapes.py).
+its corners 1 and 2, as `Shape.world_vertices` does under a mirroring transform.
 """
 
 from __future__ import annotations

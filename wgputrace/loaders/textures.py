@@ -3,8 +3,9 @@ into the uint8 pixel arrays a Texture takes, with a one-line reason where they c
 of a material's parameters are textures (a shape then needs texture coordinates).
 
 The size is checked from the image's header (read here for PNG and JPEG, else Pillow's), before
-any pixel is decoded, so a file claiming 100,000 pixels a side costs nothing. Images larger than the GPU allows but within Texture's own
-limit load, and the renderer downscales them with a warning (render/limits.py).
+any pixel is decoded, so a file claiming 100,000 pixels a side costs nothing. Images larger than
+the GPU allows but within Texture's own limit load, and the renderer downscales them with a
+warning (`fitted_texels`).
 """
 
 from __future__ import annotations
