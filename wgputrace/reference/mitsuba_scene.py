@@ -1,31 +1,16 @@
-"""Our scenes as Mitsuba 3 scenes: same triangles, materials mapped one-to-one, same camera.
+"""Our scenes as Mitsuba 3 scenes: same triangles, materials mapped one-to-one, same camera, for the
+test references (`python scripts/make_references.py`) and `python -m bench.versus_mitsuba`.
 
     from wgputrace.reference.mitsuba_scene import load_mitsuba, mitsuba_scene
     mi = load_mitsuba("llvm_ad_rgb")
     scene = mitsuba_scene(mi, wgputrace.default_scene(), 128, 128, max_depth=9)
     image = mi.render(scene, spp=64, seed=1)
 
-Used by scripts/make_references.py (the test references) and bench/versus_mitsuba.py. Each of
-our materials becomes one mesh, flat shaded (README: Conventions; tests/data/README.md) unless its
-shapes have per-vertex normals, which become Mitsuba's vertex normals (`face_normals` false; the
-triangles of shapes without them get their face normal at each corner, flat as ours), and their
-texture coordinates its texcoords (glTF's convention is Mitsuba's); textures are `bitmap`s, a
-normal map Mitsuba's `normalmap` wrapper given the handedness of the material's corner tangents
-(one for all its triangles: Principled.mitsuba_bsdf), an emission texture an `area` emitter's
-`bitmap` radiance; the integrator is Mitsuba's `path` at our max depth, the pixel filter a box.
-Mitsuba's `normalmap` frames the texel with the triangle's dP/du, ours with MikkTSpace's or the
-file's tangents: the same frame where those follow dP/du (a flat, undistorted UV map).
-
-Lights: each light's own `mitsuba_emitter()` (scene/lights/: `point`, `spot`, `directional`); the
-environment a `constant` (radiance x intensity) or an `envmap` of its texels (scale = intensity,
-to_world the rotation about +y, scene/lights/environment.py's convention, which is Mitsuba's). A hidden
-environment is the path integrator's `hide_emitters`, which hides every emitter from camera rays,
-so it is refused in a scene that also has emitting triangles. Our Sun has no Mitsuba plugin: a scene
-with one is refused (tests cover it by closed forms, and a sun drawn into a map by `envmap`).
-
-The `llvm_ad_rgb` variant is much faster than `scalar_rgb` but needs LLVM 16 or newer (Debian:
-libllvm19; the stock LLVM 15 aborts, 14 is too old), found through DRJIT_LIBLLVM_PATH or at
-Debian's path of libLLVM-19.
+Each material becomes one mesh (`mitsuba_mesh`) with the BSDF and emitter its class maps it to
+(`bsdf_dict`, `emitter_dict`), flat unless its shapes have corner normals; each light brings its
+own `mitsuba_emitter()`, the environment is a `constant` or an `envmap` (`environment_dict`). The
+integrator is `path` at our max depth, the pixel filter a box. `llvm_ad_rgb` is much faster than
+`scalar_rgb` but needs LLVM 16 or newer (`libllvm_path`).
 """
 
 from __future__ import annotations
@@ -42,6 +27,7 @@ from wgputrace.scene.registry import mitsuba_rgb
 from wgputrace.scene.shapes import corner_normals, corner_uvs
 from wgputrace.scene.tangents import corner_tangents
 
+# Debian's libllvm19: drjit aborts with the stock LLVM 15, and 14 is too old.
 DEBIAN_LIBLLVM = Path("/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
 LLVM_VARIANT = "llvm_ad_rgb"
 SCALAR_VARIANT = "scalar_rgb"
@@ -94,7 +80,7 @@ def load_mitsuba(variant: str) -> ModuleType:
 
 
 def bsdf_dict(material: Material, tangents: np.ndarray | None = None) -> dict:
-    """Our material as a Mitsuba BSDF: its class's mapping (material.py), in `twosided` where ours
+    """Our material as a Mitsuba BSDF: its class's mapping (`mitsuba_bsdf`), in `twosided` where ours
     is two-sided; black where it reflects nothing (an emitter). A normal-mapped material is given
     the handedness of its triangles' corner `tangents` (one for all: Mitsuba's `normalmap` has one
     texture per BSDF)."""
@@ -121,7 +107,9 @@ def transmits(bsdf: dict) -> bool:
 
 def uniform_handedness(material: Material, tangents: np.ndarray | None) -> float:
     """The w shared by every corner tangent of `material`'s triangles; ValueError where they differ
-    or where there are none (a material exported without its triangles)."""
+    or where there are none (a material exported without its triangles). Mitsuba's `normalmap`
+    frames the texel with the triangle's dP/du, ours with these tangents: the same frame where
+    they follow dP/du (a flat, undistorted UV map)."""
     signs = np.unique(np.sign(tangents[..., 3])) if tangents is not None else np.zeros(0)
     if len(signs) != 1 or signs[0] == 0:
         raise ValueError(
