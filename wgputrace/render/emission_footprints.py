@@ -1,14 +1,11 @@
 """The light table's weight of a triangle whose material emits through a texture (Principled's
-emission_texture): its texture's mean over the triangle's footprint in the texture, estimated on the
-host by a box filter over the rectangle of texels that bilinear lookups inside the triangle read
-(the bounding rectangle of its corners' transformed coordinates, one texel wider), summed from a
-summed-area table, so a triangle costs the same whatever its footprint.
-
-The rectangle holds every texel the GPU can read on the triangle, so a zero mean means a black
-footprint: such a triangle is no light, and any other has a positive weight, as unbiased light
-sampling needs (render/lights.py). Wrap modes: repeat splits the rectangle at the texture's edge;
-clamp clips it to the edge texels; a rectangle as wide as a period, and mirror in any case, take
-the whole axis (a wider box, still holding every texel read).
+emission_texture): the texture's mean over the triangle's footprint, a box filter over the
+rectangle of texels that bilinear lookups inside the triangle read (its corners' transformed
+coordinates' bounds, one texel wider), summed from a summed-area table so a triangle costs the
+same whatever its footprint. The rectangle holds every texel the GPU can read there, so a zero
+mean means a black footprint (no light) and any other weight is positive, as unbiased light
+sampling needs. Repeat splits the rectangle at the texture's edge, clamp clips it; a rectangle a
+period wide, and mirror in any case, take the whole axis (wider, still holding every texel read).
 """
 
 from __future__ import annotations
@@ -17,7 +14,7 @@ import numpy as np
 
 from ..scene.texture import Texture
 
-# beyond 2^24 texels f32 coordinates have no fraction left (shaders/shading/textures.wgsl clamps alike)
+# beyond 2^24 texels f32 coordinates have no fraction left (`texture_sample` clamps alike)
 _COORDINATE_MAX = 2.0**24
 
 

@@ -1,15 +1,6 @@
-"""The environment map as the GPU holds it: its texels and its sampling tables packed into one buffer of 32-bit words.
-
-| words (uint32)  | count   | what                                                            |
-|-----------------|---------|-----------------------------------------------------------------|
-| rows            | 2 R     | per cell row: threshold (f32 bits), alias: picks a cell row      |
-| columns         | 2 R W   | per cell row, per cell: threshold, alias: picks a cell in the row |
-| cell densities  | R W     | f32 bits: the density per steradian of a direction in the cell  |
-
-An H x W map has R = max(H - 1, 1) cell rows of W cells (scene/lights/environment.py EnvironmentTables);
-shaders/lights/environment_map.wgsl reads the words at these offsets, from the map's width and
-height in the lighting parameters. The tables do not change with intensity, rotation or visibility, so an edit
-of those uploads the lighting parameters only.
+"""The environment map as the GPU holds it: its texels, and its sampling tables packed into one
+buffer of 32-bit words (`environment_table_words`). The tables do not change with intensity,
+rotation or visibility, so an edit of those uploads the lighting parameters only.
 """
 
 from __future__ import annotations
@@ -42,8 +33,16 @@ def _alias_words(entries) -> np.ndarray:
 
 
 def environment_table_words(tables) -> np.ndarray:
-    """The sampling tables (the environment's `sampling_tables()`) as one uint32 array: rows,
-    columns, cell densities (the layout above)."""
+    """The sampling tables (the environment's `sampling_tables()`, an `EnvironmentTables`) as one
+    uint32 array, at the offsets `environment_sample` and `environment_pdf` derive from the map's size. An H x W map
+    has R = max(H - 1, 1) cell rows of W cells:
+
+    | words (uint32)  | count   | what                                                            |
+    |-----------------|---------|-----------------------------------------------------------------|
+    | rows            | 2 R     | per cell row: threshold (f32 bits), alias: picks a cell row      |
+    | columns         | 2 R W   | per cell row, per cell: threshold, alias: picks a cell in the row |
+    | cell densities  | R W     | f32 bits: the density per steradian of a direction in the cell  |
+    """
     return np.concatenate(
         [
             _alias_words(tables.rows),

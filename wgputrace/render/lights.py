@@ -1,21 +1,12 @@
 """The light sampler's table: every light in one alias table, sampled in O(1) by estimated power.
 
-Each light triangle is chosen with probability proportional to its emitted power, area x
-luminance of its radiance (a two-sided Lambertian emitter sends 2 pi x area x luminance: the
-factor 2 pi is common to all and cancels), then a point uniform on it. The density of a light
-point per unit area is then luminance(L) / total_weight for every light triangle, whatever its
-area: the shader needs no per-triangle table to evaluate it, only the radiance it already reads
-and `total_weight`.
-
-The other lights share the table in the same units, power / (2 pi): each light source (point, spot,
-directional, sun: scene/lights/, its class's `weight`) and the environment (its power through the
-scene's bounding sphere over 2 pi). Their entries follow the triangles' (light sources in the
-scene's order, then the environment), marked as gpu/light_dispatch.py encodes them, and the chance
-of choosing each is written into its record (LIGHT_SOURCE `probability`, LIGHTING
-`environment_probability`), which its density needs. A light of zero power never enters the table.
-
-Which materials emit, and what, their classes say (scene/materials/material.py: `emission`,
-`record_radiance`): a new emitting kind becomes a light with no change here.
+A light triangle is chosen in proportion to area x luminance of its radiance (its power over the
+2 pi common to all), then a point uniform on it, so a light point's density per unit area is
+luminance(L) / total_weight for every triangle: the shader needs only the radiance it already
+reads and `total_weight`. The light sources (each class's `weight`) and the environment (its power
+through the scene's bounding sphere) follow the triangles in the same units, as `LIGHT_SOURCE_FLAG`
+encodes them, each record carrying its chance of being chosen, which its density needs. A light of
+zero power never enters the table. Which materials emit, and what, their classes say.
 """
 
 from __future__ import annotations
@@ -78,8 +69,8 @@ def light_table(
     triangles' GPU order, with the materials' GPU records (MATERIAL.dtype); of the light sources
     weighing `source_weights` (each light's `weight`, in the scene's order); and of an environment
     weighing `environment_weight`. `surface_densities` (one per triangle) adds the weight per unit
-    area of light emitted through the materials' texture records (render/emission_footprints.py),
-    which the shaders read back (lights/direct_light_sampler.wgsl light_density)."""
+    area of light emitted through the materials' texture records (`footprint_means`), which the
+    shaders read back (`light_density`)."""
     surface = np.zeros(len(triangles)) if surface_densities is None else surface_densities
     density = (emitted_radiance(materials) @ LUMINANCE_WEIGHTS)[triangles["material"]] + surface
     index = np.flatnonzero(emitting(materials)[triangles["material"]] | (surface > 0))

@@ -2,30 +2,10 @@
 
 A request too large fails at once with one line naming the limit, the value asked for and the
 largest allowed, rather than minutes later in numpy ("Unable to allocate 74.5 GiB") or in wgpu.
-Every size here is derived from the records the renderer allocates (gpu/layout.py, the per-pixel
-random states), never written down as a byte count; the checks are arithmetic only, so sizes just
-below and just above each limit are cheap to try.
-
-An image of W x H pixels (render/renderer.py allocates these):
-
-| what                               | record                            | limits                                           |
-|------------------------------------|-----------------------------------|--------------------------------------------------|
-| the path tracer's dispatch         | IMAGE_WORKGROUP (gpu/bindings.py) | max-compute-workgroups-per-dimension             |
-| rng states, rng states at the seed | a pixel's state (rng_seed.py)     | max-buffer-size, max-storage-buffer-binding-size |
-| accumulation                       | ACCUMULATED_PIXEL                 | max-buffer-size, max-storage-buffer-binding-size |
-| guide sums (with guides only)      | 2 x ACCUMULATED_PIXEL             | max-buffer-size, max-storage-buffer-binding-size |
-| the integrator's pixel arrays      | `Integrator.pixel_arrays`         | max-buffer-size, max-storage-buffer-binding-size |
-| the renderer and one image()       | `host_bytes`                      | host memory: MemAvailable of /proc/meminfo       |
-|   (with guides: and one guides())  |                                   |                                                  |
-|   (splats: read back too)          |                                   |                                                  |
-
-A scene, before its BVH is built (a build takes seconds for millions of triangles): its triangles
-and an upper bound of its 4-wide BVH records as texels (gpu/texels.py), or the flat list's boxes,
-its materials and its light table (one entry per emissive triangle, light source and environment,
-at most) in storage buffers; with lights besides emissive triangles, the light sources' records,
-an environment map (its texels a texture, max-texture-dimension-2d, its sampling tables a storage
-buffer: 3 words per texel and 2 per row, so lavapipe's 128 MiB binding takes a 4096x2048 map) and
-the lights group's index (max-bind-groups).
+Every size is derived from the records the renderer allocates (their GpuStructs, the per-pixel
+random states), never written down as a byte count, and the checks are arithmetic only, so sizes
+just below and above each limit are cheap to try: an image's (`image_needs`: the dispatch, every
+per-pixel buffer, host memory) and a scene's before its BVH is built (`check_scene_counts`).
 """
 
 from __future__ import annotations
@@ -70,7 +50,7 @@ GUIDE_BUFFERS = {"guide sums": 2 * ACCUMULATED_PIXEL.size}
 PIXEL_BUFFER_LIMITS = ("max-buffer-size", "max-storage-buffer-binding-size")
 # pixel_rng_states holds this many times its result at its peak: uint64 pixel indices and both
 # uint64 halves of every state, their stack and its copy (56 B per 16-byte state, measured with
-# tracemalloc; tests/gpu/test_limits.py keeps it true).
+# tracemalloc; `test_seeding_peak_is_within_the_model` keeps it true).
 SEEDING_PEAK_STATES = 3.5
 _RGB = 3
 _FLOAT64_RGB_BYTES = _RGB * np.dtype(np.float64).itemsize
@@ -109,11 +89,11 @@ def pixel_buffers(guides: bool = False, integrator: Integrator | None = None) ->
 def host_steps(pixels: int, guides: bool = False, integrator: Integrator | None = None) -> dict[str, int]:
     """Host memory each step of making a Renderer of `pixels` pixels and of one `image()` (with
     `guides`: then one `guides()`; under an `integrator` that splats, image() reads its splat sums
-    back too) holds at once, at most. wgpu stages every upload and read-back
-    in a host-visible buffer of its size, and keeps that memory after a read-back. Measured on
-    lavapipe at 2048x2048 (/proc/self/status VmHWM from before the Renderer to after an image(),
-    tests/gpu/test_limits.py's tracemalloc checks cover the numpy part): 188 B per pixel, as
-    `host_bytes` has it without guides."""
+    back too) holds at once, at most. wgpu stages every upload and read-back in a host-visible
+    buffer of its size, and keeps that memory after a read-back: lavapipe's VmHWM at 2048x2048 is 188
+    B per pixel, as `host_bytes` has it without guides (`test_image_read_back_peak_is_within_the_model`
+    covers the numpy part).
+    """
     rng = pixels * RNG_STATE_BYTES
     accumulation = pixels * ACCUMULATED_PIXEL.size
     steps = {
@@ -240,7 +220,7 @@ class SceneCounts:
     environment: bool = False
     # an environment map's width and height (0 x 0: none, or a constant)
     environment_map: tuple[int, int] = (0, 0)
-    # triangles of shapes with per-vertex normals (their corner attributes: gpu/shading_normals.py)
+    # triangles of shapes with per-vertex normals (their corner attributes: `shading_normals_hook`)
     smooth_triangles: int = 0
 
     @property
@@ -265,24 +245,23 @@ def scene_counts(scene: Scene) -> SceneCounts:
 
 
 def environment_table_words(width: int, height: int) -> int:
-    """32-bit words of an environment map's sampling tables (render/environment_records.py)."""
+    """32-bit words of an environment map's sampling tables (as `environment_table_words` packs them)."""
     rows = max(height - 1, 1)
     return 2 * rows + 3 * rows * width
 
 
 def wide_record_bound(triangle_count: int) -> int:
-    """At most this many 4-wide BVH records (bvh/wide.py) for a tree over `triangle_count`
-    triangles: one record for a tree that is a single leaf, else (n - 1) // 3.
-
-    Why: leaves are never empty and every binary interior node holds more than the builder's
-    max_leaf_size = 4 triangles (render/scene_records.py builds with the default; the bound holds
-    for any size >= 3). A record is an interior node that adopted 2, 1 or 0 more (4, 3 or 2
-    children); one with fewer than 4 children has only leaves below it, so it holds a node with
-    two leaf children (itself or the one it adopted), a different one for each such record. With
-    I interior nodes, R4 + R3 + R2 records and b nodes with two leaf children: I = 3 R4 + 2 R3 + R2,
-    so R = I/3 + R3/3 + 2 R2/3 <= (I + 2b)/3; the two leaves of each of the b nodes hold >= 5
-    triangles and every other leaf >= 1, so I = leaves - 1 <= n - 3b - 1; together
-    R <= (n - 1 - b)/3. tests/gpu/test_limits.py checks it on built trees, lopsided ones too."""
+    """At most this many 4-wide BVH records (`WideBVH`) for a tree over `triangle_count` triangles:
+    one for a tree that is a single leaf, else (n - 1) // 3, as the comment below shows and
+    `test_wide_record_bound_holds_for_built_trees` checks on built trees, lopsided ones too.
+    """
+    # Leaves are never empty and every binary interior node holds more than max_leaf_size = 4
+    # triangles (the renderer builds with the default; any size >= 3 does). A record is an interior
+    # node that adopted 2, 1 or 0 more (4, 3 or 2 children); one with fewer than 4 has only leaves
+    # below it, so it holds its own node with two leaf children. With I interior nodes, R4 + R3 + R2
+    # records and b nodes with two leaf children: I = 3 R4 + 2 R3 + R2, so R <= (I + 2b)/3; those b
+    # nodes' leaves hold >= 5 triangles and every other leaf >= 1, so I <= n - 3b - 1, and
+    # R <= (n - 1 - b)/3.
     return max(1, (triangle_count - 1) // 3)
 
 
@@ -316,15 +295,15 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
 
 
 def atlas_side(context: GpuContext) -> int:
-    """The texture atlas's largest side on this device (render/texture_atlas.py fits textures to it)."""
+    """The texture atlas's largest side on this device (`fitted_texels` fits textures to it)."""
     return context.device.limits["max-texture-dimension-2d"]
 
 
 def fit_environment(context: GpuContext, scene: Scene) -> None:
     """Replace an environment map larger than the adapter holds (its texture side, or its sampling
     tables in one storage binding: 8k maps exceed lavapipe's 128 MiB) by a box-filtered copy that
-    fits, keeping its mean, with an EnvironmentWarning naming both sizes (scene/lights/environment.py
-    fit_to): refusing the HDR maps users download would serve them worse than a softer sky."""
+    fits, keeping its mean, with an EnvironmentWarning naming both sizes (`Environment.fit_to`):
+    refusing the HDR maps users download would serve them worse than a softer sky."""
     environment = scene.environment
     if environment is None or environment.texels is None:
         return

@@ -440,10 +440,10 @@ class Renderer:
     def guides(self) -> dict[str, np.ndarray]:
         """The denoiser's guides, means over the same samples as `image()` (a sample it dropped adds
         zero to them too): "albedo" in [0, 1] and "normal" in [-1, 1], float32 (height, width, 3).
-        Each sample gives the albedo and the shading normal (world space, facing the camera's ray)
-        of its path's first vertex that is not a mirror or glass (shaders/integrators/denoiser_guides.wgsl); zero
-        where it escaped or ended before one. Normals are means, not renormalised: Open Image
-        Denoise takes them as they are."""
+        Each sample gives the albedo and the shading normal (world space, facing the camera's ray) of
+        its path's first vertex that is not a mirror or glass (`guide_vertex`); zero where it escaped
+        or ended before one. Normals are means, not renormalised: Open Image Denoise takes them as is.
+        """
         if not self.guides_enabled:
             raise ValueError("guides are off: make the Renderer with guides=True or set guides_enabled = True first")
         pixels = self.width * self.height
@@ -465,7 +465,8 @@ class Renderer:
     @property
     def cut_short_samples(self) -> int:
         """How many samples the driver's loop budget may have cut short (llvmpipe's 65,535 loop
-        iterations per invocation, shaders/integrators/loop_budget.wgsl); each was dropped and counted as zero."""
+        iterations per invocation, `loop_budget_spent`); each was dropped and counted as zero.
+        """
         return self._dropped_sample_counts()[1]
 
     @property

@@ -1,45 +1,11 @@
-"""The scene's GPU records kept on the host and brought up to date after edits, doing only the work
-each edit needs, and reporting which rows changed so only those are uploaded.
+"""The scene's GPU records kept on the host and brought up to date after edits (`SceneMirror.update`),
+doing only the work each edit needs and reporting which rows changed, so only those are uploaded.
 
-| edit                                        | work                                          | rows that change                     |
-|---------------------------------------------|-----------------------------------------------|--------------------------------------|
-| material parameter                          | that material's record                        | one material record                  |
-| shape transform (same zero-area triangles)  | its world triangles, BVH refit                | its triangles, nodes whose bounds moved |
-| shape material reassigned                   | material list and every triangle's index      | materials and triangles whose index moved |
-| shapes added/removed, vertices or normals replaced | arrays, BVH build                      | whatever differs (nearly all)        |
-
-Scenes with per-vertex normals also keep each triangle's corner normals in BVH order (zero for a
-flat shape's triangles); a transform moves its shape's rows of them with its triangles.
-
-Scenes whose materials read textures keep the atlas, its TEXTURE records, a MATERIAL_TEXTURES record
-per material and each triangle's corner texture coordinates in BVH order (render/texture_atlas.py);
-scenes without textures keep none of them, whatever UVs their shapes have. A material's factor is
-its material record; a texture swapped in or out repacks the atlas and its records, and uploads
-the texel rows that changed (only the swapped texture's where it keeps the size and kind); a moved shape's coordinates change only where a mirror swapped its corners.
-
-The light table (next-event estimation) is rebuilt when an emitter's triangles or record change,
-when a light is added, removed or edited, when the environment or its parameters change, and, with
-distant lights or an environment (whose power is what crosses the scene's bounding sphere), when
-the geometry moves. Its entries follow the scene's triangle order, not the BVH's, so a refit tree
-and a fresh build sample the same light for the same random numbers: the picture after an edit is
-bit for bit the picture of a fresh Renderer of the edited scene (up to exact ties of two hit
-distances).
-
-| light edit                                   | rows that change                                      |
-|----------------------------------------------|-------------------------------------------------------|
-| a light's parameter                          | its light source record; the table where its power moved |
-| a light added or removed                     | the light source records and the table                |
-| environment rotation or visibility           | the lighting parameters only                          |
-| environment intensity or constant radiance   | the lighting parameters; the table where other lights share it |
-| a new map (`generation`) or environment      | the map, its sampling tables, the lighting parameters, the table |
-
-A refit whose SAH cost exceeds the built tree's by REBUILD_DEGRADATION becomes a rebuild.
-The GPU traverses the BVH as 4-wide records (bvh/wide.py): a rebuild collapses the new tree; a
-refit keeps the topology, so it does not collapse again but regathers the boxes of the records
-holding a refit node (through the wide tree's slot -> binary node map), and only those of them
-whose bytes changed are uploaded.
-Rows are compared as bytes before they count as changed, so an edit that restores a value
-uploads nothing and does not restart accumulation.
+Rows are compared as bytes before they count as changed (`changed_rows`), so an edit that restores
+a value uploads nothing and does not restart accumulation; and the records after an edit are those
+a fresh mirror of the edited scene makes (up to exact ties of two hit distances), so the picture
+after an edit is a fresh Renderer's. Arrays a scene does not use (corner normals, texture records,
+light sources, an environment map) are not kept.
 """
 
 from __future__ import annotations
@@ -71,14 +37,11 @@ from .scene_records import (
 )
 from .texture_atlas import light_density, material_texture_records, needs_material_record, pack_atlas, used_textures
 
-# Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built.
-# Measured by bench/refit_threshold.py (bench/results/refit_threshold_*.json and .png): spheres
-# wandering through the Cornell box, a refit tree against a fresh one on the same geometry. Render
-# time grew faster than the SAH cost, time ratio ~ 1 + 1.38 (D - 1) on lavapipe, so at 1.2 a refit
-# tree renders ~28% slower, while rebuilding that 2,600-triangle scene (BVH build and full upload)
-# took 18-29 ms, a quarter of one sample per pixel at 64x64 and under 1% of one at 512x512: past
-# this value a rebuild pays for itself within the next sample. (A million triangles take seconds
-# to rebuild: bench/big_mesh.py.)
+# Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built
+# (`python -m bench.refit_threshold`: spheres wandering through the Cornell box). Render time grew
+# about 1 + 1.38 (D - 1) on lavapipe, so at 1.2 a refit tree renders ~28% slower, while rebuilding
+# that scene cost about a quarter of one sample per pixel at 64x64: past this value a rebuild pays
+# for itself within the next sample.
 REBUILD_DEGRADATION = 1.2
 
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "bvh nodes", "materials", "lights"
@@ -123,7 +86,7 @@ class SceneMirror:
         self._normal_mapped = False
         self._textures: list = []
         # float32 in BVH order: each triangle's light table weight per unit area from what it emits
-        # through a texture record (render/emission_footprints.py); one zero where none emits so
+        # through a texture record (`footprint_means`); one zero where none emits so
         self.triangle_light_densities = np.zeros(1, np.float32)
         self.lights: LightTable | None = None
         # the light sources' records (LIGHT_SOURCE), the lighting parameters (one LIGHTING record),
@@ -207,8 +170,18 @@ class SceneMirror:
         return frozenset(material.kind for material in self._materials)
 
     def update(self) -> dict[str, np.ndarray]:
-        """Bring the records up to date with the scene; return the changed rows of each array
-        (only arrays with changes appear)."""
+        """Bring the records up to date with the scene; return the changed rows of each array (only
+        arrays with changes appear). Textures and lights: `_update_textures`, `_update_lights`.
+
+        | edit                                        | work                                          | rows that change                     |
+        |---------------------------------------------|-----------------------------------------------|--------------------------------------|
+        | material parameter                          | that material's record                        | one material record                  |
+        | shape transform (same zero-area triangles)  | its world triangles (and corner normals), BVH refit | its triangles, nodes whose bounds moved |
+        | shape material reassigned                   | material list and every triangle's index      | materials and triangles whose index moved |
+        | shapes added/removed, vertices or normals replaced | arrays, BVH build                      | whatever differs (nearly all)        |
+
+        A refit whose SAH cost exceeds the built tree's by REBUILD_DEGRADATION becomes a rebuild.
+        """
         shapes = list(self.scene.shapes)
         same_shapes = len(shapes) == len(self._shapes) and all(
             a is b for a, b in zip(shapes, self._shapes, strict=False)
@@ -280,8 +253,11 @@ class SceneMirror:
         )
 
     def _update_textures(self, geometry_moved: bool) -> dict[str, np.ndarray]:
-        """The texture records of the scene's materials, repacking the atlas where the set of
-        textures changed and the corner coordinates where geometry moved; their changed rows."""
+        """The texture records of the scene's materials, repacking the atlas where the set of textures
+        changed (a texture swapped for one of its size and kind keeps the others' rectangles) and the
+        corner coordinates where geometry moved; their changed rows. A scene without textures keeps
+        none of them, whatever UVs its shapes have.
+        """
         materials = self.scene.materials
         textures = used_textures(materials)
         if not textures and not any(needs_material_record(material) for material in materials):
@@ -336,7 +312,7 @@ class SceneMirror:
     def _triangle_light_densities(self) -> np.ndarray:
         """Each triangle's light table weight per unit area, in scene order, from what its material
         emits through its texture record: the luminance of the emitted radiance x the emission
-        texture's mean over the triangle's footprint (render/emission_footprints.py)."""
+        texture's mean over the triangle's footprint (`footprint_means`)."""
         material_of = self.triangles["material"][self._position]
         densities = self._light_densities[material_of]
         textured = [
@@ -393,7 +369,7 @@ class SceneMirror:
     def scene_bounding_sphere(self) -> tuple[np.ndarray, float]:
         """The centre and radius of the scene's bounding sphere (around its box: half the box's
         diagonal), which the power of distant lights and the environment is measured through and
-        light paths from them start on (shaders/lights/light_path_sample.wgsl)."""
+        light paths from them start on (`distant_emission_origin`)."""
         corners = np.concatenate([self.triangles[corner] for corner in ("v0", "v1", "v2")]).astype(np.float64)
         low, high = corners.min(axis=0), corners.max(axis=0)
         return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
@@ -487,8 +463,10 @@ class SceneMirror:
         return {CORNER_ATTRIBUTES: rows}
 
     def _refit_nodes(self, touched: np.ndarray) -> np.ndarray:
-        """Bring the GPU node records up to date with the refit `touched` binary nodes; the rows
-        that changed."""
+        """Bring the GPU node records up to date with the refit `touched` binary nodes; the rows that
+        changed. A refit keeps the topology, so the wide records holding a touched node regather their
+        boxes (through `WideBVH.slot_node`) instead of collapsing again.
+        """
         if self.wide is None:  # the flat list uploads its boxes as they are
             self.nodes["bounds_min"][touched] = self.bvh.bounds_min[touched]
             self.nodes["bounds_max"][touched] = self.bvh.bounds_max[touched]
@@ -527,7 +505,19 @@ class SceneMirror:
 
     def _update_lights(self) -> dict[str, np.ndarray]:
         """The light table in scene order pointing at BVH positions, the light sources' records, the
-        lighting parameters and, for a new map, its texels and tables; the changed rows of each."""
+        lighting parameters and, for a new map, its texels and tables; the changed rows of each. Scene
+        order, not the BVH's, so a refit tree and a fresh build sample the same light for the same
+        random numbers. `update` calls this when an emitter or a light changes, and when geometry moves
+        under distant lights or an environment (whose power is what crosses the bounding sphere):
+
+        | light edit                                   | rows that change                                      |
+        |----------------------------------------------|-------------------------------------------------------|
+        | a light's parameter                          | its light source record; the table where its power moved |
+        | a light added or removed                     | the light source records and the table                |
+        | environment rotation or visibility           | the lighting parameters only                          |
+        | environment intensity or constant radiance   | the lighting parameters; the table where other lights share it |
+        | a new map (`generation`) or environment      | the map, its sampling tables, the lighting parameters, the table |
+        """
         lights, environment = self.scene.lights, self.scene.environment
         center, radius = self.scene_bounding_sphere() if self._has_distant_lights() else (np.zeros(3), 0.0)
         environment_changed = environment is not self._environment or (

@@ -1,8 +1,9 @@
 """A scene turned into GPU records: triangles in acceleration-structure order, nodes, materials.
 
-The BVH is built and kept binary (bvh/); the GPU gets it collapsed into 4-wide records
-(bvh/wide.py), the flat list its boxes as binary nodes. These are the pieces; scene_mirror.py's
-SceneMirror puts them together, for the renderer and (`scene_records`) for tests alike."""
+The BVH is built and kept binary (`BVH`); the GPU gets it collapsed into 4-wide records
+(`collapse`), the flat list its boxes as binary nodes. These are the pieces; SceneMirror puts them
+together, for the renderer and (`scene_records`) for tests alike.
+"""
 
 from __future__ import annotations
 

@@ -1,10 +1,11 @@
 """The Owen-scrambled Sobol sampler on the host: the per-pixel states the renderer uploads, and the
-points shaders/sampling/sobol_points.wgsl draws, in the same uint32 arithmetic (the tests compare the two and
-check the points' statistics here, where millions of them are cheap).
+points the WGSL `sobol_point_2d` and friends draw, in the same uint32 arithmetic (the tests compare
+the two, and check the points' statistics here, where millions of them are cheap).
 
 A pixel's state is (seed, samples taken, 0, 0). Its seed comes from the user's seed and the pixel
-(render/rng_seed.py's SplitMix64 words) and from the replicate: the renderer's `reset` starts a new
-replicate, an independent scramble, so images made after resets are independent estimates."""
+(`pixel_rng_states`' SplitMix64 words) and from the replicate: the renderer's `reset` starts a new
+replicate, an independent scramble, so images made after resets are independent estimates.
+"""
 
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ def _u32(x: np.ndarray | int) -> np.ndarray:
 
 
 def sobol_hash(value: np.ndarray | int) -> np.ndarray:
-    """Wellons' lowbias32, as sampling/sobol_points.wgsl's sobol_hash."""
+    """Wellons' lowbias32, as the WGSL `sobol_hash`."""
     x = _u32(value)
     with np.errstate(over="ignore"):
         x = x ^ (x >> np.uint32(16))
@@ -31,7 +32,7 @@ def sobol_hash(value: np.ndarray | int) -> np.ndarray:
 
 
 def sobol_seed(seed: np.ndarray | int, part: np.ndarray | int) -> np.ndarray:
-    """sampling/sobol_points.wgsl's sobol_seed: the seed of part `part` of what `seed` seeds."""
+    """The WGSL `sobol_seed`: the seed of part `part` of what `seed` seeds."""
     return sobol_hash(_u32(seed) ^ sobol_hash(part))
 
 
@@ -44,7 +45,7 @@ def reverse_bits(value: np.ndarray | int) -> np.ndarray:
 
 
 def laine_karras_permutation(value: np.ndarray | int, seed: np.ndarray | int) -> np.ndarray:
-    """sampling/sobol_points.wgsl's laine_karras_permutation (Vegdahl's constants)."""
+    """The WGSL `laine_karras_permutation` (Vegdahl's constants)."""
     x, seed = _u32(value), _u32(seed)
     with np.errstate(over="ignore"):
         x = x ^ (x * np.uint32(0x3D20ADEA))
@@ -63,7 +64,7 @@ def sobol_dimension_0(index: np.ndarray | int) -> np.ndarray:
 
 
 def sobol_dimension_1(index: np.ndarray | int) -> np.ndarray:
-    """sampling/sobol_points.wgsl's loop-free dimension 1 (the tests check it against the direction numbers)."""
+    """The WGSL `sobol_dimension_1`, loop-free (the tests check it against the direction numbers)."""
     digits = _u32(index)
     for shift, mask in ((1, 0x55555555), (2, 0x33333333), (4, 0x0F0F0F0F), (8, 0x00FF00FF), (16, 0x0000FFFF)):
         digits = digits ^ ((digits >> np.uint32(shift)) & np.uint32(mask))
@@ -90,7 +91,7 @@ def unit(bits: np.ndarray) -> np.ndarray:
 
 def sample_2d(pixel_seed: np.ndarray | int, index: np.ndarray | int, draw: np.ndarray | int) -> np.ndarray:
     """float32 (..., 2): what sample_2d returns as draw number `draw` of sample `index` of the
-    pixel seeded `pixel_seed` (sampling/sobol_sampler.wgsl)."""
+    pixel seeded `pixel_seed` (the Sobol sampler's WGSL `sample_2d`)."""
     x, y = sobol_point_2d(index, sobol_seed(pixel_seed, draw))
     return np.stack([unit(x), unit(y)], axis=-1)
 

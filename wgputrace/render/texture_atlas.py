@@ -2,21 +2,12 @@
 TEXTURE record per texture (its rectangle, wrap modes, transform, whether to decode sRGB) and a
 MATERIAL_TEXTURES record per material (which textures it reads).
 
-The atlas holds 8-bit textures as their bytes (rgba8unorm, 4 bytes a texel; sRGB ones decoded by
-the lookup, texel by texel) while every texture is 8-bit, as image files are; one float texture
-(HDR emission, say) makes it linear rgba32float (16 bytes a texel) for all of them, since one
-texture has one format. A 2048 x 2048 base colour map takes 16 MiB rather than 64.
-
-An atlas rather than array layers: layers share one size, so a scene's mixed sizes (a 2048 base
-colour beside a 256 mask) would pad every layer to the largest, and the layer count is a limit of
-its own (256 in WebGPU's defaults); one 2D texture holds any mix and binds as one resource. Shelf
-packing (tallest first, rows left to right) wastes little for the few textures a scene has.
-Textures are not padded against each other: the lookup wraps texel indices inside each rectangle
-(shaders/shading/textures.wgsl), so no filter reaches a neighbour.
-
-A texture larger than the device's texture side (render/limits.py atlas_side) is box-filtered down
-until it fits, with a TextureWarning naming both sizes: refusing the large textures users download
-would serve them worse than a softer one.
+An atlas rather than array layers: layers share one size (a 2048 base colour beside a 256 mask
+would pad every layer) and their count is a limit of its own, where one 2D texture holds any mix
+and binds as one resource. Textures are not padded against each other: the lookup wraps texel
+indices inside each rectangle (`texture_wrap`), so no filter reaches a neighbour. Textures over
+the device's side are box-filtered down with a TextureWarning (`fitted_texels`): refusing the
+large textures users download would serve them worse than a softer one.
 """
 
 from __future__ import annotations
@@ -114,9 +105,13 @@ def fitted_texels(texture: Texture, side: int, eight_bit: bool) -> np.ndarray:
 
 def pack_atlas(textures: list[Texture], side: int) -> Atlas:
     """The atlas of `textures` (each fitted to `side`), or SceneError naming the limit where their
-    rectangles cannot share one texture of that side. Without textures (materials that need only
-    their MATERIAL_TEXTURES record: alpha modes, sidedness) one unused texel and its record, as the
-    bindings need at least one of each."""
+    rectangles cannot share one texture of that side. 8-bit textures are kept as their bytes
+    (rgba8unorm, sRGB decoded by the lookup) while all are 8-bit; one float texture makes the atlas
+    linear rgba32float, since one texture has one format. Shelf packing (tallest first) wastes little
+    for the few textures a scene has. Without textures (materials that need only their
+    MATERIAL_TEXTURES record: alpha modes, sidedness) one unused texel and its record, as the
+    bindings need at least one of each.
+    """
     if not textures:
         records = TEXTURE.zeros(1)
         records["size"] = (1, 1)
