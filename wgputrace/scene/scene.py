@@ -1,6 +1,6 @@
 """A scene: shapes (triangles sharing a material), the materials they index, a camera, and the
-lights that are not emissive triangles: an environment (`environment`, scene/lights/environment.py) and
-point, spot, directional and sun lights (`add_light`, scene/lights/).
+lights that are not emissive triangles: an `Environment` and point, spot, directional and sun
+lights (`add_light`).
 
 Editing (Mitsuba's traverse/params.update, with plain attributes): add and remove shapes and lights,
 assign a shape's `transform`, `vertices` or `material`, a material's or a light's parameters, the
@@ -56,7 +56,7 @@ class TriangleArrays:
 class Scene:
     shapes: list[Shape] = field(default_factory=list)
     camera: Camera = field(default_factory=Camera)
-    # the light arriving from infinitely far in every direction (scene/lights/environment.py); None: black
+    # the light arriving from infinitely far in every direction (`Environment`); None: black
     environment: Environment | None = None
     _lights: list[Light] = field(default_factory=list, init=False, repr=False)
 

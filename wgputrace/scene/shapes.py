@@ -172,28 +172,14 @@ class CornerAttribute:
 class Shape:
     """A named group of flat triangles sharing one material, placed in the world by a 4x4 transform.
 
-    `normals`, optional (n, 3, 3), are the shading normals at each triangle's corners, interpolated
-    across it (smooth shading); None shades every triangle with its geometric normal (flat). They
-    must be finite and non-zero (SceneError naming the triangle otherwise) and are stored unit
-    length; `world_normals` are them under the inverse transpose of the transform. Assigning
-    `normals` bumps `geometry_version`, as new vertices do.
-
-    `uvs`, optional (n, 3, 2), are texture coordinates at the corners (glTF's convention,
-    scene/texture.py), finite; `world_uvs` swap corners where a mirroring transform swaps them.
-    Assigning `uvs` bumps `geometry_version` too.
-
-    `tangents`, optional (n, 3, 4), are a file's tangents at the corners for normal maps (glTF's
-    TANGENT: xyz along dP/du, w = +1 or -1 the bitangent's sign), finite, w stored as its sign;
-    without them normal maps use MikkTSpace's (scene/tangents.py). `world_tangents` take xyz
-    through the transform's linear part and flip w where it mirrors. Assigning bumps `geometry_version`.
-
-    `vertices` (n, 3, 3) float32 are local coordinates (triangle, corner, xyz); the world sees
-    `world_vertices`, the transform applied in float64 (a mirroring transform swaps two corners so
-    normals keep their side). Assigning `vertices`, `transform` or `material` checks the value
-    (SceneError names the problem, and the shape stays as it was) and bumps `geometry_version`,
-    `transform_version` or `material_version`: a Renderer compares these with what it uploaded,
-    so a new transform is a BVH refit, new vertices a rebuild, a new material new indices. The
-    arrays are read-only, so an in-place edit cannot slip past the versions.
+    `vertices` (n, 3, 3) float32 are local (triangle, corner, xyz); the world sees `world_vertices`,
+    the transform applied in float64 (a mirroring one swaps two corners so normals keep their side;
+    `world_normals`, `world_uvs` and `world_tangents` follow). Optional per-corner attributes:
+    `normals` (smooth shading), `uvs` (glTF's convention, as `Texture` reads them) and `tangents` (a
+    file's; else MikkTSpace's). Assigning `vertices` or an attribute, `transform` or `material` checks
+    the value (SceneError, the shape unchanged) and bumps `geometry_version`, `transform_version` or
+    `material_version`, which a Renderer compares with what it uploaded: a new transform is a refit,
+    new vertices a rebuild. The arrays are read-only, so an in-place edit cannot slip past them.
     """
 
     # unit shading normals at the corners, (n, 3, 3) float32 local, or None (flat shading)

@@ -1,24 +1,7 @@
 """Tangents for normal maps where a file gives none: MikkTSpace's essentials in numpy, as the glTF
 spec asks ("client implementations SHOULD calculate tangents using default MikkTSpace algorithms").
-
-No maintained MikkTSpace package exists on PyPI (pymikktspace was last released in 2021 and wraps
-the C code without wheels for current Pythons), so this implements the steps of the reference
-(Mikkelsen's mikktspace.c) that decide the result for the meshes we load:
-- per triangle, the direction dP/du from the UV derivatives, unit length, and whether the UV map
-  keeps the triangle's orientation (the sign of the UV area: the bitangent sign w);
-- per corner, that direction projected into the plane of the corner's normal, weighted by the
-  corner's angle measured in that plane;
-- summed over the corners that share a vertex (same position, normal and texture coordinates) and
-  orientation, then projected and normalised again.
-What is left out: mikktspace.c builds its vertex groups by walking each vertex's fan of triangles,
-which splits a vertex whose fan is not connected (non-manifold meshes) where we merge it; and it
-returns the magnitudes of dP/du and dP/dv, which glTF does not store. Triangles whose texture
-coordinates have no area contribute nothing (mikktspace.c calls them degenerate too); a vertex that
-receives nothing gets a valid arbitrary tangent perpendicular to its normal, never NaN.
-
-glTF's texture coordinates have v pointing down the image, while a tangent-space normal's +Y points
-up it, so the tangents are computed from (u, 1 - v), as Blender computes the TANGENTs it exports
-(bitangent = cross(normal, tangent) * w points up the image).
+No maintained MikkTSpace package has wheels for current Pythons, so `mikktspace_tangents`
+implements the steps of Mikkelsen's mikktspace.c that decide the result for the meshes we load.
 """
 
 from __future__ import annotations
@@ -33,8 +16,17 @@ DEGENERATE = 1e-20
 def mikktspace_tangents(vertices, uvs, normals=None) -> np.ndarray:
     """Corner tangents (n, 3, 4) float32 of triangles `vertices` (n, 3, 3) with corner texture
     coordinates `uvs` (n, 3, 2, glTF's convention) and corner `normals` (n, 3, 3; None or a zero
-    corner: the face's normal): xyz unit and perpendicular to the normal, w = +1 or -1."""
+    corner: the face's normal): xyz unit and perpendicular to the normal, w = +1 or -1.
+
+    Per triangle, dP/du from the UV derivatives and whether the UV map keeps its orientation (w); per
+    corner, that direction projected into the plane of the corner's normal, weighted by the corner's
+    angle there; summed over the corners sharing a vertex (position, normal, uv) and orientation, then
+    projected and normalised again. Unlike mikktspace.c, a vertex whose fan is not connected is merged,
+    not split. UV-degenerate triangles add nothing; a vertex given nothing gets any perpendicular.
+    """
     vertices = np.asarray(vertices, np.float64)
+    # glTF's v points down the image and a tangent-space normal's +Y up it: (u, 1 - v), as Blender
+    # computes the TANGENTs it exports (bitangent = cross(normal, tangent) * w points up the image)
     uvs = np.asarray(uvs, np.float64) * (1.0, -1.0) + (0.0, 1.0)
     normals = _corner_normals(vertices, normals)
     direction, preserving = _triangle_directions(vertices, uvs)
@@ -52,7 +44,7 @@ def mikktspace_tangents(vertices, uvs, normals=None) -> np.ndarray:
 
 def corner_tangents(shapes: list, shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray:
     """The world corner tangents (n, 3, 4) float32 of the triangles that `shape_index` and
-    `local_index` pick (scene/shapes.py corner_uvs's order): a shape's own (a file's TANGENT), else
+    `local_index` pick (`corner_uvs`' order): a shape's own (a file's TANGENT), else
     MikkTSpace's computed in world space (it commutes with rotation and scale; a mirror's swapped
     corners keep the bitangent up the image); zero for shapes with neither tangents nor texture
     coordinates."""

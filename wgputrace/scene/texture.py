@@ -1,16 +1,12 @@
 """Textures: an image a material parameter reads through a shape's texture coordinates.
 
-Coordinates follow glTF: (0, 0) is the image's top-left texel corner, u runs right and v down, and
-texel (row i, column j) covers [j, j + 1] / W x [i, i + 1] / H. OBJ's `vt` has v up; its loader
-flips it. Outside [0, 1] each axis wraps by its mode: "repeat", "clamp" (to the edge texel) or
-"mirror" (glTF's 10497, 33071, 33648). A TextureTransform (KHR_texture_transform) maps a shape's
-coordinates before the lookup: uv' = offset + R(rotation) S(scale) uv, in glTF's convention.
-
-An 8-bit image is kept as its bytes (`encoded_texels`, RGBA uint8), which the GPU holds as they
-are (4 bytes a texel) and decodes texel by texel before interpolating (decoding after interpolating
-would darken edges); float pixels are kept as given. `linear_texels` (float32 RGBA, sRGB decoded)
-is what both mean, for the host. Fewer than four channels fill out as glTF reads them: grey -> RGB,
-grey+alpha, RGB with alpha 1. A Texture is not edited in place: assign a new one.
+Coordinates follow glTF: (0, 0) is the image's top-left texel corner, u runs right and v down;
+texel (row i, column j) covers [j, j + 1] / W x [i, i + 1] / H. Outside [0, 1] each axis wraps by
+its mode ("repeat", "clamp" to the edge texel, "mirror"); a TextureTransform (KHR_texture_transform)
+maps a shape's coordinates before the lookup. An 8-bit image is kept as its bytes
+(`encoded_texels`), which the GPU decodes texel by texel before interpolating (decoding after would
+darken edges); float pixels are kept as given; `linear_texels` is what both mean, for the host.
+Fewer than four channels fill out as glTF reads them. A Texture is not edited in place.
 """
 
 from __future__ import annotations
@@ -25,7 +21,7 @@ import numpy as np
 from .errors import SceneError
 
 WRAP_MODES = ("repeat", "clamp", "mirror")
-# the largest side a Texture accepts; the GPU's own limit (render/limits.py) may be smaller, and
+# the largest side a Texture accepts; the GPU's own limit (`atlas_side`) may be smaller, and
 # a texture over it is downscaled with a warning there
 MAX_TEXTURE_SIDE = 65536
 

@@ -1,4 +1,4 @@
-"""Every light kind besides emissive triangles, one module each (light.py says what a kind declares),
+"""Every light kind besides emissive triangles, one module each (`Light` says what a kind declares),
 each exported from this package, from wgputrace.scene and from wgputrace under its class name."""
 
 from .light import LIGHT_KINDS, Light, LightError, LightShader, light_class, light_classes

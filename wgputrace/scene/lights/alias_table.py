@@ -1,5 +1,5 @@
 """Vose's alias method: a discrete distribution drawn in O(1). The light sampler's table
-(render/lights.py) and the environment map's sampling tables (environment.py) are built with
+(`light_table`) and the environment map's sampling tables (`EnvironmentTables`) are built with
 it, here in the scene layer that both reach."""
 
 from __future__ import annotations

@@ -7,7 +7,7 @@
 | color      | RGB >= 0    | 1       | spectrum: irradiance = color x irradiance               |
 
 A delta light: reached by light sampling only (weight 1 under every integrator), shadow rays run to
-infinity. GPU record: direction, emission = color x irradiance. WGSL: shaders/lights/directional.wgsl.
+infinity. GPU record: direction, emission = color x irradiance. WGSL: `directional_light_sample`.
 Mitsuba 3: `directional` with `direction` and `irradiance` = color x irradiance.
 """
 

@@ -10,37 +10,9 @@ references of its lookup and importance sampling that the GPU code must match.
 | rotation_degrees | float | 0.0 | turns the map about +y (`envmap`, to_world = rotate([0, 1, 0], angle)) |
 | visible | bool | True | camera rays that escape see it; False: they see black while it still lights |
 
-Which way each pixel looks (Mitsuba 3's src/emitters/envmap.cpp, `direction_to_uv`, `eval_spectrum`):
-a direction d of the map's own frame has u = atan2(d.x, -d.z) / (2 pi) (wrapped into [0, 1)) and
-v = acos(d.y) / pi, and the inverse is d = (sin(2 pi u) sin(pi v), cos(pi v), -cos(2 pi u) sin(pi v)).
-Column i's texels sit at u = (i + 1/2) / W, so the image's left edge (u = 0) looks along -z, its
-first quarter (u = 1/4) along +x, its centre (u = 1/2) along +z and its third quarter along -x;
-column 0's centre looks along -z turned by pi / W towards +x. Row j's texels sit at v = j / (H - 1),
-not at row centres: the whole top row looks straight up (+y) and the whole bottom row straight
-down (-y). Between texels the radiance is bilinear; column W - 1 blends with column 0 across the
-left/right seam (Mitsuba's extra wrap-around column). Mitsuba refuses maps under 2x3 texels; here
-a one-row map is constant in v and a one-column map constant in u, so 1x1 and 2x1 maps work.
-
-`rotation_degrees` = a is Mitsuba's to_world rotation about +y by a degrees (right-handed, drjit's
-`rotate`): world = R local with R = [[cos a, 0, sin a], [0, 1, 0], [-sin a, 0, cos a]], so the
-image's centre, which looks along +z unturned, looks along (sin a, 0, cos a): +x at a = 90.
-
-Importance sampling (host tables, the GPU draws): the map's bilinear lookup is a bilinear function
-inside each cell between four neighbouring texels (W cells around, one per column i, between
-columns i and i + 1 mod W; H - 1 cell rows, between rows j and j + 1; a one-row map has one cell
-row covering the sphere). A cell is drawn in proportion to its mean luminance (Rec. 709) times its
-solid angle, then a direction uniform in its solid angle (phi uniform, cos(theta) uniform between
-the cell's bounds), so the density per steradian is constant over each cell: the cell's mean
-luminance / sum over cells of mean luminance x solid angle. A cell is drawn exactly when some
-texel at its corners is non-zero, which is exactly where the lookup is non-zero, so light sampling
-alone (the nee integrator) misses no radiance. The tables are alias tables (one over the cell rows,
-one per cell row over its cells: `sample` says how the GPU draws them) and do not depend on
-intensity, rotation or visibility: those edits change only the parameters.
-
-Texels must be finite: a NaN or infinite texel is refused, naming the file and the first one.
-Negative texels are set to 0 with a warning naming the first: real captures carry small negative
-values from colour-space conversion and resampling ringing, radiance cannot be negative, and
-refusing would refuse those files; Mitsuba keeps them, so such a map's reference differs there.
+Which way each texel looks: `uv_of_local` and `bilinear`; how a map is sampled: `build_tables`.
+Texels must be finite (`checked_texels`). The sampling tables do not depend on intensity,
+rotation or visibility: those edits change only the parameters.
 """
 
 from __future__ import annotations
@@ -88,7 +60,7 @@ class EnvironmentWarning(UserWarning):
 
 @dataclass(frozen=True)
 class EnvironmentTables:
-    """The importance-sampling tables of a map (see the module docstring for the cells).
+    """The importance-sampling tables of a map (the cells: `build_tables`).
 
     `rows`: `cell_rows` ALIAS_ENTRY entries, a cell row drawn in proportion to its weight;
     `columns`: cell_rows x cell_columns ALIAS_ENTRY entries, row-major, each cell row its own alias
@@ -224,7 +196,8 @@ class Environment:
         self._visible = bool(value)
 
     def rotation_matrix(self) -> np.ndarray:
-        """(3, 3) float64: world = R @ local (Mitsuba's to_world, a rotation about +y)."""
+        """(3, 3) float64: world = R @ local (Mitsuba's to_world, a right-handed rotation about +y),
+        so the image's centre, which looks along +z unturned, looks along (sin a, 0, cos a)."""
         a = math.radians(self._rotation_degrees)
         c, s = math.cos(a), math.sin(a)
         return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
@@ -336,7 +309,7 @@ class Environment:
         """Luminance flux through a disc of `radius` (the scene's bounding sphere) facing each
         direction in turn: pi r^2 x the integral of luminance over the sphere (pbrt-v4's
         ImageInfiniteLight::Phi, 4 pi^2 r^2 x the mean luminance). Not divided by pi, unlike the
-        triangle light table's weights (area x luminance, wgputrace/render/lights.py): a light
+        triangle light table's weights (area x luminance, `light_table`): a light
         sampler mixing them must multiply those by pi (one-sided Lambertian flux; 2 pi both sides)."""
         if self._texels is None:
             integral = 4.0 * math.pi * float(luminance(self._radiance))
@@ -392,7 +365,9 @@ def default_environment() -> Environment:
 def checked_texels(texels: np.ndarray, source: str) -> np.ndarray:
     """A float32 (H, W, 3) copy of `texels`, refused (SceneError naming `source` and the first bad
     texel, row and column from the top left) when empty, misshapen, NaN or infinite; negative
-    texels are set to 0 with an EnvironmentWarning (see the module docstring for why)."""
+    texels are set to 0 with an EnvironmentWarning: real captures carry small negative values
+    from colour-space conversion and resampling, radiance cannot be negative, and refusing them
+    would refuse those files (Mitsuba keeps them, so such a map's reference differs there)."""
     array = np.asarray(texels)
     if array.ndim != 3 or array.shape[2] != 3 or not np.issubdtype(array.dtype, np.number):
         raise SceneError(
@@ -458,7 +433,9 @@ def _unit(directions: np.ndarray) -> np.ndarray:
 
 
 def uv_of_local(d: np.ndarray) -> np.ndarray:
-    """Mitsuba's direction_to_uv, u wrapped into [0, 1): unit local directions (n, 3) -> (n, 2)."""
+    """Mitsuba's direction_to_uv, u wrapped into [0, 1): unit local directions (n, 3) -> (n, 2).
+    u = atan2(d.x, -d.z) / (2 pi), v = acos(d.y) / pi: the image's left edge looks along -z, its
+    first quarter along +x, its centre along +z, its third quarter along -x."""
     on_axis = d[:, 0] ** 2 + d[:, 2] ** 2 < _POLE_EPSILON**2
     u = np.where(on_axis, 0.0, np.arctan2(d[:, 0], -d[:, 2]) / (2.0 * math.pi))
     u = u - np.floor(u)
@@ -473,8 +450,10 @@ def local_of_uv(uv: np.ndarray) -> np.ndarray:
 
 
 def bilinear(texels: np.ndarray, uv: np.ndarray) -> np.ndarray:
-    """Mitsuba's eval_spectrum: texel columns at u = (i + 1/2) / W (column W wrapping to 0), rows at
-    v = j / (H - 1); a one-row map is constant in v."""
+    """Mitsuba's eval_spectrum: texel columns at u = (i + 1/2) / W (column W - 1 blending with
+    column 0 across the seam), rows at v = j / (H - 1), not at row centres (the whole top row looks
+    straight up). Mitsuba refuses maps under 2x3 texels; here a one-row map is constant in v and a
+    one-column map in u."""
     height, width = texels.shape[:2]
     x = (uv[:, 0] - 0.5 / width) % 1.0 * width
     y = uv[:, 1] * (height - 1)
@@ -515,7 +494,13 @@ def luminance(rgb: np.ndarray) -> np.ndarray:
 
 
 def build_tables(texels: np.ndarray) -> EnvironmentTables | None:
-    """The alias tables and per-cell densities of a map; None when it is all black."""
+    """The alias tables and per-cell densities of a map; None when it is all black.
+
+    The lookup is bilinear inside each cell between four neighbouring texels (W cells around,
+    H - 1 cell rows; a one-row map has one). A cell is drawn in proportion to its mean luminance
+    times its solid angle, then a direction uniform in its solid angle, so the density is constant
+    over a cell. A cell is drawn exactly where some corner texel is non-zero, which is where the
+    lookup is non-zero, so light sampling alone (nee) misses no radiance."""
     cell_luminance = _cell_luminance(texels)
     weight = cell_luminance * _cell_solid_angles(texels.shape[:2])
     total = float(weight.sum())

@@ -1,8 +1,8 @@
 """The base of every light kind that is not an emissive triangle, and the registry of those kinds.
 
-A light kind is one class in one module of this package plus one WGSL file under shaders/lights/,
-and nothing else: like a material kind (scene/materials/material.py) the class is the whole
-descriptor, and like pbrt-v4's `Light` it answers what the light sampler and the integrator ask.
+A light kind is one class in one module of this package plus its WGSL file, and nothing else: like
+a material kind (`Material`) the class is the whole descriptor, and like pbrt-v4's `Light` it
+answers what the light sampler and the integrator ask.
 
 | what                                      | on the class             | driven from it                                   |
 |-------------------------------------------|--------------------------|--------------------------------------------------|
@@ -11,16 +11,15 @@ descriptor, and like pbrt-v4's `Light` it answers what the light sampler and the
 | the parameter that scales `color`         | `strength`               | its check, `rgb_strength`                        |
 | its GPU record                            | `fill_record`            | `SceneMirror`'s light source records             |
 | its sampling code (and what escaped rays see) | `shader`             | `light_dispatch`: generated dispatch             |
-| where its light paths start               | `shader.emission_sample` | lights/light_path_sampler.wgsl (bidirectional paths) |
-| a delta light (only light sampling finds it)? | `delta`              | integrators/path_tracer.wgsl: weight 1, under every integrator |
-| infinitely far (shadow rays to infinity)? | `distant`                | lights/direct_light_sampler.wgsl, the power estimate |
-| its share of the light sampler            | `weight`                 | render/lights.py's alias table                   |
-| its Mitsuba 3 equivalent                  | `mitsuba_emitter`        | reference/mitsuba_scene.py                       |
+| where its light paths start               | `shader.emission_sample` | `light_emission_dispatch` (bidirectional paths)  |
+| a delta light (only light sampling finds it)? | `delta`              | `HAS_DELTA_LIGHTS`: weight 1, under every integrator |
+| infinitely far (shadow rays to infinity)? | `distant`                | its LightSample, the power estimate              |
+| its share of the light sampler            | `weight`                 | `light_table`'s alias table                      |
+| its Mitsuba 3 equivalent                  | `mitsuba_emitter`        | `mitsuba_scene`                                  |
 
 Directions (`direction`) are the way the light TRAVELS (Mitsuba's `directional` and `spot`, glTF's
--Z), normalised when set. Parameters are plain attributes: assigning one re-runs the light's checks
-(a bad value raises LightError naming the light, the parameter and the value, and leaves the light
-as it was) and bumps `version`, which is how a Renderer knows which light record to upload again.
+-Z), normalised when set. Assigning a parameter re-runs the light's checks (LightError names the
+light, the parameter and the value, and leaves the light as it was) and bumps `version`.
 """
 
 from __future__ import annotations
@@ -32,7 +31,7 @@ import numpy as np
 
 from ..registry import Kind, KindRegistry, ParameterError, finite_non_negative, rgb_values
 
-# Rec. 709 luminance, the weights of the light sampler (render/lights.py) and the shaders.
+# Rec. 709 luminance, the weights of the light sampler (`light_table`) and the shaders.
 LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
 # As the Emitter material's RADIANCE_MAX: far above any physical source, low enough that the
 # float32 sums of billions of samples per pixel stay finite.
@@ -50,11 +49,11 @@ class LightShader:
     returns a LightSample; a distant light that is not a delta (the sun) also gives what a ray
     escaping along `direction` sees of it, `escaped_radiance` (vec3) and `escaped_pdf` (the density
     per steradian with which `sample` draws `direction`, before the light's selection probability).
-    Light paths (shaders/lights/light_path_sampler.wgsl): `emission_sample` sees `light`, `disk` (the scene's
-    SceneDisk), `u_position` and `u_direction` (vec2) and returns an EmissionSample, its densities
-    before the selection probability; a light at a finite distance also gives `emission_pdf`, its
-    EmissionPdf for sending `direction` (unit, leaving it). Distant lights' densities are those of
-    their mixture (lights/light_path_sample.wgsl DistantEmission), made from `escaped_radiance` and `escaped_pdf`."""
+    Light paths: `emission_sample` sees `light`, `disk` (the scene's SceneDisk), `u_position` and
+    `u_direction` (vec2) and returns an EmissionSample, its densities before the selection
+    probability; a light at a finite distance also gives `emission_pdf`, its EmissionPdf for sending
+    `direction`. Distant lights' densities are their mixture's (`distant_emission`).
+    """
 
     file: str
     sample: str
@@ -126,14 +125,14 @@ class Light(Kind):
         return scaled(self.color, getattr(self, self.strength))
 
     def fill_record(self, record: np.void) -> None:
-        """Write the parameters into `record`, one LIGHT_SOURCE record (gpu/layout.py), by field name,
+        """Write the parameters into `record`, one LIGHT_SOURCE record, by field name,
         as `shader` reads them. `kind` and `probability` are written by the caller."""
         raise NotImplementedError
 
     def weight(self, scene_radius: float) -> float:
         """The light sampler's weight: the estimated emitted power (of the luminance) over 2 pi, the
         unit in which a two-sided emissive triangle, emitting 2 pi x area x luminance, weighs its
-        area x luminance (render/lights.py). A distant light's power is what it sends through a
+        area x luminance (`light_table`). A distant light's power is what it sends through a
         disc of the scene's bounding radius `scene_radius`."""
         raise NotImplementedError
 

@@ -7,7 +7,7 @@
 | color     | RGB >= 0    | 1       | spectrum: intensity = color x intensity                  |
 
 A delta light: reached by light sampling only (weight 1 under every integrator). GPU record:
-position, emission = color x intensity. WGSL: shaders/lights/point.wgsl.
+position, emission = color x intensity. WGSL: `point_light_sample`.
 Mitsuba 3: `point` with `position` and `intensity` = color x intensity.
 """
 

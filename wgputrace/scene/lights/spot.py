@@ -14,7 +14,7 @@ cutoff_angle (Mitsuba's `spot`; glTF's KHR_lights_punctual falls off differently
 its cone angles onto these). A delta light: reached by light sampling only (weight 1 under every
 integrator). GPU record: position, direction, emission = color x intensity, the cosines of both
 angles, the cutoff angle, 1 / (cutoff - beam width) and cone = 1 - cos(cutoff) (in float64 on the
-host, for narrow cones: light paths leave uniformly within it). WGSL: shaders/lights/spot.wgsl.
+host, for narrow cones: light paths leave uniformly within it). WGSL: `spot_light_sample`.
 Mitsuba 3: `spot` with `intensity`, `cutoff_angle`, `beam_width` (degrees) and `to_world` looking
 from position along direction.
 """

@@ -12,7 +12,7 @@ seen head-on is E. Not a delta: light sampling draws a direction uniformly in th
 escaping the scene inside the cone see L, weighted against it by MIS as emissive triangles are.
 Its shadow rays run to infinity. GPU record: direction, emission = L x color, cos_outer = cos(d / 2)
 and cone = 1 - cos(d / 2) (in float64 on the host: 1.07e-5 for the sun, where f32 would keep 3
-digits). WGSL: shaders/lights/sun.wgsl. Mitsuba 3 has no sun-disc plugin of this form
+digits). WGSL: `sun_sample`. Mitsuba 3 has no sun-disc plugin of this form
 (`mitsuba_emitter` is None); reference scenes draw it into an `envmap`, or use the closed form.
 """
 

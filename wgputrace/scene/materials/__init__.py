@@ -1,4 +1,4 @@
-"""Every material kind, one module each (material.py says what a kind declares), each exported from
+"""Every material kind, one module each (`Material` says what a kind declares), each exported from
 this package, from wgputrace.scene and from wgputrace under its class name."""
 
 from .material import MATERIAL_KINDS, Material, MaterialError, MaterialShader, material_class, material_classes

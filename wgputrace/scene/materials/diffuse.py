@@ -4,7 +4,7 @@
 |-----------|----------------|---------|-------------------------------------------|
 | color     | RGB in [0, 1]  | 0.5     | albedo: the fraction of light reflected   |
 
-GPU record: color. WGSL: shaders/materials/diffuse.wgsl.
+GPU record: color. WGSL: `diffuse_sample`, `diffuse_eval`, `diffuse_pdf`.
 Mitsuba 3: `twosided` `diffuse` with `reflectance` = color.
 """
 

@@ -7,7 +7,7 @@
 
 "Inside" is the side opposite the triangle's normal cross(v1 - v0, v2 - v0): closed meshes must
 wind their triangles counter-clockwise seen from outside. Both lobes are deltas.
-GPU record: color, ior. WGSL: shaders/materials/glass.wgsl.
+GPU record: color, ior. WGSL: `glass_sample`, `glass_eval`, `glass_pdf`.
 Mitsuba 3: `dielectric` with `int_ior` = ior, `ext_ior` = 1, `specular_transmittance` = color.
 """
 

@@ -6,8 +6,8 @@
 | roughness | float [0, 1]  | 0.1     | GGX alpha (not squared); 0 is clamped to a near-mirror          |
 
 Sampling draws visible normals (Heitz 2018); shadowing is Smith's separable G1(wi) G1(wo).
-Lobes narrower than GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS (glossy.wgsl) skip light sampling.
-GPU record: color, alpha = roughness. WGSL: shaders/materials/glossy.wgsl.
+Lobes narrower than GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS (a WGSL override) skip light sampling.
+GPU record: color, alpha = roughness. WGSL: `glossy_sample`, `glossy_eval`, `glossy_pdf`.
 Mitsuba 3: `twosided` `roughconductor`, `material`=`none`, `distribution`=`ggx`,
 `alpha` = roughness, `specular_reflectance` = color, `sample_visible` = true.
 """

@@ -1,28 +1,25 @@
 """The base of every material and the registry of material kinds.
 
-A material kind is one class in one module of this package, plus one WGSL file under
-shaders/materials/ if it reflects light, and nothing else: like a Mitsuba 3 BSDF plugin, the class
-is the whole descriptor, and like pbrt-v4's `BxDF::Flags()` it answers what the integrator asks.
+A material kind is one class in one module of this package, plus its WGSL file if it reflects
+light, and nothing else: like a Mitsuba 3 BSDF plugin, the class is the whole descriptor, and like
+pbrt-v4's `BxDF::Flags()` it answers what the integrator asks.
 
 | what                                    | on the class                     | driven from it                                  |
 |-----------------------------------------|----------------------------------|-------------------------------------------------|
 | the id the GPU switches on              | `kind`                           | `MATERIAL_<NAME>` constants, the records' kind  |
 | parameters and their checks             | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)          |
-| its GPU record                          | `fill_record`                    | render/scene_records.py `material_records`      |
-| its BSDF code (sample, eval, pdf)       | `shader`                         | gpu/material_dispatch.py: generated dispatch    |
+| its GPU record                          | `fill_record`                    | `material_records`                              |
+| its BSDF code (sample, eval, pdf)       | `shader`                         | `material_dispatch`: generated dispatch         |
 | every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
-| can a light sample land in its lobe?    | `samples_lights` (WGSL)          | integrators/path_tracer.wgsl's next-event estimation |
-| the same BSDF seen from both sides?     | `two_sided`                      | materials/bsdf.wgsl; the Mitsuba `twosided` wrapper |
-| the radiance it emits                   | `emission_wgsl`, `record_radiance` | integrators/path_tracer.wgsl, lights/direct_light_sampler.wgsl, render/lights.py |
-| its Mitsuba 3 equivalent                | `mitsuba_bsdf`, `mitsuba_emitter` | reference/mitsuba_scene.py                     |
+| can a light sample land in its lobe?    | `samples_lights` (WGSL)          | `material_samples_lights`: next-event estimation |
+| the same BSDF seen from both sides?     | `two_sided`                      | `material_is_two_sided`; the Mitsuba `twosided` wrapper |
+| the radiance it emits                   | `emission_wgsl`, `record_radiance` | `material_emitted`, `light_table`             |
+| its Mitsuba 3 equivalent                | `mitsuba_bsdf`, `mitsuba_emitter` | `mitsuba_scene`                                |
 
 A class registers itself as a kind when its body sets `kind`; subclassing a kind without setting
 one makes a variant of that kind. Emission shines from both sides of a triangle; a kind without
-`shader` reflects nothing, and a path ends on it.
-
-Parameters are plain attributes. Assigning one re-runs the material's checks (a bad value raises
-MaterialError and leaves the material as it was) and bumps `version`, which is how a Renderer
-knows which material record to upload again.
+`shader` reflects nothing, and a path ends on it. Assigning a parameter re-runs the material's
+checks (MaterialError leaves the material as it was) and bumps `version`.
 """
 
 from __future__ import annotations
@@ -86,7 +83,7 @@ class Material(Kind):
     # WGSL bool over `material`: can a light sample land in the lobe, so that next-event estimation
     # pays at this vertex? None: no for a delta lobe, yes otherwise
     samples_lights: ClassVar[str | None] = None
-    # the BSDF is the same seen from below (Mitsuba's `twosided`): materials/bsdf.wgsl mirrors wi to +z first
+    # the BSDF is the same seen from below (Mitsuba's `twosided`): `bsdf_sample` and friends mirror wi to +z first
     two_sided: ClassVar[bool] = True
     # a WGSL condition on the record that decides two-sidedness per material instead (Principled's)
     two_sided_wgsl: ClassVar[str | None] = None
@@ -122,11 +119,11 @@ class Material(Kind):
     @classmethod
     def record_radiance(cls, records: np.ndarray) -> np.ndarray:
         """(n, 3) float64: what `emission_wgsl` gives for MATERIAL `records` of this kind, as the light
-        table weighs lights by it (render/lights.py). Needed where `emission_wgsl` is set."""
+        table weighs lights by it (`light_table`). Needed where `emission_wgsl` is set."""
         raise NotImplementedError(f"{cls.__name__} emits nothing")
 
     def fill_record(self, record: np.void) -> None:
-        """Write the parameters into `record`, one MATERIAL record (gpu/layout.py), by field name, as
+        """Write the parameters into `record`, one MATERIAL record, by field name, as
         `shader` and `emission_wgsl` read them. `kind` is written by the caller; other fields stay zero."""
         raise NotImplementedError
 

@@ -10,7 +10,7 @@ need (transmission included).
 | spec_trans | float [0, 1]  | 0       | weight of rough dielectric transmission (glTF KHR_materials_transmission); above 0 the back side is the inside |
 | base_color_texture | Texture (sRGB) or None | None | RGB x base_color (glTF baseColorTexture); its alpha x alpha |
 | metallic_roughness_texture | Texture (linear) or None | None | G x roughness, B x metallic (glTF metallicRoughnessTexture) |
-| normal_texture | Texture (linear) or None | None | tangent-space normal map (glTF normalTexture; shaders/shading/normal_map.wgsl) |
+| normal_texture | Texture (linear) or None | None | tangent-space normal map (glTF normalTexture; `mapped_normal`) |
 | normal_scale | float [-100, 100] | 1 | x and y of the normal map's vectors x this (glTF normalTexture.scale) |
 | alpha      | float [0, 1]  | 1       | coverage x the base colour texture's alpha (alpha_mode: cut-outs, blending) |
 | alpha_mode | "OPAQUE", "MASK", "BLEND" | "OPAQUE" | glTF's: alpha ignored; texels of alpha < alpha_cutoff cut out; stochastic transparency |
@@ -27,12 +27,11 @@ tinted sqrt(base_color). Sampling picks the diffuse lobe with probability (1 - m
 spec_trans) / (2 - metallic - (1 - metallic) spec_trans), else a visible GGX normal that reflects
 or refracts as its Fresnel and the weights say. Without transmission the material is the same on
 both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
-GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans. Textures, alpha and normal_scale are in
-the material's MATERIAL_TEXTURES record (render/texture_atlas.py), applied at the hit before the BSDF
-reads these fields (shaders/shading/textures.wgsl resolve_material), so the BSDF code sees constants.
-Alpha modes and sidedness act in the traversal's triangle test (shaders/shading/alpha.wgsl), for every ray;
-only scenes with such a material compile that test (gpu/alpha.py).
-WGSL: shaders/materials/principled.wgsl. Mitsuba 3: `principled` with the same values, in `twosided`
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans. Textures, alpha
+and normal_scale are in its MATERIAL_TEXTURES record, applied at the hit (`resolve_material`) so
+the BSDF code sees constants; alpha modes and sidedness act in the traversal's triangle test
+(`surface_blocks`), compiled only for scenes with such a material. WGSL: `principled_sample`,
+`principled_eval`, `principled_pdf`. Mitsuba 3: `principled` with the same values, in `twosided`
 without transmission.
 """
 
@@ -152,7 +151,7 @@ class Principled(Material):
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
         GPU forms after filtering, which bilinear filtering leaves the same). A normal map becomes
         Mitsuba's `normalmap` wrapper (normal_map_texels) without its terminator term (compare with
-        ours off: gpu/shading_normals.py MITSUBA_SHADING_NORMALS): `tangent_handedness` is the w of the
+        ours off: MITSUBA_SHADING_NORMALS): `tangent_handedness` is the w of the
         triangles' tangents, which the material does not know. MASK and BLEND wrap the whole in
         Mitsuba's `mask` (mitsuba_opacity). Sidedness is not exported: a single-sided surface renders
         alike from its front (`twosided` differs only from behind); emission is mitsuba_emitter's."""
@@ -192,8 +191,8 @@ class Principled(Material):
 
         MASK: 1 where alpha x the texel's alpha reaches alpha_cutoff, else 0, looked up nearest. The
         GPU thresholds the bilinear alpha instead, which cuts at the same texel boundaries only where
-        neighbouring texels are 0 and 1 about a cutoff of 0.5 (as the stripes of
-        scenes/alpha_cutout.py are); elsewhere the edges differ by under a texel.
+        neighbouring texels are 0 and 1 about a cutoff of 0.5 (as the stripes of the alpha_cutout
+        scene are); elsewhere the edges differ by under a texel.
         BLEND: alpha x the texel's alpha, bilinear as the GPU looks it up: the probability with which
         stochastic transparency stops a ray, so Mitsuba's `mask` renders its expectation."""
         base = self.base_color_texture
