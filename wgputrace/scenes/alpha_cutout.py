@@ -1,6 +1,6 @@
 """An alpha-cut quad casting a shadow: a Principled MASK quad striped by its base colour
 texture's alpha, between a small lamp and a white wall, the camera seeing the quad and its striped
-shadow. The cut-out decides the camera's rays and the shadow rays alike (shaders/shading/alpha.wgsl).
+shadow. The cut-out decides the camera's rays and the shadow rays alike (`surface_blocks`).
 `alpha_blend` is the same with a BLEND quad whose alpha ramps across it: stochastic transparency
 for every ray, whose expectation Mitsuba's `mask` renders (Principled.mitsuba_opacity).
 

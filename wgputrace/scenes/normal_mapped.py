@@ -6,7 +6,7 @@ At this angle the bumps' sides facing away from the light turn their shading nor
 (black, as the geometry shadows them: no light through the surface), the sides facing it light up
 far brighter than the flat plane would, and the terminator terms matter: ours (Chiang et al. 2019)
 and Mitsuba's (Estevez et al. 2019 in its `normalmap`) differ there, so the reference comparison
-turns both off (tests/render/test_shading_normal_references.py).
+turns both off (SHADING_NORMAL_CASES).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ Here shading normals break what they break: on a coarse smooth mesh the light re
 whose own facet faces away from it, whose shadow rays then meet the sphere itself, in hard
 facet-shaped steps (the shadow terminator). Mitsuba 3 renders the scene as its reference with
 the corner normals as its vertex normals and no terminator term: ours matches it with the term
-off, and with it on it fades those steps out (tests/render/test_smooth_sphere.py).
+off (SHADING_NORMAL_CASES), and with it on it fades those steps out.
 """
 
 from __future__ import annotations

@@ -1,16 +1,12 @@
 """A textured asset: a panel carrying every texture the Principled material reads (base colour with
 a marked corner, metallic-roughness, a normal map of bumps, emissive marks), per-vertex normals and
-texture coordinates, standing on a grey floor that its marks light, lit by a point light beside
-the camera. Everything is generated here (nothing to license), 8-bit textures as a glTF file holds
-them: wgputrace/testing/gltf_files.py textured_asset_glb writes the same model as a .glb.
-
-Mitsuba 3 renders it as its reference (tests/render/test_material_references.py). Two choices keep the
-comparison about textures: the panel faces +z with u along +x, so Mitsuba's `normalmap`, which
-frames the texel with the triangle's dP/du, and our tangents (MikkTSpace) give the same frame; and
-the light is within 25 degrees of the panel's normal while the bumps tilt at most 15 degrees, so
-our terminator term for mapped normals (Chiang et al. 2019: below 1 only for light further from
-the geometric normal than the tilt, and flat near 1), which Mitsuba lacks, changes no pixel by
-more than a tenth of a percent of its direct light.
+texture coordinates, on a grey floor that its marks light, lit by a point light beside the camera.
+Generated here (nothing to license), 8-bit as a glTF file holds them (`textured_asset_glb` writes
+the same model as a .glb). Against Mitsuba's reference (MATERIAL_CASES) two choices keep the
+comparison about textures: the panel faces +z with u along +x, so Mitsuba's `normalmap` (dP/du)
+and our MikkTSpace tangents give the same frame; and the light is within 25 degrees of the panel's
+normal while the bumps tilt at most 15, so our terminator term, which Mitsuba lacks, changes no
+pixel by more than a tenth of a percent of its direct light.
 """
 
 from __future__ import annotations
