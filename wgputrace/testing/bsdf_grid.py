@@ -1,14 +1,11 @@
-"""The shipped BSDFs (materials/bsdf.wgsl) run on the GPU, incident directions in their local frame, and a
-grid on the hemisphere over which their pdf and eval are integrated and their samples counted:
-what the chi-square and furnace tests compare.
+"""The shipped BSDFs (`bsdf_sample`, `bsdf_eval`, `bsdf_pdf`) run on the GPU, incident directions in
+their local frame, and a grid on the hemisphere over which their pdf and eval are integrated and
+their samples counted: what the chi-square and furnace tests compare.
 
-Cells form a (cos theta, phi) grid on the hemisphere wi lies on, where every material but glass
-sends its light; the horizon, where the pdf drops to zero, is a cell edge, so no cell has a jump
-inside. Cells crowd around the mirror direction at the scale of the GGX lobe (uniform in the
-quantiles of a Cauchy distribution truncated to the grid): at alpha 0.01 nearly all of the lobe
-lies within 0.02 radian of it. Each cell is integrated by Gauss-Legendre quadrature, with the
-same rule at half the order as its error estimate; pieces whose error exceeds their share of the
-caller's error budget are split in four, until every piece fits or MAX_REFINEMENTS is reached.
+Cells form a (cos theta, phi) grid on wi's side, where every material but glass sends its light;
+the horizon is a cell edge, so no cell has a jump inside, and cells crowd around the mirror
+direction at the scale of the lobe (`lobe_grid`). Each cell is integrated by Gauss-Legendre
+quadrature, the same rule at half the order its error estimate (`integrate`).
 """
 
 from __future__ import annotations
@@ -264,7 +261,9 @@ def integrate_bsdf(
 
 def integrate(grids: list[HemisphereGrid], integrand: Integrand, budget: ErrorBudget) -> CellIntegrals:
     """Integrals of `integrand` over every cell of each case's grid (all grids of one shape),
-    refined until each cell's error estimate fits its budget."""
+    refined until each cell's error estimate fits its budget: a piece whose error exceeds its share
+    is split in four, at most MAX_REFINEMENTS times.
+    """
     rows, columns = grids[0].cells
     cells = rows * columns
     # pieces of cells: case, cell, ranges of the integration variables (n, 2), share of the cell

@@ -229,10 +229,11 @@ def png_header(width: int, height: int) -> bytes:
 
 
 def textured_asset_glb(path: Path) -> Path:
-    """The panel and floor of the built-in `textured_asset` scene (wgputrace/scenes/textured_asset.py)
-    written as a .glb: the panel's NORMAL and TEXCOORD_0 per vertex (corners not shared), its four
-    textures as embedded PNGs (their 8-bit texels), its factors, normal scale and emissive strength;
-    the camera and light are the scene's, not the file's. Loading it gives the scene's model."""
+    """The panel and floor of the built-in `textured_asset` scene written as a .glb: the panel's
+    NORMAL and TEXCOORD_0 per vertex (corners not shared), its four textures as embedded PNGs (their
+    8-bit texels), its factors, normal scale and emissive strength; the camera and light are the
+    scene's, not the file's. Loading it gives the scene's model.
+    """
     shapes = asset_panel(), asset_floor()
     meshes = [
         (shape.vertices.reshape(-1, 3), np.arange(3 * len(shape.vertices)).reshape(-1, 3), i)

@@ -3,7 +3,7 @@
 A test writes a kernel body that includes the shipped .wgsl files it exercises, reads its inputs
 from `inputs_N` and writes `output`; the harness binds numpy arrays to them (the "harness" group,
 declared like every other bind group), dispatches one invocation per element, and returns
-the output array. The scene group is declared too, so the body may include scene_bindings.wgsl or
+the output array. The scene group is declared too, so the body may include the scene bindings or
 a traversal: the scene resources a test gives go by binding name, the others hold one zero record.
 The shipped code is what is tested.
 """
@@ -57,13 +57,11 @@ def run_kernel(
 ) -> np.ndarray:
     """Run `wgsl` (which defines `fn compute(i: u32) -> OUTPUT`) for i in [0, count).
 
-    inputs[k] is bound read-only as `inputs_k: array<input_types[k]>`. `scene` fills the scene
-    group (SCENE_GROUP) by binding name: frame, triangles, nodes, materials, lights.
-    Arrays are uploaded (the triangles as texels), GPU resources (`node_binding`) bound as they
-    are; nodes given as an array are the flat list's storage buffer, else the BVH's texels.
-    `groups` adds bind groups (the lights group, say) with their GPU resources by binding name;
-    the kernel is compiled for `variant` (the features whose code the test includes: textures,
-    lights...), with `generated` files added.
+    inputs[k] is bound read-only as `inputs_k: array<input_types[k]>`. `scene` fills the scene group
+    by binding name (frame, triangles, nodes, materials, lights): arrays are uploaded (triangles as
+    texels; nodes as the flat list's storage buffer), GPU resources (`node_binding`) bound as they
+    are. `groups` adds bind groups with their resources by binding name; the kernel is compiled for
+    `variant` (the features whose code the test includes), with `generated` files added.
     """
     groups = dict(groups or {})
     scene = dict(scene or {})
@@ -142,15 +140,15 @@ def _scene_resources(context, scene: dict[str, object], acceleration: str) -> di
 
 def node_binding(context, records: SceneRecords) -> np.ndarray | wgpu.GPUTextureView:
     """The scene group's `nodes` as the traversal `records` were built for reads them: the BVH's
-    records as texels (traverse_bvh.wgsl), the flat list's boxes as an array for a storage buffer
-    (traverse_flat.wgsl)."""
+    records as texels, the flat list's boxes as an array for a storage buffer.
+    """
     if records.acceleration.kind == "bvh":
         return TrackedTexels(context, "nodes", records.nodes).resource
     return records.nodes
 
 
 def read_binding(context, resource, dtype: np.dtype, count: int) -> np.ndarray:
-    """The first `count` records of a bound buffer or texel texture (gpu/texels.py)."""
+    """The first `count` records of a bound buffer or texel texture (`TrackedTexels`)."""
     if isinstance(resource, wgpu.GPUBuffer):
         return read_buffer(context, resource, dtype, count)
     texels = read_texture(context, resource.texture, np.uint32, 4)

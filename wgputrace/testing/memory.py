@@ -1,5 +1,5 @@
 """The host memory a call allocates at its peak, as tracemalloc sees it (what Python and numpy
-hold, not wgpu's staging copies), for tests of render/limits.py's memory model."""
+hold, not wgpu's staging copies), for tests of the limits' memory model (`host_steps`)."""
 
 from __future__ import annotations
 

@@ -30,7 +30,7 @@ T_ROUNDINGS = 32
 # rounding unless |cos| < T_ROUNDINGS * UNIT_ROUNDOFF / AMBIGUOUS_T_SLACK ~ 2e-3.
 AMBIGUOUS_T_SLACK = 1e-3
 
-# Largest finite float32: what the shaders return as "no hit" (FLOAT_MAX in common/constants.wgsl).
+# Largest finite float32: what the shaders return as "no hit" (the WGSL FLOAT_MAX).
 FLOAT_MAX = float(np.finfo(np.float32).max)
 
 # Rays per chunk of the brute-force oracle: its (rays, triangles, 3) float64 temporaries stay
@@ -181,16 +181,11 @@ def bvh_closest_hit(
     bvh: BVH, vertices_reordered: np.ndarray, origins: np.ndarray, directions: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """(t, triangle) per ray through `bvh`'s boxes, as the GPU traverses them; t is inf and
-    triangle NO_TRIANGLE on a miss.
-
-    `vertices_reordered` is the (N, 3, 3) triangle array already permuted by triangle_order;
-    triangle points into it. Equal distances resolve to the smaller index, as brute force does,
-    so the two agree exactly.
-
-    The GPU's tests (box, descend into both children or intersect the leaf, prune boxes entered
-    beyond the closest hit so far) are applied to all rays at once, one tree level at a time,
-    instead of with a stack per ray: per-ray Python loops cost milliseconds a ray. The closest
-    hit does not depend on the visiting order, so the answer is the same.
+    triangle NO_TRIANGLE on a miss. `vertices_reordered` is the (N, 3, 3) triangle array already
+    permuted by triangle_order; triangle points into it; equal distances resolve to the smaller
+    index, as brute force does. The GPU's tests (box, descend or intersect, prune boxes entered
+    beyond the closest hit) run on all rays at once, a tree level at a time, rather than a stack per
+    ray (a per-ray Python loop costs milliseconds): the closest hit does not depend on the order.
     """
     triangles = np.asarray(vertices_reordered, dtype=np.float64)
     origins = np.asarray(origins, dtype=np.float64).reshape(-1, 3)

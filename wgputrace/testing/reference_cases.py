@@ -1,14 +1,12 @@
 """Every comparison of our renderer with a Mitsuba 3 reference: what Mitsuba renders for each
-tests/references/<name>.npz (REFERENCES, read by scripts/make_references.py) and how we render
-each case compared with one (CASES, read by the reference tests).
+reference image (REFERENCES, read by `python scripts/make_references.py`) and how we render each
+case compared with one (CASES, read by the reference tests).
 
-A case renders `batches` independent images of `spp` samples at size x size and tests, per block
-of pixels and channel, whether their expectation is the reference's (averaged down to that size,
-which a box filter makes exact): Welch's t-test (`assert_matches_reference`). Cases form families
-(one per kind of question, below); each family may report a difference by chance with probability
-FAMILY_SIGNIFICANCE at most, Sidak-split over every block test its comparisons make
-(`family_block_tests`; `wgputrace.testing.references.block_test_significance`). Nothing here needs
-scipy or Mitsuba, so that scripts/make_references.py runs with the `reference` extra alone.
+A case renders `batches` images of `spp` samples at size x size and tests, per block of pixels and
+channel, whether their expectation is the reference's (Welch's t-test, `assert_matches_reference`).
+Each family of cases may report a difference by chance with probability FAMILY_SIGNIFICANCE at
+most, Sidak-split over its block tests (`family_block_tests`). Nothing here needs scipy or
+Mitsuba, so that the reference script runs with the `reference` extra alone.
 """
 
 from __future__ import annotations
@@ -150,8 +148,8 @@ PATH_TRACER_CASES = (
 # texels) too rarely for a t-test at an affordable count, so it is tested on the constant sky,
 # where every escaped ray counts. `env_one_texel` is the environment map's direction convention
 # seen by Mitsuba: a map black but for one texel lights one side of a sphere, and Mitsuba must
-# light the same side as brightly (tests/render/test_light_closed_form.py pins the same map
-# against a closed form).
+# light the same side as brightly (`test_one_bright_texel_lights_the_side_facing_its_documented_direction`
+# pins the same map against a closed form).
 _lights = partial(ReferenceCase, family="lights", size=64, batches=8, seed=20261123)
 LIGHT_CASES = (
     _lights("env_sun_spheres", spp=32),
@@ -163,8 +161,8 @@ LIGHT_CASES = (
 )
 
 # --- Issue 14's materials and assets ---------------------------------------------------------
-# The pointwise tests pin each piece (tests/shaders/test_principled.py the BSDF,
-# tests/render/test_textures.py the lookup, tests/render/test_alpha_emission.py the cut-outs);
+# The pointwise tests pin each piece (the shaders' `test_principled` the BSDF, the renderer's
+# `test_textures` the lookup, `test_alpha_emission` the cut-outs);
 # these pin them inside the path tracer and against an independent renderer:
 # - principled_spheres (metallic 0 to 1, roughness 0.1 to 1, in the emitting room): the two-sided
 #   wrapper, light sampling and MIS weights that use its pdf;
@@ -200,10 +198,8 @@ MATERIAL_CASES = (
 # off), and shades a point seen from between the shading and geometric horizons (at silhouettes)
 # with the shading normal as well (dark: the viewer is below it), where we take the geometric one.
 # Ours is compared with our term and that rule off (MITSUBA_SHADING_NORMALS). With either on, ours
-# differs where it should: with the term on the smooth sphere is darker near its terminator (3.7%)
-# and the plane's bumps far darker on their lit sides (mean 0.126 against 0.165); with the
-# silhouette's geometric normal 12 of 192 blocks along the smooth sphere's outline are brighter
-# (measured, the term off). tests/render/test_shading_normal_terms.py tests what the terms do.
+# differs where it should (the smooth sphere darker near its terminator, the bumps darker on their
+# lit sides, the sphere's outline brighter); `test_shading_normal_terms` tests what the terms do.
 MITSUBA_TERMS = tuple(MITSUBA_SHADING_NORMALS.items())
 _shading_normals = partial(
     ReferenceCase, family="shading_normals", size=64, batches=16, spp=32, shader_overrides=MITSUBA_TERMS
@@ -225,11 +221,10 @@ SHADING_NORMAL_CASES = (
 # path tracers. What bdpt shares with the path tracer (traversal, the BSDFs' values, texture
 # lookups, cut-outs and stochastic transparency in every traversal, the scenes' geometry) the path
 # tracer's own cases cover.
-# Kept out for CI time, each bdpt variant compiling for seconds on lavapipe (all passed at 64x64 and
-# at these settings, 2026-12-02): principled_spheres, textured_quads, alpha_cutout, alpha_blend,
-# smooth_sphere, glass_grazing, glossy_spheres, slivers, axis_boxes, constant_env, env_one_texel;
-# tests/render/test_bdpt_weights.py weighs paths on some of them, tests/render/test_bdpt.py checks
-# others for non-finite samples.
+# Kept out for CI time, each bdpt variant compiling for seconds on lavapipe: principled_spheres,
+# textured_quads, alpha_cutout, alpha_blend, smooth_sphere, glass_grazing, glossy_spheres, slivers,
+# axis_boxes, constant_env, env_one_texel; `test_bdpt_weights` weighs paths on some of them,
+# `test_bdpt` checks others for non-finite samples.
 # 32x32 and 8 batches: weaker statistics than the path tracer's at 64x64, the price of CI time.
 _bdpt = partial(ReferenceCase, family="bdpt", size=32, batches=8, spp=16, integrator="bdpt")
 BDPT_CASES = (

@@ -1,6 +1,7 @@
-"""Mitsuba 3 references (tests/references/<scene>.npz in the checkout, made by
-scripts/make_references.py), batched renders of ours (of a `ReferenceCase` too), the per-block
-comparison of two estimates, and images of a failed comparison for a person to look at."""
+"""Mitsuba 3 references (tests/references/<scene>.npz in the checkout, made by `python
+scripts/make_references.py`), batched renders of ours (of a `ReferenceCase` too), the per-block
+comparison of two estimates, and images of a failed comparison for a person to look at.
+"""
 
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
-"""The shipped closest_hit (geometry/traverse_bvh.wgsl or geometry/traverse_flat.wgsl) run on numpy rays through the
-WGSL harness: what the traversal tests and the traversal benchmark check against the oracles."""
+"""The shipped `closest_hit` (of the BVH's traversal or the flat list's) run on numpy rays through
+the WGSL harness: what the traversal tests and the traversal benchmark check against the oracles.
+"""
 
 from __future__ import annotations
 
