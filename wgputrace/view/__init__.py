@@ -1,3 +1,3 @@
 """The viewer's GPU side, above render and below app: progressive bands of rows within a frame
-budget (banded.py), the guides, filter and resolve passes (display.py), presenting to a window
-(present.py), and their structs and bind groups (layout.py)."""
+budget (`BandedRenderer`), the guides, filter and resolve passes (`Display`), presenting to a
+window (`Presenter`), and their structs and bind groups (view.layout)."""

@@ -1,15 +1,11 @@
 """Progressive rendering within a time budget: samples added a band of rows at a time, at the
 full image size or a reduced one, into a Renderer's own buffers (the viewer's renderer).
 
-A pass over the whole image adds one sample per pixel. When a pass takes longer than the budget
-(seconds at 1280x720 on a CPU adapter), each call renders the band of rows that fits and the
-next call goes on below it; when it takes less, a call renders as many whole passes as fit.
-A reduced size traces only the top-left width x height pixels of the buffers, through a camera
-with the same field of view: the viewer's preview while the camera moves.
-
-The whole passes are counted in the renderer's own stats, so that at the full size and between
-passes the renderer's image() and guides() are the means of the samples added here (the
-viewer's denoiser reads them).
+A pass over the whole image adds one sample per pixel. When a pass takes longer than the budget,
+each call renders the band of rows that fits and the next goes on below it; otherwise a call
+renders as many whole passes as fit. A reduced size traces only the top-left width x height
+pixels through a camera with the same field of view (the preview while the camera moves). Whole
+passes count in the renderer's stats, so its image() and guides() are the means of these samples.
 """
 
 from __future__ import annotations

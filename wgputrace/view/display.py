@@ -1,14 +1,11 @@
 """What a frame shows, as linear colour on the GPU: the accumulated mean (optionally through the
 pre-convergence filter) or a debug view (normal, albedo, depth, BVH steps), never read back.
 
-The guides (first hit through each pixel's centre, with the scene's textures, cut-outs and shading
-normals as the renderer's path tracer has them) are traced once per camera; the filter is an
-edge-avoiding a-trous wavelet (Dammertz et al. 2010) on radiance divided by albedo, its edges
-stopped by the guides, blended with the plain mean by a weight that falls to zero at
-FILTER_FADE_SPP samples per pixel: from there on the picture is the unfiltered mean, bit for bit.
-The filter is the expensive part (FILTER_PASSES x 25 taps per pixel), so it runs again only once
-the samples have grown by FILTER_REFRESH_GROWTH; the frames between blend the fresh mean with the
-last filtered image.
+The guides (first hit through each pixel's centre, shaded as the path tracer shades it) are traced
+once per camera. The filter is an edge-avoiding a-trous wavelet (Dammertz et al. 2010) on radiance
+over albedo, its edges stopped by the guides, blended with the mean by a weight that reaches zero
+at FILTER_FADE_SPP (from there on the picture is the mean, bit for bit); it is the expensive
+part, so it runs again only once the samples have grown by FILTER_REFRESH_GROWTH.
 """
 
 from __future__ import annotations
@@ -41,7 +38,7 @@ from .layout import (
 
 # a-trous passes: taps 1, 2, 4, 8, 16 pixels apart, a footprint of 2 * 2 * (1 + 2 + 4 + 8 + 16) + 1 = 125 pixels.
 FILTER_PASSES = 5
-# Edge stops (bench/filter_psnr.py measures the filter with these): normals must agree to
+# Edge stops (`python -m bench.filter_psnr` measures the filter with these): normals must agree to
 # cos^NORMAL_POWER, depths within DEPTH_SIGMA of the distance per tap spacing, albedos within
 # ALBEDO_SIGMA (linear RGB distance).
 FILTER_NORMAL_POWER = 64.0
@@ -69,7 +66,7 @@ class ViewSettings:
     view: View = View.RADIANCE
     filter_enabled: bool = False
     depth_scale: float = 1.0  # distance shown black in the depth view: the scene's diagonal
-    fade: bool = True  # False: the filter at full weight at any sample count (bench/filter_psnr.py)
+    fade: bool = True  # False: the filter at full weight at any sample count (`python -m bench.filter_psnr`)
 
 
 class Display:
@@ -239,7 +236,7 @@ def guides_kernel(context: GpuContext, features: SceneFeatures) -> ComputeKernel
 
 
 def decode_guides(texels: np.ndarray) -> dict[str, np.ndarray]:
-    """view/guide_packing.wgsl's unpack_guide in numpy, for (..., 4) uint32 texels."""
+    """The WGSL `unpack_guide` in numpy, for (..., 4) uint32 texels."""
     snorm = np.maximum((texels[..., 0:1] >> np.array([0, 16], np.uint32) & 0xFFFF).astype(np.int16) / 32767.0, -1.0)
     n = np.concatenate([snorm, 1.0 - np.abs(snorm).sum(axis=-1, keepdims=True)], axis=-1)
     folded = (1.0 - np.abs(n[..., 1::-1])) * np.where(n[..., :2] >= 0, 1.0, -1.0)

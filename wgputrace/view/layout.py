@@ -1,6 +1,6 @@
 """Host/GPU structs, constants and bind groups of the viewer's kernels (guides, resolve, filter,
-present, box lines), defined once like gpu.layout's and gpu.bindings': each struct becomes a numpy
-dtype and the WGSL in generated/view_structs.wgsl, each group its WGSL declarations and layout."""
+present, box lines), defined once like the renderer's (`GpuStruct`, `BindGroup`): each struct becomes
+a numpy dtype and the WGSL of GENERATED_VIEW_STRUCTS, each group its WGSL declarations and layout."""
 
 from __future__ import annotations
 
@@ -23,18 +23,18 @@ GENERATED_VIEW_STRUCTS = "generated/view_structs.wgsl"
 # The filter divides radiance by the first hit's albedo and multiplies it back; albedo channels
 # below this (black materials, nothing hit) divide by it instead of by ~0.
 FILTER_ALBEDO_MIN = 1e-3
-# Guides store the normal in two 16-bit snorms (view/guide_packing.wgsl): decoded normals are off by
+# Guides store the normal in two 16-bit snorms (`pack_guide`): decoded normals are off by
 # at most this much per component (measured bound of the octahedral code at 16 bits, with margin).
 GUIDE_NORMAL_ERROR = 1e-4
 # ... and the albedo in 8-bit unorms: off by at most half a step.
 GUIDE_ALBEDO_ERROR = 0.5 / 255
-# Texel formats of the viewer's per-pixel images: linear colour, and the packed guides (view/guide_packing.wgsl).
+# Texel formats of the viewer's per-pixel images: linear colour, and the packed guides (`pack_guide`).
 IMAGE_FORMAT = "rgba32float"
 GUIDE_FORMAT = "rgba32uint"
 
 
 class ResolveMode(IntEnum):
-    """What view/resolve.wgsl writes for the radiance view; the ids are its RESOLVE_* constants."""
+    """What the resolve kernel writes for the radiance view; the ids are its RESOLVE_* constants."""
 
     MEAN = 0  # the mean of the samples
     DEMODULATED = 1  # the mean over albedo: the filter's input
@@ -42,7 +42,7 @@ class ResolveMode(IntEnum):
 
 
 class View(IntEnum):
-    """What the viewer shows; the ids are the VIEW_* constants of view/resolve.wgsl."""
+    """What the viewer shows; the ids are the resolve kernel's VIEW_* constants."""
 
     RADIANCE = 0
     NORMAL = 1
@@ -67,7 +67,7 @@ RESOLVE_PARAMS = GpuStruct(
         ("filter_weight", "f32"),
         ("first_row", "u32"),
     ),
-    "What view/resolve.wgsl shows (from row first_row on): pixels of rows < rows_done have samples_per_pixel + 1 samples; "
+    "What the resolve kernel shows (from row first_row on): pixels of rows < rows_done have samples_per_pixel + 1 samples; "
     "pixels without samples show the fallback image (width 0: none); mode is a RESOLVE_* id.",
 )
 ATROUS_PARAMS = GpuStruct(
@@ -110,7 +110,7 @@ BOX_LINES_PARAMS = GpuStruct(
 
 VIEW_STRUCTS = (RESOLVE_PARAMS, ATROUS_PARAMS, PRESENT_PARAMS, BOX_LINES_PARAMS)
 
-# view/first_hit_guides.wgsl writes them beside the scene group (group 0, gpu/bindings.py).
+# The guides kernel (`guides_kernel`) writes them beside the scene group (group 0).
 GUIDES_GROUP = BindGroup("guides", 1, (Binding("guides", STORAGE_TEXTURE, GUIDE_FORMAT),))
 RESOLVE_GROUP = BindGroup(
     "resolve",
