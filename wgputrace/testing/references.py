@@ -65,7 +65,7 @@ def render_batches(
     """`batches` images of `spp` samples each, from one renderer (`renderer_options`: integrator,
     sampler, shader_overrides, ...) reset between them, so the batches are independent."""
     with warnings.catch_warnings():
-        # the slivers scene drops its zero-area triangles on purpose (tests/scene checks the warning)
+        # the slivers scene drops its zero-area triangles on purpose (the scene tests check the warning)
         warnings.simplefilter("ignore", DegenerateTrianglesWarning)
         renderer = Renderer(scene_by_name(scene_name), size, size, seed=seed, max_depth=max_depth, **renderer_options)
     images, nonfinite = [], 0
