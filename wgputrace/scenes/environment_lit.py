@@ -1,16 +1,5 @@
 """Scenes lit by the environment alone: a generated sky with a small, very bright sun, a constant
-sky, and a map black but for one texel (the direction convention's pin).
-
-- `env_sun_spheres`: a diffuse and a glossy sphere on a plane under `sunny_sky()`. The sun patch
-  carries most of the light from a few texels: sharp shadows and a bright highlight that only
-  importance sampling of the map finds often; the sky gives the soft shadows under the spheres.
-  Camera rays see the sky above the horizon, so the map's lookup is tested directly too.
-- `constant_env`: a box, a diffuse and a glossy sphere on a plane under a constant, bluish sky:
-  ambient occlusion only, no direction to get wrong, all of it from the escaped rays' MIS weights.
-- `env_one_texel`: a diffuse sphere under `one_texel_map()`, turned by ONE_TEXEL_ROTATION_DEGREES:
-  only the side facing the texel's documented direction (Environment.direction) is lit, so a
-  mirrored or shifted convention lights another side.
-"""
+sky, and a map black but for one texel (the direction convention's pin)."""
 
 from __future__ import annotations
 
@@ -87,6 +76,9 @@ def _spheres_on_a_plane(ground_color) -> list:
 
 
 def env_sun_spheres() -> Scene:
+    """A diffuse and a glossy sphere on a plane under `sunny_sky()`: the sun's few texels carry
+    most of the light (sharp shadows, a highlight only importance sampling of the map finds often),
+    the sky gives soft shadows, and camera rays see the sky, testing the map's lookup directly."""
     camera = Camera.looking_at((0.0, 1.6, -3.6), (0.0, 0.45, 0.0), vfov_degrees=45.0)
     scene = Scene(_spheres_on_a_plane((0.5, 0.5, 0.5)), camera)
     scene.environment = Environment(texels=sunny_sky(), source="sunny_sky")
@@ -94,6 +86,8 @@ def env_sun_spheres() -> Scene:
 
 
 def constant_env() -> Scene:
+    """A box, a diffuse and a glossy sphere on a plane under a constant, bluish sky: ambient
+    occlusion only, no direction to get wrong, all of it from the escaped rays' MIS weights."""
     white = Diffuse("white", color=(0.8, 0.8, 0.8))
     shapes = [*_spheres_on_a_plane((0.6, 0.55, 0.5)), make_box((0.1, 0.3, 1.1), (0, 0.5, 0), (0.6, 0.6, 0.6), white)]
     camera = Camera.looking_at((0.0, 1.8, -3.4), (0.0, 0.4, 0.4), vfov_degrees=45.0)
@@ -103,6 +97,9 @@ def constant_env() -> Scene:
 
 
 def env_one_texel() -> Scene:
+    """A diffuse sphere under `one_texel_map()`, turned by ONE_TEXEL_ROTATION_DEGREES: only the
+    side facing the texel's documented direction (`Environment.direction`) is lit, so a mirrored or
+    shifted convention lights another side."""
     ball = make_icosphere((0.0, 0.0, 0.0), (0, 0, 0), 1.0, 3, Diffuse("ball", color=(0.8, 0.8, 0.8)), "ball")
     # from below and off every axis: the lit cap (above, towards the camera's right) and the dark
     # underside are both in view
