@@ -5,7 +5,7 @@ and the triangles live in texels only (`python -m bench.kernel_profile --variant
 storage_triangles` measures the triangles' part). A record of S bytes is S / 16 consecutive texels
 of its storage-buffer layout; texel t lies at column t % width, row t // width, width a power of
 two, so `texel_at` finds it with a mask and a shift. Each struct's WGSL loader is generated from its
-layout (`texel_loaders`). `TrackedTexels` follows a numpy array of records as TrackedBuffer does.
+layout (`texel_loaders`); `TrackedTexels` is the `TrackedRecords` of such a texture.
 """
 
 from __future__ import annotations
