@@ -2,7 +2,7 @@
 pixel, a drift-free accumulation buffer, and the mean image read back on request.
 
 Edits to the scene reach the GPU at the next `render` (or `update`): only the records that changed
-are uploaded (SceneMirror finds them, TrackedBuffer merges them into write_buffer calls), and
+are uploaded (SceneMirror finds them, GpuRecords writes their runs), and
 accumulation restarts only when some uploaded byte changed. A restart also puts every pixel's
 random sequence back at the seed, on the GPU, so the picture after an edit is the picture a fresh
 Renderer of the edited scene makes with the same seed."""
@@ -126,7 +126,6 @@ class Renderer:
         fit_environment(self.context, scene)
         check_scene_size(self.context, scene, accel)
         self._mirror = SceneMirror(scene, accel, atlas_side(self.context))
-        self.accel = accel
         loop_limit = self.context.loop_iteration_limit
         # The flat list tests every triangle for each of a path's rays (a camera or extension ray
         # and a shadow ray per vertex), and the driver's loop budget covers the whole path.
@@ -166,6 +165,10 @@ class Renderer:
     @property
     def integrator(self) -> Integrator:
         return self.variant.integrator
+
+    @property
+    def accel(self) -> str:
+        return self.variant.scene.acceleration
 
     @property
     def sampler(self) -> str:
