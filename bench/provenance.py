@@ -98,16 +98,16 @@ def typed_program(program: str) -> list[str]:
     if not path.is_file():  # "-c", or the interactive interpreter's ""
         return [program]
     path = path.resolve()
-    if path.is_relative_to(REPO_ROOT):
-        relative = path.relative_to(REPO_ROOT)
-        packages = list(relative.parents)[:-1]
-        if packages and all((REPO_ROOT / package / "__init__.py").is_file() for package in packages):
-            parts = relative.with_suffix("").parts
-            return ["-m", ".".join(parts[:-1] if parts[-1] == "__main__" else parts)]
-        return [relative.as_posix()]
+    inside = path.is_relative_to(REPO_ROOT)
+    relative = path.relative_to(REPO_ROOT) if inside else path
+    packages = list(relative.parents)[:-1]
+    if inside and packages and all((REPO_ROOT / package / "__init__.py").is_file() for package in packages):
+        parts = relative.with_suffix("").parts
+        return ["-m", ".".join(parts[:-1] if parts[-1] == "__main__" else parts)]
+    # another package's, wherever it is installed (a virtual environment inside the checkout too)
     if path.name == "__main__.py":
         return ["-m", path.parent.name]
-    return [path.name]
+    return [relative.as_posix() if inside else path.name]
 
 
 def recorded_path(path: Path) -> str:

@@ -19,6 +19,15 @@ SIZE, SEED = 24, 7
 ENDLESS_SPP = 1_000_000
 
 
+@pytest.fixture(autouse=True)
+def python_sigint_handler():
+    """Python's own SIGINT handler, as an interactive run has it: a run started in the background
+    by a shell without job control inherits SIGINT ignored, which these tests must not depend on."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def test_first_signal_is_recorded_and_the_second_aborts():
     with deferred_signals(signal.SIGINT) as deferral:
         signal.raise_signal(signal.SIGINT)
