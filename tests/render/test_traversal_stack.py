@@ -30,7 +30,7 @@ def test_the_stack_follows_the_tree_through_an_edit(gpu_context):
     scene = default_scene()
     renderer = Renderer(scene, SIZE, SIZE)
     assert renderer.records.wide.max_stack <= STACK_SIZE_STEP
-    assert renderer.traversal_stack_size == STACK_SIZE_STEP
+    assert renderer.variant.scene.stack_size == STACK_SIZE_STEP
     first_kernel = renderer.kernel
     # tiny triangles peeled off a few per level: a tree whose 4-wide traversal needs 102 entries,
     # more than a stack sized for the builder's depth limit alone (96) would hold
@@ -38,6 +38,6 @@ def test_the_stack_follows_the_tree_through_an_edit(gpu_context):
     renderer.render(1)
     needed = renderer.records.wide.max_stack
     assert needed > STACK_SIZE_STEP
-    assert renderer.traversal_stack_size == traversal_stack_size(needed)
+    assert renderer.variant.scene.stack_size == traversal_stack_size(needed)
     assert renderer.kernel is not first_kernel
     assert renderer.dropped_samples == 0

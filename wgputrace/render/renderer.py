@@ -316,11 +316,6 @@ class Renderer:
         return pixel_rng_states(self.seed, pixels)
 
     @property
-    def traversal_stack_size(self) -> int:
-        """Entries of the BVH traversal stack compiled into this renderer's kernel."""
-        return self.variant.scene.stack_size
-
-    @property
     def samples_per_pixel(self) -> int:
         return self.stats.samples_per_pixel
 
