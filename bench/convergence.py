@@ -31,7 +31,7 @@ import numpy as np
 from bench.charts import figure, save_figure
 from bench.command_line import add_max_spp, argument_parser, log, parse
 from bench.error_curves import FIT_MIN_SPP, checkpoints, curves, error_at, errors, fit_power_law, seconds_to_reach
-from bench.mitsuba import MitsubaSide, mitsuba_missing, threads
+from bench.mitsuba import MitsubaSide, add_mitsuba_variant, mitsuba_missing, threads
 from bench.provenance import Run
 from bench.result_files import write_csv, write_result
 from bench.validation import CHANNELS, agreement, image_failures, sidak_critical_z
@@ -301,13 +301,13 @@ def measure_mitsuba(
     return rows, {"validation": checked, "timed_kernels": side.compiled_nothing("timed renders")}
 
 
-def load_mitsuba_pair():
-    """(mitsuba, drjit) with the LLVM variant set."""
+def load_mitsuba_pair(variant: str):
+    """(mitsuba, drjit) with `variant` set."""
     import drjit
 
-    from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, load_mitsuba
+    from wgputrace.reference.mitsuba_scene import load_mitsuba
 
-    return load_mitsuba(LLVM_VARIANT), drjit
+    return load_mitsuba(variant), drjit
 
 
 def fitted_rmse(curve: dict, seconds: float) -> float:
@@ -443,7 +443,12 @@ def plot(path: Path, result: dict) -> None:
     bars.legend(fontsize=6)
     for axes in panels[len(scenes) + 1 :]:
         axes.set_visible(False)
-    title = f"RMSE against time, ours and Mitsuba {result['mitsuba_version'] or '(not run)'}, {result['runs']} run(s) per curve"
+    mitsuba = (
+        f"{result['mitsuba_version']} {result.get('mitsuba_variant') or ''}"
+        if result["mitsuba_version"]
+        else "(not run)"
+    )
+    title = f"RMSE against time, ours and Mitsuba {mitsuba}, {result['runs']} run(s) per curve"
     save_figure(chart, path, result, title, fontsize=10)
 
 
@@ -464,6 +469,7 @@ def main(argv: list[str] | None = None) -> int:
         help=f"default: {' '.join(MITSUBA_SAMPLERS)}; none: no Mitsuba",
     )
     add_max_spp(parser, 256)
+    add_mitsuba_variant(parser)
     parser.add_argument(
         "--runs", type=int, default=1, help="renders per scene and strategy, errors averaged (default 1)"
     )
@@ -472,7 +478,11 @@ def main(argv: list[str] | None = None) -> int:
     chosen = strategies(args)
     z_critical = sidak_critical_z(VALIDATION_SIGNIFICANCE, len(args.scenes) * len(chosen) * len(CHANNELS))
     # (mitsuba, drjit), or why Mitsuba cannot run here
-    mitsuba = (mitsuba_missing() or load_mitsuba_pair()) if args.mitsuba_samplers else "no --mitsuba-samplers"
+    mitsuba = (
+        (mitsuba_missing(args.mitsuba_variant) or load_mitsuba_pair(args.mitsuba_variant))
+        if args.mitsuba_samplers
+        else "no --mitsuba-samplers"
+    )
     rows, scenes, skipped, failed = [], {}, {}, {}
     for name in args.scenes:
         setup = scene_setup(name, args.max_spp)
@@ -517,6 +527,7 @@ def main(argv: list[str] | None = None) -> int:
         "runs": args.runs,
         "seed": args.seed,
         "mitsuba_version": None if isinstance(mitsuba, str) else mitsuba[0].__version__,
+        "mitsuba_variant": None if isinstance(mitsuba, str) else args.mitsuba_variant,
         "threads": None if isinstance(mitsuba, str) else threads(mitsuba[1]),
         "default_strategy": BASELINE.label,
         "targets": TARGETS,

@@ -15,16 +15,25 @@ from types import ModuleType
 import numpy as np
 
 
-def mitsuba_missing() -> str | None:
-    """Why Mitsuba's `llvm_ad_rgb` cannot run here, or None."""
+def mitsuba_missing(variant: str = "llvm_ad_rgb") -> str | None:
+    """Why Mitsuba's `variant` cannot run here, or None (a CUDA variant is known only once it runs)."""
     from wgputrace.reference.mitsuba_scene import libllvm_path
 
     # found, not imported: importing starts drjit, which then no longer reads DRJIT_CACHE_DIR
     if importlib.util.find_spec("mitsuba") is None:
         return "mitsuba is not installed: pip install -e '.[reference]'"
-    if libllvm_path() is None:
-        return "Mitsuba's llvm_ad_rgb needs LLVM >= 16: install Debian's libllvm19 or set DRJIT_LIBLLVM_PATH"
+    if variant.startswith("llvm") and libllvm_path() is None:
+        return f"Mitsuba's {variant} needs LLVM >= 16: install Debian's libllvm19 or set DRJIT_LIBLLVM_PATH"
     return None
+
+
+def add_mitsuba_variant(parser) -> None:
+    """--mitsuba-variant: llvm_ad_rgb on a CPU, cuda_ad_rgb beside ours on an NVIDIA GPU."""
+    parser.add_argument(
+        "--mitsuba-variant",
+        default="llvm_ad_rgb",
+        help="Mitsuba 3's variant (default llvm_ad_rgb; cuda_ad_rgb on an NVIDIA GPU)",
+    )
 
 
 def threads(drjit: ModuleType) -> dict:

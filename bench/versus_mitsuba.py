@@ -28,13 +28,13 @@ import numpy as np
 from bench.charts import figure, save_figure
 from bench.command_line import add_max_spp, argument_parser, log, parse
 from bench.error_curves import FIT_MIN_SPP, checkpoints, curves, error_at, errors, fit_power_law, seconds_to_reach
-from bench.mitsuba import MITSUBA_SEED_START, MitsubaSide, mitsuba_missing, threads
+from bench.mitsuba import MITSUBA_SEED_START, MitsubaSide, add_mitsuba_variant, mitsuba_missing, threads
 from bench.provenance import Run
 from bench.result_files import record_skip, result_stem, write_result
 from bench.timing import Timed, fresh_image
 from bench.validation import CHANNELS, image_failures
 from wgputrace import Renderer, load_scene
-from wgputrace.reference.mitsuba_scene import LLVM_VARIANT, libllvm_path, load_mitsuba
+from wgputrace.reference.mitsuba_scene import libllvm_path, load_mitsuba
 from wgputrace.testing.image_statistics import Estimate, compare_blocks
 from wgputrace.testing.references import STORAGE_RTOL, Reference, load_reference
 from wgputrace.testing.stats import sidak
@@ -306,6 +306,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argument_parser(__doc__, spp=4, repeats=3, seed=1)
     add_max_spp(parser, 256)
     parser.add_argument("--runs", type=int, default=1, help="convergence runs per renderer (default 1)")
+    add_mitsuba_variant(parser)
     args = parse(parser, argv, "runs")
     reference = load_reference(SCENE)
     if (reference.metadata["width"], reference.metadata["height"]) != (CONVERGENCE_SIZE, CONVERGENCE_SIZE):
@@ -320,7 +321,7 @@ def main(argv: list[str] | None = None) -> int:
         "spp": args.spp,
         "max_depth": args.max_depth,
     }
-    reason = mitsuba_missing()
+    reason = mitsuba_missing(args.mitsuba_variant)
     if reason:
         return record_skip(NAME, settings, reason, args.out)
     run = Run()
@@ -329,7 +330,7 @@ def main(argv: list[str] | None = None) -> int:
     empty_caches = empty_compile_caches(Path(caches.name))
     import drjit
 
-    mitsuba = MitsubaSide(load_mitsuba(LLVM_VARIANT), drjit, SCENE)
+    mitsuba = MitsubaSide(load_mitsuba(args.mitsuba_variant), drjit, SCENE)
     drjit.set_flag(drjit.JitFlag.KernelHistory, True)
     # Sidak over both parts, both renderers, every block size and channel
     tests = 2 * 2 * len(CHANNELS) * sum((CONVERGENCE_SIZE // block) ** 2 for block in VALIDATION_BLOCKS)
@@ -349,7 +350,7 @@ def main(argv: list[str] | None = None) -> int:
         "integrators": {OURS: "mis", MITSUBA: "path"},
         "mitsuba": mitsuba.mi.__version__,
         "drjit": drjit.__version__,
-        "variant": LLVM_VARIANT,
+        "variant": args.mitsuba_variant,
         "libllvm": libllvm_path(),
         "reference": reference.metadata,
         "mitsuba_seed_start": MITSUBA_SEED_START,

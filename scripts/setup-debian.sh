@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Set up wgputrace on a fresh Debian/Ubuntu machine: system packages, then a virtual environment
+# Set up wgputrace on a fresh Debian/Ubuntu machine: system packages (Mesa 25 on Debian 12), then a virtual environment
 # in .venv with the package and its test, bench, denoise, hdr, draco and ray extras. Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,6 +18,21 @@ done
 if [ ${#missing[@]} -gt 0 ]; then
   as_root apt-get update -qq
   DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq "${missing[@]}"
+fi
+
+# Debian 12 ships Mesa 22.3; its bookworm-backports carry Mesa 25, whose lavapipe renders 1.4x to
+# 1.6x as fast with the same pictures (bench/README.md's log). Debian 13 and Ubuntu use their own.
+# WGPUTRACE_SYSTEM_MESA=1 keeps the system's Mesa (the renderer and its tests work on both).
+. /etc/os-release
+if [ "${ID:-}" = debian ] && [ "${VERSION_CODENAME:-}" = bookworm ] && [ -z "${WGPUTRACE_SYSTEM_MESA:-}" ] \
+  && ! dpkg-query -W -f='${Version}' mesa-vulkan-drivers | grep -q '~bpo12'; then
+  backports=/etc/apt/sources.list.d/wgputrace-bookworm-backports.sources
+  if ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
+    printf 'Types: deb\nURIs: http://deb.debian.org/debian\nSuites: bookworm-backports\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' \
+      | as_root tee "$backports" >/dev/null
+  fi
+  as_root apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers
 fi
 
 python3 -m venv .venv
