@@ -48,13 +48,16 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     var node = 0u; // record 0 holds the root's children
     loop {
         traversal_steps++;
+        count_lanes(LOOP_TRAVERSAL);
         if (node & WIDE_LEAF) != 0u {
+            count_lanes(LOOP_LEAF);
             let first = (node & ~WIDE_LEAF) >> WIDE_COUNT_BITS;
             let count = (node & WIDE_COUNT_MASK) + 1u;
             if intersect_leaf(ray, sheared, BvhNode(vec3<f32>(0.0), first, vec3<f32>(0.0), count), skip_triangle, any_hit, &hit) {
                 break;
             }
         } else {
+            count_lanes(LOOP_INTERIOR);
             let wide = load_WideBvhNode(nodes, node);
             var c0 = wide_child(ray, inverse_direction, wide, 0u, hit.t);
             var c1 = wide_child(ray, inverse_direction, wide, 1u, hit.t);

@@ -11,6 +11,9 @@ fn sampler_end(pixel: u32) {
     rng_states[pixel] = rng_state;
 }
 
+// sampler_end then sampler_begin: the stream simply goes on.
+fn sampler_next_sample() {}
+
 fn sample_1d() -> f32 {
     return rng_next_f32();
 }

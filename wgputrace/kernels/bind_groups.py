@@ -78,7 +78,11 @@ GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
 
 # The viewer's band of rows: the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
-# Rays counted by kind (`ray_count_hook`), only in the counting variants.
+# How many samples of its pixel each invocation takes in this dispatch, only in the kernels that
+# take more than one (`KernelVariant.samples_per_dispatch`). Index 2 as the band group's: the
+# viewer's bands take one sample per pixel, so no kernel binds both.
+DISPATCH_GROUP = BindGroup("dispatch", 2, (Binding("dispatch_samples", STORAGE_READ, "u32"),))
+# Rays and lanes counted (`ray_count_hook`), only in the counting variants.
 RAY_COUNT_GROUP = BindGroup("ray_count", 3, (Binding("ray_counts", ATOMIC_COUNTERS),))
 
 # The lights besides emissive triangles, each binding only where the scene needs it: the parameters
