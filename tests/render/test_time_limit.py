@@ -37,6 +37,7 @@ def test_submits_start_at_one_dispatch_and_grow_to_the_cap_or_one_dispatch():
     assert sizes == [8, 16, 32, 64, 64, 64]
     assert plan.next(left=5) == 5  # the render's last dispatch takes fewer
     assert SubmitPlan(100).next() == 100  # a dispatch is never cut below what it takes
+    assert SubmitPlan(8).next(remaining_seconds=3600.0) == 1  # a budget measures one sample first
 
 
 def test_a_budget_shrinks_the_submit_to_the_time_remaining():

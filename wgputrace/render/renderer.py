@@ -55,7 +55,7 @@ class SubmitPlan:
     _MAX_SAMPLES_PER_SUBMIT, or one dispatch if that takes more), never exceeds the samples left,
     and under a time budget never exceeds what the last measured time per sample fits in the time
     remaining, so the last submit ends near the deadline instead of up to _TARGET_SUBMIT_SECONDS
-    after it."""
+    (or a dispatch of `step` samples) after it."""
 
     def __init__(self, step: int = 1) -> None:
         self.samples = step
@@ -64,10 +64,12 @@ class SubmitPlan:
 
     def next(self, left: int | None = None, remaining_seconds: float | None = None) -> int:
         """Samples for the next submit (0: none fits); `left`: samples still wanted (None: no
-        cap), `remaining_seconds`: time left in the budget (None: no budget)."""
+        cap), `remaining_seconds`: time left in the budget (None: no budget; under one, the first
+        submit takes one sample, to measure)."""
         count = self.samples if left is None else min(self.samples, left)
-        if remaining_seconds is not None and self.seconds_per_sample is not None:
-            count = min(count, max(int(remaining_seconds / self.seconds_per_sample), 0))
+        if remaining_seconds is not None:
+            fits = 1 if self.seconds_per_sample is None else int(remaining_seconds / self.seconds_per_sample)
+            count = min(count, max(fits, 0))
         return count
 
     def measured(self, samples: int, seconds: float) -> None:
