@@ -25,12 +25,13 @@ from bench.provenance import environment, git_revision, load_average
 from bench.result_files import slug, write_json
 from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Renderer, default_scene, make_icosphere
-from wgputrace.gpu.bindings import IMAGE_WORKGROUP, STORAGE_READ, Binding
+from wgputrace.gpu.bindings import IMAGE_WORKGROUP, STORAGE_READ, TEXTURE_U32, Binding
 from wgputrace.gpu.buffers import read_buffer, storage_buffer, write_buffer
 from wgputrace.gpu.device import describe, gpu
 from wgputrace.gpu.kernel import Pass, Timestamps, submit
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL, TRIANGLE
 from wgputrace.gpu.shader_source import shader_root
+from wgputrace.gpu.texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
 from wgputrace.kernels.compile import compute_kernel
 from wgputrace.kernels.traversal import BVH_STACK_SIZE, GENERATED_TRAVERSAL_STACK, traversal_stack
 from wgputrace.render.rng_seed import pixel_rng_states
@@ -83,6 +84,22 @@ def nearest_first_child_order() -> str:
     )
 
 
+def sampled_texel_loaders() -> dict[str, str]:
+    """The shipped texel loaders reading sampled textures (textureLoad with a mip level) instead of
+    read-only storage textures: SAMPLED_TEXELS' bindings."""
+    storage, sampled = "texture_storage_2d<rgba32uint, read>", "texture_2d<u32>"
+    texel_at = rewritten(
+        "common/texels.wgsl", {storage: sampled, "countTrailingZeros(width)))": "countTrailingZeros(width)), 0)"}
+    )
+    return {
+        "common/texels.wgsl": texel_at,
+        GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS).replace(storage, sampled),
+    }
+
+
+SAMPLED_TEXELS = (Binding("triangles", TEXTURE_U32), Binding("nodes", TEXTURE_U32))
+
+
 def storage_triangles_bindings() -> str:
     """The shipped scene_bindings.wgsl reading triangles from a storage buffer (the scene group's
     `triangles` declared as one: STORAGE_TRIANGLES)."""
@@ -112,6 +129,7 @@ class Variant:
     max_depth: int = MAX_DEPTH
     integrator: str = "mis"
     storage_triangles: bool = False
+    sampled_texels: bool = False
     # samples of each pixel per dispatch (path regeneration; times are per sample)
     samples_per_dispatch: int = 1
     same_arithmetic: bool = True  # whether its image must equal the shipped kernel's bit for bit
@@ -150,6 +168,12 @@ VARIANTS = [
         storage_triangles=True,
         what="triangles in a storage buffer instead of texels",
     ),
+    Variant(
+        "sampled_texels",
+        sources=sampled_texel_loaders(),
+        sampled_texels=True,
+        what="nodes and triangles read as sampled textures (textureLoad with a level) instead of storage textures",
+    ),
     Variant("workgroup_16x16", workgroup=(16, 16), what="workgroup 16x16"),
     Variant("workgroup_64x1", workgroup=(64, 1), what="workgroup 64x1"),
     Variant("workgroup_4x4", workgroup=(4, 4), what="workgroup 4x4"),
@@ -167,6 +191,8 @@ class Run:
         self.samples = renderer.samples_per_dispatch
         scene, *groups = renderer.variant.groups()
         resources = renderer.resources
+        for binding in SAMPLED_TEXELS if variant.sampled_texels else ():
+            scene = scene.with_binding(binding)
         if variant.storage_triangles:
             scene = scene.with_binding(STORAGE_TRIANGLES)
             resources["triangles"] = storage_buffer(context, "triangles", renderer.records.triangles)

@@ -14,8 +14,8 @@ from ..gpu.bindings import (
     ATOMIC_COUNTERS,
     STORAGE_READ,
     STORAGE_READ_WRITE,
+    TEXELS,
     TEXTURE_F32,
-    TEXTURE_U32,
     UNIFORM,
     BindGroup,
     Binding,
@@ -45,13 +45,13 @@ SCENE_GROUP = BindGroup(
     0,
     (
         Binding("frame", UNIFORM, FRAME),
-        Binding("triangles", TEXTURE_U32),
-        Binding("nodes", TEXTURE_U32),
+        Binding("triangles", TEXELS),
+        Binding("nodes", TEXELS),
         Binding("materials", STORAGE_READ, MATERIAL),
         Binding("lights", STORAGE_READ, LIGHT),
     ),
 )
-_NODES = {"bvh": Binding("nodes", TEXTURE_U32), "flat": Binding("nodes", STORAGE_READ, BVH_NODE)}
+_NODES = {"bvh": Binding("nodes", TEXELS), "flat": Binding("nodes", STORAGE_READ, BVH_NODE)}
 ACCELERATIONS = tuple(_NODES)
 
 
