@@ -236,16 +236,23 @@ fn add_sample(sum: AccumulatedPixel, pixel: u32, radiance: vec3<f32>) -> Accumul
     return accumulate_sample(sum, radiance);
 }
 
-// `samples` samples of the pixel at column xy.x, row xy.y, in one loop over path vertices (path
-// regeneration, Novak et al. 2010): a path that ends starts the pixel's next sample in the same
-// pass, so that lanes run in lockstep do not wait for their group's longest path. Each sample
-// draws, adds and counts as it would alone in its dispatch, in the same order (the pixel's sum
-// stays in registers until the last). The viewer's band-of-rows entry point (main_rows) takes one.
+// `samples` samples of the pixel at column xy.x, row xy.y, after any it owes, in one loop over
+// path vertices (path regeneration, Novak et al. 2010): a path that ends starts the pixel's next
+// sample in the same pass, so that lanes run in lockstep do not wait for their group's longest
+// path. Each sample draws, adds and counts as it would alone in its dispatch, in the same order
+// (the pixel's sum stays in registers until the last). Under a loop budget a later sample that
+// finds it spent is left, with those after it, to the next dispatch (regeneration_hook). The
+// viewer's band-of-rows entry point (main_rows) takes one.
 fn render_pixel(xy: vec2<u32>, samples: u32) {
     if xy.x >= frame.width || xy.y >= frame.height {
         return;
     }
     let pixel = xy.y * frame.width + xy.x;
+    let owed = samples_owed(pixel);
+    let count = owed + samples;
+    if count == 0u {
+        return;
+    }
     sampler_begin(pixel);
     var sum = accumulation[pixel];
     var path = camera_path(xy);
@@ -255,17 +262,34 @@ fn render_pixel(xy: vec2<u32>, samples: u32) {
         if path_vertex(&path) {
             continue;
         }
+        if LOOP_BUDGET && done > 0u && loop_budget_spent(frame.width) {
+            break;
+        }
         sum = add_sample(sum, pixel, path.radiance);
         done++;
-        if done == samples {
+        if done == count {
             break;
         }
         sampler_next_sample();
         guides_begin();
         path = camera_path(xy);
     }
+    // Short of `count`, the budget ran out: the driver ends this loop too, under way or here.
+    // Under LOOP_BUDGET, a sample after the first and those after it are owed; otherwise the
+    // sample under way is cut short, and so is any after it.
+    let rewound = LOOP_BUDGET && done > 0u && done < count;
+    if done < count && !rewound {
+        let dropped = select(count - done, 1u, LOOP_BUDGET);
+        sum = drop_cut_short_samples(sum, dropped);
+        done += dropped;
+    }
     accumulation[pixel] = sum;
-    sampler_end(pixel);
+    owe_samples(pixel, owed, count - done);
+    if rewound {
+        sampler_end_rewound(pixel);
+    } else {
+        sampler_end(pixel);
+    }
 }
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)

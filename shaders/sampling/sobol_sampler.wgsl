@@ -30,6 +30,11 @@ fn sampler_end(pixel: u32) {
     rng_states[pixel].y = sobol_index + 1u;
 }
 
+// sampler_end as if the sample under way had not begun: the next sampler_begin starts it again.
+fn sampler_end_rewound(pixel: u32) {
+    rng_states[pixel].y = sobol_index;
+}
+
 // sampler_end then sampler_begin, without the round trip through rng_states.
 fn sampler_next_sample() {
     sobol_index++;

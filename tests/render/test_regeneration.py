@@ -73,13 +73,14 @@ def test_renders_continue_the_sequences_across_calls_and_restarts(gpu_context):
 def test_the_integrator_chooses_the_count_for_the_adapter(gpu_context, monkeypatch):
     adapter_type = gpu_context.adapter.info["adapter_type"]
     mis = wt.Renderer(BUILTIN_SCENES["cornell"](), *SIZE)
-    assert mis.samples_per_dispatch == mis.integrator.samples_per_dispatch(
-        adapter_type, gpu_context.loop_iteration_limit is not None
-    )
+    assert mis.samples_per_dispatch == mis.integrator.samples_per_dispatch(adapter_type)
     assert wt.Renderer(BUILTIN_SCENES["cornell"](), *SIZE, integrator="bdpt").samples_per_dispatch == 1
-    # a loop budget is spent by all of an invocation's samples together: one sample per dispatch
-    monkeypatch.setattr(GpuContext, "loop_iteration_limit", property(lambda self: 65_535))
-    assert wt.Renderer(BUILTIN_SCENES["cornell"](), *SIZE).samples_per_dispatch == 1
+    # under a loop budget too, the kernel then leaving samples that run out of it to the next dispatch
+    for limit in (None, 65_535):
+        monkeypatch.setattr(GpuContext, "loop_iteration_limit", property(lambda self, limit=limit: limit))
+        several = wt.Renderer(BUILTIN_SCENES["cornell"](), *SIZE, samples_per_dispatch=REGENERATING)
+        assert several.variant.loop_budget == (limit is not None)
+        assert not wt.Renderer(BUILTIN_SCENES["cornell"](), *SIZE, samples_per_dispatch=1).variant.loop_budget
 
 
 def test_an_integrator_without_regeneration_refuses_several(gpu_context):

@@ -66,11 +66,9 @@ class Integrator:
         if self.max_depth is not None and not 1 <= max_depth <= self.max_depth:
             raise ValueError(f"integrator {self.name!r} takes max_depth from 1 to {self.max_depth}, got {max_depth}")
 
-    def samples_per_dispatch(self, adapter_type: str, loop_budget: bool) -> int:
-        """Samples of each pixel a dispatch of its kernel takes on an adapter of `adapter_type`. One
-        where the driver has a loop budget (`loop_iteration_limit`): an invocation taking k samples
-        spends k times the budget of one, so samples that are fine alone could be cut short."""
-        return 1 if loop_budget else dict(self.dispatch_samples).get(adapter_type, 1)
+    def samples_per_dispatch(self, adapter_type: str) -> int:
+        """Samples of each pixel a dispatch of its kernel takes on an adapter of `adapter_type`."""
+        return dict(self.dispatch_samples).get(adapter_type, 1)
 
     def check_regeneration(self) -> None:
         """ValueError unless its kernel can take several samples of a pixel per dispatch."""

@@ -80,8 +80,22 @@ GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
 # How many samples of its pixel each invocation takes in this dispatch, only in the kernels that
 # take more than one (`KernelVariant.samples_per_dispatch`). Index 2 as the band group's: the
-# viewer's bands take one sample per pixel, so no kernel binds both.
+# viewer's bands take one sample per pixel, so no kernel binds both. Under a loop budget
+# (`KernelVariant.loop_budget`) also the samples each pixel still owes, left by a dispatch whose
+# budget ran out, and their total (`dispatch_group`).
 DISPATCH_GROUP = BindGroup("dispatch", 2, (Binding("dispatch_samples", STORAGE_READ, "u32"),))
+_OWED_SAMPLES = (Binding("owed_samples", STORAGE_READ_WRITE, "u32"), Binding("owed_total", ATOMIC_COUNTERS))
+
+
+def dispatch_group(loop_budget: bool) -> BindGroup:
+    """The dispatch group of a kernel taking several samples per dispatch, with the owed samples
+    under a loop budget."""
+    group = DISPATCH_GROUP
+    for binding in _OWED_SAMPLES if loop_budget else ():
+        group = group.extended(binding)
+    return group
+
+
 # Rays and lanes counted (`ray_count_hook`), only in the counting variants.
 RAY_COUNT_GROUP = BindGroup("ray_count", 3, (Binding("ray_counts", ATOMIC_COUNTERS),))
 

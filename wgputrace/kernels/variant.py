@@ -15,10 +15,10 @@ from typing import TYPE_CHECKING
 from ..scene.materials import material_class, material_classes
 from .bind_groups import (
     BAND_GROUP,
-    DISPATCH_GROUP,
     GUIDE_SUMS,
     PIXELS_GROUP,
     RAY_COUNT_GROUP,
+    dispatch_group,
     lights_group,
     scene_group,
     shading_group,
@@ -103,6 +103,9 @@ class KernelVariant:
     count_lanes: bool = flag("counting lanes")
     # the denoiser's albedo and normal guides
     guides: bool = flag("guides")
+    # the adapter ends an invocation's loops after a budget of iterations (`loop_iteration_limit`),
+    # which the samples of a regenerating invocation share
+    loop_budget: bool = flag("loop budget")
     # other override constants of the entry file, sorted (name, value) pairs (for measurements)
     overrides: tuple[tuple[str, float], ...] = ()
     # the most samples of its pixel an invocation takes in one dispatch (path regeneration); the
@@ -161,7 +164,7 @@ class KernelVariant:
         """Every bind group the integrator's kernel for this variant declares."""
         scene, *scene_extras = self.scene.groups()
         own = (self.pixels_group(), *((BAND_GROUP,) if self.rows else ()))
-        own += (DISPATCH_GROUP,) if self.samples_per_dispatch > 1 else ()
+        own += (dispatch_group(self.loop_budget),) if self.samples_per_dispatch > 1 else ()
         own += (RAY_COUNT_GROUP,) if self.count_rays or self.count_lanes else ()
         return (scene, *own, *scene_extras)
 

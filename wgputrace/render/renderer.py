@@ -131,9 +131,11 @@ class Renderer:
         )
         self.context = gpu()
         if samples_per_dispatch is None:
-            loop_budget = self.context.loop_iteration_limit is not None
-            chosen = method.samples_per_dispatch(self.context.adapter.info["adapter_type"], loop_budget)
+            chosen = method.samples_per_dispatch(self.context.adapter.info["adapter_type"])
             variant = replace(variant, samples_per_dispatch=chosen)
+        # the samples of a regenerating invocation share the driver's loop budget (regeneration_hook)
+        shared_budget = variant.samples_per_dispatch > 1 and self.context.loop_iteration_limit is not None
+        variant = replace(variant, loop_budget=shared_budget)
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before anything is allocated and before the BVH build, which takes seconds for millions of triangles
         check_image_size(self.context, width, height, guides, method)
@@ -173,9 +175,15 @@ class Renderer:
             self._sums[GUIDE_SUMS.name] = self._new_guide_sums()
         for array in method.pixel_arrays:
             self._sums[array.binding.name] = self._zeroed_sums(array.binding.name, array.bytes_per_pixel)
-        # the samples each invocation takes in the next dispatch, where the kernel takes more than one
+        # the samples each invocation takes in the next dispatch, where the kernel takes more than one,
+        # and under a loop budget the samples each pixel still owes and their total
         self._dispatch_samples = storage_buffer(self.context, "dispatch samples", np.ones(1, np.uint32))
         self._dispatch_count = 1
+        owed = np.zeros(width * height if self.variant.loop_budget else 1, np.uint32)
+        self._owed = {
+            "owed_samples": storage_buffer(self.context, "owed samples", owed, read_back=True),
+            "owed_total": storage_buffer(self.context, "owed total", np.zeros(1, np.uint32), read_back=True),
+        }
         self._submits = SubmitPlan(self.samples_per_dispatch)
         self._bind()
 
@@ -280,7 +288,7 @@ class Renderer:
         if group == "pixels":
             return {"rng_states": self._rng, **self._sums}
         if group == "dispatch":
-            return {"dispatch_samples": self._dispatch_samples}
+            return {"dispatch_samples": self._dispatch_samples, **(self._owed if self.variant.loop_budget else {})}
         extra = {"frame": self._frame.buffer} if group == "scene" else {}
         return extra | self._records.bound_in(group)
 
@@ -442,18 +450,28 @@ class Renderer:
         extra_groups: dict[str, wgpu.GPUBindGroup] | None = None,
     ) -> None:
         """Add `samples` samples per pixel (`dispatch_sizes`) and wait for them, without counting
-        them in `stats`. `kernel`: another variant of the renderer's kernel (a counting one) that
-        also binds `extra_groups`."""
+        them in `stats`; under a loop budget it returns once no pixel owes a sample. `kernel`:
+        another variant of the renderer's kernel (a counting one) that also binds `extra_groups`."""
         kernel = kernel or self.kernel
         groups = {**self._bind_groups, **(extra_groups or {})}
         sizes = self.dispatch_sizes(samples)
         # one submit per run of dispatches that take the same count, written before it
         for count in dict.fromkeys(sizes):
-            if count != self._dispatch_count:
-                write_buffer(self.context, self._dispatch_samples, 0, np.array([count], np.uint32))
-                self._dispatch_count = count
-            submit(self.context, [Pass(kernel, (self.width, self.height), groups)] * sizes.count(count))
+            self._submit_dispatches(kernel, groups, count, sizes.count(count))
         self.context.finish()
+        # Under a loop budget, samples left to the next dispatch (regeneration_hook) are taken by
+        # dispatches of none but them; each takes at least one from every pixel that owes any.
+        while self.variant.loop_budget and read_buffer(self.context, self._owed["owed_total"], np.uint32, 1)[0]:
+            write_buffer(self.context, self._owed["owed_total"], 0, np.zeros(1, np.uint32))
+            self._submit_dispatches(kernel, groups, 0, 1)
+            self.context.finish()
+
+    def _submit_dispatches(self, kernel: ComputeKernel, groups: dict, count: int, repeat: int) -> None:
+        """One submit of `repeat` dispatches of `count` samples each (after the samples owed)."""
+        if count != self._dispatch_count:
+            write_buffer(self.context, self._dispatch_samples, 0, np.array([count], np.uint32))
+            self._dispatch_count = count
+        submit(self.context, [Pass(kernel, (self.width, self.height), groups)] * repeat)
 
     def _accumulated(self) -> np.ndarray:
         return read_buffer(self.context, self._sums["accumulation"], ACCUMULATED_PIXEL.dtype, self.width * self.height)
