@@ -240,19 +240,20 @@ fn add_sample(sum: AccumulatedPixel, pixel: u32, radiance: vec3<f32>) -> Accumul
 // path vertices (path regeneration, Novak et al. 2010): a path that ends starts the pixel's next
 // sample in the same pass, so that lanes run in lockstep do not wait for their group's longest
 // path. Each sample draws, adds and counts as it would alone in its dispatch, in the same order
-// (the pixel's sum stays in registers until the last). Under a loop budget a later sample that
-// finds it spent is left, with those after it, to the next dispatch (regeneration_hook). The
-// viewer's band-of-rows entry point (main_rows) takes one.
+// (the pixel's sum stays in registers until the last). Under a loop budget (regeneration_hook)
+// a sample that finds it spent is left, with those after it, to dispatches of no samples, which
+// take one of those a pixel owes each. The viewer's band-of-rows entry point (main_rows) takes one.
 fn render_pixel(xy: vec2<u32>, samples: u32) {
     if xy.x >= frame.width || xy.y >= frame.height {
         return;
     }
     let pixel = xy.y * frame.width + xy.x;
     let owed = samples_owed(pixel);
-    let count = owed + samples;
+    let count = select(owed + samples, min(owed, 1u), samples == 0u);
     if count == 0u {
         return;
     }
+    let defers = LOOP_BUDGET && samples != 0u;
     sampler_begin(pixel);
     var sum = accumulation[pixel];
     var path = camera_path(xy);
@@ -262,7 +263,7 @@ fn render_pixel(xy: vec2<u32>, samples: u32) {
         if path_vertex(&path) {
             continue;
         }
-        if LOOP_BUDGET && done > 0u && loop_budget_spent(frame.width) {
+        if defers && loop_budget_spent(frame.width) {
             break;
         }
         sum = add_sample(sum, pixel, path.radiance);
@@ -274,17 +275,17 @@ fn render_pixel(xy: vec2<u32>, samples: u32) {
         guides_begin();
         path = camera_path(xy);
     }
-    // Short of `count`, the budget ran out: the driver ends this loop too, under way or here.
-    // Under LOOP_BUDGET, a sample after the first and those after it are owed; otherwise the
-    // sample under way is cut short, and so is any after it.
-    let rewound = LOOP_BUDGET && done > 0u && done < count;
+    // Short of `count`, the budget ran out: the driver ends this loop too, under way or above.
+    // Deferring, the sample under way and those after it are owed; otherwise they are cut short.
+    let rewound = defers && done < count;
     if done < count && !rewound {
-        let dropped = select(count - done, 1u, LOOP_BUDGET);
-        sum = drop_cut_short_samples(sum, dropped);
-        done += dropped;
+        sum = drop_cut_short_samples(sum, count - done);
+        done = count;
     }
     accumulation[pixel] = sum;
-    owe_samples(pixel, owed, count - done);
+    if LOOP_BUDGET {
+        owe_samples(pixel, owed, select(owed - done, count - done, defers));
+    }
     if rewound {
         sampler_end_rewound(pixel);
     } else {

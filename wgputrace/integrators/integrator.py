@@ -11,7 +11,7 @@ descriptor, registered by name, that they ask instead of naming it.
 | light tracing splats into any pixel         | `splats`         | the Renderer's image, tiles (refused)       |
 | the deepest path it can trace               | `max_depth`      | `check_depth`                               |
 | several samples per dispatch (regeneration) | `regenerates`    | `KernelVariant` (`check_regeneration`)      |
-| how many, by adapter type (measured)        | `samples_per_dispatch` | the Renderer                          |
+| how many, by adapter type (measured)        | `dispatch_samples` | the Renderer (`samples_per_dispatch`)     |
 
 A new integrator is one module in this package that registers an instance (`register`), plus its
 WGSL entry file: the renderer, the CLI's choices and the limits follow from the descriptor.

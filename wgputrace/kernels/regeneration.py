@@ -4,13 +4,14 @@ the same pass (`render_pixel`), so lanes run in lockstep (llvmpipe's 8, a GPU's 
 for their group's longest path. `KernelVariant.samples_per_dispatch` says up to how many; each
 dispatch's own count (fewer for the last of a render) is read from the dispatch group.
 
-Under a loop budget (`KernelVariant.loop_budget`: Mesa 22's llvmpipe ends an invocation's loops
-after 65,535 iterations of them all) the samples of an invocation share one budget, so a sample
-could run out of it that alone would not. Such a sample is never dropped: from the second sample
-of an invocation on, one that finds the budget spent is left, with the pixel's samples after it,
-to the next dispatch (the pixel owes them, its sampler rewound to that sample), and the renderer
-dispatches again until no pixel owes any (`Renderer.dispatch`). Only a sample that was the first
-its invocation took, as every sample is with one per dispatch, is dropped as cut short.
+Under a loop budget (`KernelVariant.loop_budget`: Mesa 22's llvmpipe ends the loops of a
+subgroup's invocations after 65,535 iterations of them all) the samples of a regenerating
+subgroup share one budget, so a sample could run out of it that with one sample per dispatch
+would not. Such a sample is never dropped: one that finds the budget spent is left, with the
+pixel's samples after it, to later dispatches (the pixel owes them, its sampler rewound to that
+sample), and the renderer dispatches no samples until no pixel owes any (`Renderer.dispatch`),
+each such dispatch taking one owed sample of every pixel that owes some. Only there, one sample
+per invocation as with one per dispatch, is a sample dropped as cut short.
 """
 
 from __future__ import annotations

@@ -50,33 +50,33 @@ _MAX_SAMPLES_PER_SUBMIT = 64
 
 
 class SubmitPlan:
-    """How many samples per pixel the next submit adds: starting at one dispatch's `step`, the count
-    doubles while a submit takes under half of _TARGET_SUBMIT_SECONDS (up to
-    _MAX_SAMPLES_PER_SUBMIT, or one dispatch if that takes more), never exceeds the samples left,
-    and under a time budget never exceeds what the last measured time per sample fits in the time
-    remaining, so the last submit ends near the deadline instead of up to _TARGET_SUBMIT_SECONDS
-    (or a dispatch of `step` samples) after it."""
+    """How many samples per pixel the next submit adds: one first (the first progress report comes
+    soon, and the time per sample is known before a time budget is spent on more), then at least
+    one dispatch's `step`, the count doubling while a submit takes under half of
+    _TARGET_SUBMIT_SECONDS (up to _MAX_SAMPLES_PER_SUBMIT, or one dispatch if that takes more). It
+    never exceeds the samples left, and under a time budget never exceeds what the last measured
+    time per sample fits in the time remaining, so the last submit ends near the deadline instead
+    of up to _TARGET_SUBMIT_SECONDS (or a dispatch of `step` samples) after it."""
 
     def __init__(self, step: int = 1) -> None:
-        self.samples = step
+        self.step = step
+        self.samples = 1
         self.most = max(step, _MAX_SAMPLES_PER_SUBMIT)
         self.seconds_per_sample: float | None = None
 
     def next(self, left: int | None = None, remaining_seconds: float | None = None) -> int:
         """Samples for the next submit (0: none fits); `left`: samples still wanted (None: no
-        cap), `remaining_seconds`: time left in the budget (None: no budget; under one, the first
-        submit takes one sample, to measure)."""
+        cap), `remaining_seconds`: time left in the budget (None: no budget)."""
         count = self.samples if left is None else min(self.samples, left)
-        if remaining_seconds is not None:
-            fits = 1 if self.seconds_per_sample is None else int(remaining_seconds / self.seconds_per_sample)
-            count = min(count, max(fits, 0))
+        if remaining_seconds is not None and self.seconds_per_sample is not None:
+            count = min(count, max(int(remaining_seconds / self.seconds_per_sample), 0))
         return count
 
     def measured(self, samples: int, seconds: float) -> None:
         """A submit of `samples` took `seconds`, waiting included."""
         self.seconds_per_sample = seconds / samples
-        if seconds < _TARGET_SUBMIT_SECONDS / 2:
-            self.samples = min(2 * self.samples, self.most)
+        grown = 2 * self.samples if seconds < _TARGET_SUBMIT_SECONDS / 2 else self.samples
+        self.samples = min(max(grown, self.step), self.most)
 
 
 @dataclass
@@ -459,8 +459,8 @@ class Renderer:
         for count in dict.fromkeys(sizes):
             self._submit_dispatches(kernel, groups, count, sizes.count(count))
         self.context.finish()
-        # Under a loop budget, samples left to the next dispatch (regeneration_hook) are taken by
-        # dispatches of none but them; each takes at least one from every pixel that owes any.
+        # Under a loop budget, samples left to later dispatches (regeneration_hook) are taken by
+        # dispatches of no samples, each taking one from every pixel that owes some.
         while self.variant.loop_budget and read_buffer(self.context, self._owed["owed_total"], np.uint32, 1)[0]:
             write_buffer(self.context, self._owed["owed_total"], 0, np.zeros(1, np.uint32))
             self._submit_dispatches(kernel, groups, 0, 1)
