@@ -86,8 +86,9 @@ def test_regeneration_binds_the_dispatch_group_and_names_its_count():
     assert "dispatch" in {group.name for group in several.groups()} - {group.name for group in MIS.groups()}
     assert "8 samples per dispatch" in several.label and "per dispatch" not in MIS.label
     assert several.files() != MIS.files()
-    # the viewer's bands take one sample per pixel whatever the renderer's kernel takes
-    assert replace(several, rows=True).samples_per_dispatch == 1
+    # the viewer's bands take one sample per pixel whatever the renderer's kernel takes, none owed
+    bands = replace(several, loop_budget=True, rows=True)
+    assert bands.samples_per_dispatch == 1 and not bands.loop_budget
     with pytest.raises(ValueError, match="bdpt integrator's kernel takes one sample"):
         replace(several, integrator=integrator("bdpt"))
     with pytest.raises(ValueError, match="at least 1"):

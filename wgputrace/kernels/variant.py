@@ -117,8 +117,10 @@ class KernelVariant:
         if self.samples_per_dispatch < 1:
             raise ValueError(f"samples_per_dispatch must be at least 1, got {self.samples_per_dispatch}")
         if self.rows:
+            # the viewer's bands take one sample per pixel each, and nothing takes owed ones
             self.require_integrator().check_rows()
             object.__setattr__(self, "samples_per_dispatch", 1)
+            object.__setattr__(self, "loop_budget", False)
         if self.samples_per_dispatch > 1:
             self.require_integrator().check_regeneration()
         object.__setattr__(self, "overrides", tuple(sorted(dict(self.overrides).items())))
