@@ -25,20 +25,23 @@ from bench.provenance import environment, git_revision, load_average
 from bench.result_files import slug, write_json
 from bench.validation import CHANNELS, agreement, sidak_critical_z
 from wgputrace import Renderer, default_scene, make_icosphere
-from wgputrace.gpu.bindings import IMAGE_WORKGROUP, STORAGE_READ, Binding
-from wgputrace.gpu.buffers import read_buffer, storage_buffer
+from wgputrace.gpu.bindings import IMAGE_WORKGROUP, STORAGE_READ, TEXTURE_U32, Binding
+from wgputrace.gpu.buffers import read_buffer, storage_buffer, write_buffer
 from wgputrace.gpu.device import describe, gpu
 from wgputrace.gpu.kernel import Pass, Timestamps, submit
 from wgputrace.gpu.layout import ACCUMULATED_PIXEL, TRIANGLE
 from wgputrace.gpu.shader_source import shader_root
-from wgputrace.kernels.bind_groups import PIXELS_GROUP, scene_group
+from wgputrace.gpu.texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
 from wgputrace.kernels.compile import compute_kernel
 from wgputrace.kernels.traversal import BVH_STACK_SIZE, GENERATED_TRAVERSAL_STACK, traversal_stack
 from wgputrace.render.rng_seed import pixel_rng_states
 
 SEED = 1
 MAX_DEPTH = 9
-CHECK_SPP = 2
+CHECK_SPP = 8
+# samples per pixel of one timed submit: one dispatch of one sample each, or of a regenerating
+# variant's count
+DISPATCH_SAMPLES = 8
 # 20 * 4**7 = 327,680 triangles: a mesh big enough that nodes and triangles leave the CPU caches.
 BIG_SPHERE_ITERATIONS = 7
 # Family-wise false-alarm rate of the mean radiance tests of variants that compute the same image
@@ -81,6 +84,22 @@ def nearest_first_child_order() -> str:
     )
 
 
+def sampled_texel_loaders() -> dict[str, str]:
+    """The shipped texel loaders reading sampled textures (textureLoad with a mip level) instead of
+    read-only storage textures: SAMPLED_TEXELS' bindings."""
+    storage, sampled = "texture_storage_2d<rgba32uint, read>", "texture_2d<u32>"
+    texel_at = rewritten(
+        "common/texels.wgsl", {storage: sampled, "countTrailingZeros(width)))": "countTrailingZeros(width)), 0)"}
+    )
+    return {
+        "common/texels.wgsl": texel_at,
+        GENERATED_TEXEL_LOADERS: texel_loaders(TEXEL_STRUCTS).replace(storage, sampled),
+    }
+
+
+SAMPLED_TEXELS = (Binding("triangles", TEXTURE_U32), Binding("nodes", TEXTURE_U32))
+
+
 def storage_triangles_bindings() -> str:
     """The shipped scene_bindings.wgsl reading triangles from a storage buffer (the scene group's
     `triangles` declared as one: STORAGE_TRIANGLES)."""
@@ -110,6 +129,9 @@ class Variant:
     max_depth: int = MAX_DEPTH
     integrator: str = "mis"
     storage_triangles: bool = False
+    sampled_texels: bool = False
+    # samples of each pixel per dispatch (path regeneration; times are per sample)
+    samples_per_dispatch: int = 1
     same_arithmetic: bool = True  # whether its image must equal the shipped kernel's bit for bit
     # Whether it computes the shipped kernel's image by other arithmetic (a traversal visiting
     # nodes in another order resolves exact ties of hit distances its own way): then its mean
@@ -146,9 +168,16 @@ VARIANTS = [
         storage_triangles=True,
         what="triangles in a storage buffer instead of texels",
     ),
+    Variant(
+        "sampled_texels",
+        sources=sampled_texel_loaders(),
+        sampled_texels=True,
+        what="nodes and triangles read as sampled textures (textureLoad with a level) instead of storage textures",
+    ),
     Variant("workgroup_16x16", workgroup=(16, 16), what="workgroup 16x16"),
     Variant("workgroup_64x1", workgroup=(64, 1), what="workgroup 64x1"),
     Variant("workgroup_4x4", workgroup=(4, 4), what="workgroup 4x4"),
+    Variant("regeneration_8", samples_per_dispatch=8, what="8 samples of each pixel per dispatch (path regeneration)"),
 ]
 
 
@@ -159,8 +188,11 @@ class Run:
         context = renderer.context
         width, height = renderer.width, renderer.height
         self.context, self.variant, self.width, self.height = context, variant, width, height
-        scene = scene_group("bvh")
+        self.samples = renderer.samples_per_dispatch
+        scene, *groups = renderer.variant.groups()
         resources = renderer.resources
+        for binding in SAMPLED_TEXELS if variant.sampled_texels else ():
+            scene = scene.with_binding(binding)
         if variant.storage_triangles:
             scene = scene.with_binding(STORAGE_TRIANGLES)
             resources["triangles"] = storage_buffer(context, "triangles", renderer.records.triangles)
@@ -169,7 +201,7 @@ class Run:
         self.kernel = compute_kernel(
             context,
             "integrators/path_tracer.wgsl",
-            (scene, PIXELS_GROUP),
+            (scene, *groups),
             renderer.variant,
             workgroup_size=variant.workgroup,
             generated=variant.sources,
@@ -177,31 +209,34 @@ class Run:
             label=variant.name,
         )
         self.states = pixel_rng_states(SEED, width * height)
-        self.rng = storage_buffer(context, "rng", self.states)
-        self.accumulation = storage_buffer(
+        resources["rng_states"] = self.rng = storage_buffer(context, "rng", self.states)
+        resources["accumulation"] = self.accumulation = storage_buffer(
             context, "accumulation", ACCUMULATED_PIXEL.zeros(width * height), read_back=True
         )
-        scene_names = [binding.name for binding in scene.bindings]
+        if "dispatch_samples" in resources:  # every dispatch takes the variant's count
+            write_buffer(context, resources["dispatch_samples"], 0, np.array([self.samples], np.uint32))
         self.bind_groups = {
-            "scene": self.kernel.bind("scene", **{name: resources[name] for name in scene_names}),
-            "pixels": self.kernel.bind("pixels", rng_states=self.rng, accumulation=self.accumulation),
+            group.name: self.kernel.bind(group.name, **{b.name: resources[b.name] for b in group.bindings})
+            for group in (scene, *groups)
         }
         self.timestamps = Timestamps(context) if "timestamp-query" in context.device.features else None
 
-    def dispatch(self, count: int = 1) -> float:
-        """Run `count` dispatches; seconds taken by the last one."""
+    def dispatch(self, count: int = 1) -> tuple[float, float]:
+        """Run `count` dispatches; seconds per sample of the last one (GPU timestamps where the
+        adapter has them, else wall time) and process CPU seconds per sample of them all."""
         passes = [Pass(self.kernel, (self.width, self.height), self.bind_groups)] * count
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         submit(self.context, passes, wait=True, timestamps=self.timestamps)
-        wall = time.perf_counter() - start
-        return wall / count if self.timestamps is None else self.timestamps.seconds()
+        wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+        seconds = wall / count if self.timestamps is None else self.timestamps.seconds()
+        return seconds / self.samples, cpu / count / self.samples
 
     def image_after(self, spp: int) -> np.ndarray:
-        """The sum of the first `spp` samples per pixel from the seed."""
+        """The sum of the first `spp` samples per pixel from the seed (a multiple of the dispatch's)."""
         device = self.context.device
         device.queue.write_buffer(self.rng, 0, self.states)
         device.queue.write_buffer(self.accumulation, 0, ACCUMULATED_PIXEL.zeros(self.width * self.height))
-        self.dispatch(spp)
+        self.dispatch(spp // self.samples)
         pixels = read_buffer(self.context, self.accumulation, ACCUMULATED_PIXEL.dtype, self.width * self.height)
         return pixels["sum"][:, :3].reshape(self.height, self.width, 3)
 
@@ -210,13 +245,19 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
     scene = SCENES[name]()
     renderers = {}
     for variant in variants:
-        key = (variant.max_depth, variant.integrator)
+        key = (variant.max_depth, variant.integrator, variant.samples_per_dispatch)
         if key not in renderers:
             renderers[key] = Renderer(
-                scene, width, height, seed=SEED, max_depth=variant.max_depth, integrator=variant.integrator
+                scene,
+                width,
+                height,
+                seed=SEED,
+                max_depth=variant.max_depth,
+                integrator=variant.integrator,
+                samples_per_dispatch=variant.samples_per_dispatch,
             )
-    records = renderers[(MAX_DEPTH, "mis")].records
-    runs = [Run(v, renderers[(v.max_depth, v.integrator)]) for v in variants]
+    records = renderers[(MAX_DEPTH, "mis", 1)].records
+    runs = [Run(v, renderers[(v.max_depth, v.integrator, v.samples_per_dispatch)]) for v in variants]
     for run in runs:
         run.dispatch()  # compiles on lavapipe
     reference = runs[0].image_after(CHECK_SPP)
@@ -234,11 +275,15 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
             if check["failures"]:
                 raise RuntimeError(f"{name}: variant {run.variant.name}'s image: " + "; ".join(check["failures"]))
     seconds = {run.variant.name: [] for run in runs}
+    cpu = {run.variant.name: [] for run in runs}
     for round_index in range(repeats):
         shift = round_index % len(runs)
         for run in runs[shift:] + runs[:shift]:
-            seconds[run.variant.name].append(run.dispatch())
+            timed, process = run.dispatch(max(1, DISPATCH_SAMPLES // run.samples))
+            seconds[run.variant.name].append(timed)
+            cpu[run.variant.name].append(process)
     base = seconds[variants[0].name]
+    base_cpu = cpu[variants[0].name]
     result = {
         "triangles": len(records.triangles),
         "binary_nodes": records.acceleration.node_count,
@@ -249,17 +294,21 @@ def profile_scene(name: str, width: int, height: int, repeats: int, variants: li
         times = seconds[run.variant.name]
         median = statistics.median(times)
         speedup = statistics.median(b / s for b, s in zip(base, times, strict=True))
+        process = cpu[run.variant.name]
+        cpu_speedup = statistics.median(b / c for b, c in zip(base_cpu, process, strict=True))
         result["variants"][run.variant.name] = {
             "what": run.variant.what,
             "seconds_per_sample": times,
             "median_seconds": median,
             "speedup_vs_shipped": speedup,
+            "process_cpu_seconds_per_sample": process,
+            "process_cpu_speedup_vs_shipped": cpu_speedup,
             "mpaths_per_second": width * height / median / 1e6,
             **checks[run.variant.name],
         }
         print(
             f"{name:10s} {run.variant.name:18s} {median * 1e3:8.1f} ms/spp {width * height / median / 1e6:7.3f} Mpaths/s"
-            f"  speed x{speedup:5.2f}  bit-identical {checks[run.variant.name]['bit_identical']}",
+            f"  speed x{speedup:5.2f} (process CPU x{cpu_speedup:5.2f})  bit-identical {checks[run.variant.name]['bit_identical']}",
             flush=True,
         )
     return result

@@ -9,6 +9,7 @@
 // cut-out texel, a single-sided surface from behind) is no hit.
 fn intersect_leaf(ray: Ray, sheared: ShearedRay, node: BvhNode, skip_triangle: u32, any_hit: bool, hit: ptr<function, Hit>) -> bool {
     for (var i = node.left_or_first; i < node.left_or_first + node.triangle_count; i++) {
+        count_lanes(LOOP_TRIANGLE);
         if i == skip_triangle {
             continue;
         }

@@ -46,15 +46,18 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     let inverse_direction = safe_inverse_direction(ray.direction);
     var stack_size = 0u;
     var node = 0u; // record 0 holds the root's children
+    // Interior nodes in a loop of their own until this lane reaches a leaf, then that leaf
+    // (Aila and Laine's "while-while"): lanes run in lockstep test their leaves' triangles
+    // together instead of each alone while the others wait. Every ray visits the same nodes in
+    // the same order as one loop taking one node per pass would.
     loop {
-        traversal_steps++;
-        if (node & WIDE_LEAF) != 0u {
-            let first = (node & ~WIDE_LEAF) >> WIDE_COUNT_BITS;
-            let count = (node & WIDE_COUNT_MASK) + 1u;
-            if intersect_leaf(ray, sheared, BvhNode(vec3<f32>(0.0), first, vec3<f32>(0.0), count), skip_triangle, any_hit, &hit) {
+        loop {
+            if (node & WIDE_LEAF) != 0u {
                 break;
             }
-        } else {
+            traversal_steps++;
+            count_lanes(LOOP_TRAVERSAL);
+            count_lanes(LOOP_INTERIOR);
             let wide = load_WideBvhNode(nodes, node);
             var c0 = wide_child(ray, inverse_direction, wide, 0u, hit.t);
             var c1 = wide_child(ray, inverse_direction, wide, 1u, hit.t);
@@ -78,12 +81,26 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
                 node = c0.y;
                 continue;
             }
+            if stack_size == 0u {
+                return hit;
+            }
+            stack_size--;
+            node = stack[stack_size];
+        }
+        traversal_steps++;
+        count_lanes(LOOP_TRAVERSAL);
+        count_lanes(LOOP_LEAF);
+        let first = (node & ~WIDE_LEAF) >> WIDE_COUNT_BITS;
+        let count = (node & WIDE_COUNT_MASK) + 1u;
+        if intersect_leaf(ray, sheared, BvhNode(vec3<f32>(0.0), first, vec3<f32>(0.0), count), skip_triangle, any_hit, &hit) {
+            return hit;
         }
         if stack_size == 0u {
-            break;
+            return hit;
         }
         stack_size--;
         node = stack[stack_size];
     }
+    // not reached: every way out of the loop returns (WGSL asks for a return at the end)
     return hit;
 }

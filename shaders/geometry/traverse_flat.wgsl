@@ -12,6 +12,7 @@ fn traverse(ray: Ray, t_max: f32, skip_triangle: u32, any_hit: bool) -> Hit {
     let inverse_direction = safe_inverse_direction(ray.direction);
     for (var n = 0u; n < frame.node_count; n++) {
         traversal_steps++;
+        count_lanes(LOOP_TRAVERSAL);
         let node = nodes[n];
         if intersect_box(ray.origin, inverse_direction, node.bounds_min, node.bounds_max, hit.t) == FLOAT_MAX {
             continue;

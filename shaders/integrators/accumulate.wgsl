@@ -24,5 +24,10 @@ fn accumulate_sample(pixel: AccumulatedPixel, value: vec3<f32>) -> AccumulatedPi
 // A sample whose loops the driver may have cut short (loop_budget_spent) adds nothing (it counts as
 // zero radiance, like a non-finite one) and is counted in compensation.w.
 fn drop_cut_short_sample(pixel: AccumulatedPixel) -> AccumulatedPixel {
-    return AccumulatedPixel(pixel.sum, pixel.compensation + vec4<f32>(0.0, 0.0, 0.0, 1.0));
+    return drop_cut_short_samples(pixel, 1u);
+}
+
+// `count` such samples at once (no loop: where they are dropped, the driver ends every loop).
+fn drop_cut_short_samples(pixel: AccumulatedPixel, count: u32) -> AccumulatedPixel {
+    return AccumulatedPixel(pixel.sum, pixel.compensation + vec4<f32>(0.0, 0.0, 0.0, f32(count)));
 }

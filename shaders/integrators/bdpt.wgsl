@@ -134,6 +134,7 @@ fn walk_light_subpath() -> u32 {
         skip_triangle = emitted.triangle;
     }
     for (var edges = 1u; ; edges++) {
+        count_lanes(LOOP_PATH);
         let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
         if hit.triangle == NO_TRIANGLE {
             break;
@@ -193,6 +194,7 @@ fn trace_camera_subpath(camera: Ray) -> vec3<f32> {
     for (var depth = 1u; ; depth++) {
         // this vertex makes t = depth + 1 with the camera
         let t = depth + 1u;
+        count_lanes(LOOP_PATH);
         let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
         if hit.triangle == NO_TRIANGLE {
             if HAS_ESCAPED_LIGHT {
@@ -272,5 +274,6 @@ fn render_pixel(xy: vec2<u32>) {
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    count_lanes(LOOP_INVOCATION);
     render_pixel(id.xy);
 }

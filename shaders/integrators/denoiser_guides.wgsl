@@ -9,10 +9,17 @@
 // recommends. A path that escapes or ends before such a vertex adds zero to both sums.
 // `material_is_delta` is generated for the scene's kinds (path_guides_hook).
 
-// This invocation's path (zero-initialized, and every invocation traces one path).
+// The path under way (zero-initialized for an invocation's first path, guides_begin for the next).
 var<private> guide_found: bool;
 var<private> guide_albedo: vec3<f32>;
 var<private> guide_normal: vec3<f32>;
+
+// The invocation's next path (path regeneration): no guide vertex yet, and zero if it finds none.
+fn guides_begin() {
+    guide_found = false;
+    guide_albedo = vec3<f32>(0.0);
+    guide_normal = vec3<f32>(0.0);
+}
 
 // A hit of the path travelling along `direction` on a surface of geometric normal `normal`: the
 // guides' vertex unless an earlier one was, or its material is delta. The albedo is the colour the

@@ -1,4 +1,4 @@
-// The path tracing megakernel: one sample per pixel per dispatch, added to the accumulation buffer.
+// The path tracing megakernel: each pixel's samples of a dispatch, added to the accumulation buffer.
 //! include "generated/acceleration.wgsl"
 //! include "camera/camera_ray.wgsl"
 //! include "sampling/sampler.wgsl"
@@ -17,6 +17,8 @@
 // resolve_material and mapped_normal: the material and the shading normal as they are unless the
 // scene has textures (textures_hook)
 //! include "generated/textures.wgsl"
+// samples_this_dispatch: 1, or this dispatch's count where paths regenerate (regeneration_hook)
+//! include "generated/regeneration.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
 
@@ -133,101 +135,166 @@ fn escaped_weight(previous_sampled_lights: bool, previous_bsdf_pdf: f32, light_p
     return power_heuristic(previous_bsdf_pdf, light_pdf);
 }
 
-// One path from the camera: emission at every vertex, direct light by the chosen integrator,
-// BSDF sampling between vertices, Russian roulette (unbiased: survivors are divided by their
-// survival probability) from RUSSIAN_ROULETTE_DEPTH on. Roulette judges the throughput without
-// the eta^2 radiance scaling of refraction (as pbrt and Mitsuba do): inside glass that scaling
-// would make paths die more often and survivors carry heavier weights, only to undo itself on
-// the way out. max_depth counts path vertices the way
-// Mitsuba does: 1 shows only emitters seen directly, 2 adds direct lighting, and so on.
-fn trace_path(camera: Ray) -> vec3<f32> {
-    var ray = camera;
-    var radiance = vec3<f32>(0.0);
-    var throughput = vec3<f32>(1.0);
-    var skip_triangle = NO_TRIANGLE;
-    var previous_sampled_lights = false;
-    var previous_bsdf_pdf = 0.0;
-    var previous_position = vec3<f32>(0.0);
-    var eta_scale = 1.0;
-    for (var depth = 1u; ; depth++) {
-        let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
-        if hit.triangle == NO_TRIANGLE {
-            if HAS_ESCAPED_LIGHT {
-                radiance += throughput * escaped_light(ray.direction, depth == 1u, previous_sampled_lights, previous_bsdf_pdf);
-            }
-            break;
-        }
-        let triangle = scene_triangle(hit.triangle);
-        let normal = triangle_normal(triangle);
-        let p = ray.origin + hit.t * ray.direction;
-        let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
-        let towards_viewer = -ray.direction;
-        let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
-        let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
-        guide_vertex(material, shading, ray.direction);
-        // emission shines from both sides (a single-sided surface's from its front only)
-        let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, p, ray.direction);
-        if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {
-            let emitted = material_emitted(material) + surface_emitted;
-            let cos_light = abs(dot(normal, ray.direction));
-            let weight = emission_weight(previous_sampled_lights, previous_bsdf_pdf, previous_position, hit.triangle, triangle, hit.t, cos_light);
-            radiance += throughput * emitted * weight;
-        }
-        if !material_reflects(material) || depth >= frame.max_depth {
-            break;
-        }
-        let local = shading_frame(shading);
-        let wi = to_local(local, towards_viewer);
-        previous_sampled_lights = samples_lights(material);
-        previous_position = p;
-        if previous_sampled_lights || samples_delta_lights_only(material) {
-            radiance += throughput * direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
-        }
-        let u = sample_2d();
-        let sample = bsdf_sample(material, wi, u, sample_1d());
-        if sample.pdf <= 0.0 {
-            break;
-        }
-        let direction = to_world(local, sample.direction);
-        let kept = shading_weight(shading, normal, towards_viewer, direction);
-        if kept <= 0.0 {
-            break;
-        }
-        previous_bsdf_pdf = sample.pdf;
-        throughput *= sample.weight * kept;
-        eta_scale /= sample.eta * sample.eta;
-        if depth >= RUSSIAN_ROULETTE_DEPTH {
-            let survival = min(max_component(throughput) * eta_scale, RUSSIAN_ROULETTE_MAX_SURVIVAL);
-            if sample_1d() >= survival {
-                break;
-            }
-            throughput /= survival;
-        }
-        ray = Ray(offset_ray_origin(p, normal, direction, triangle.v0, triangle.v1, triangle.v2), direction);
-        skip_triangle = hit.triangle;
-    }
-    return radiance;
+// A path from the camera, between bounces: where its next ray goes and what it carries.
+struct PathState {
+    ray: Ray,
+    radiance: vec3<f32>,
+    throughput: vec3<f32>,
+    skip_triangle: u32,
+    previous_sampled_lights: bool,
+    previous_bsdf_pdf: f32,
+    previous_position: vec3<f32>,
+    eta_scale: f32,
+    depth: u32,
 }
 
-// One sample for the pixel at column xy.x, row xy.y; the viewer's band-of-rows entry point
-// (main_rows) calls this too.
-fn render_pixel(xy: vec2<u32>) {
+fn path_start(camera: Ray) -> PathState {
+    return PathState(camera, vec3<f32>(0.0), vec3<f32>(1.0), NO_TRIANGLE, false, 0.0, vec3<f32>(0.0), 1.0, 1u);
+}
+
+// One vertex of a path from the camera: emission at every vertex, direct light by the chosen
+// integrator, BSDF sampling towards the next vertex, Russian roulette (unbiased: survivors are
+// divided by their survival probability) from RUSSIAN_ROULETTE_DEPTH on. Returns whether the path
+// goes on. Roulette judges the throughput without the eta^2 radiance scaling of refraction (as pbrt
+// and Mitsuba do): inside glass that scaling would make paths die more often and survivors carry
+// heavier weights, only to undo itself on the way out. max_depth counts path vertices the way
+// Mitsuba does: 1 shows only emitters seen directly, 2 adds direct lighting, and so on.
+fn path_vertex(path: ptr<function, PathState>) -> bool {
+    let ray = (*path).ray;
+    let depth = (*path).depth;
+    let hit = closest_hit(ray, FLOAT_MAX, (*path).skip_triangle);
+    if hit.triangle == NO_TRIANGLE {
+        if HAS_ESCAPED_LIGHT {
+            (*path).radiance += (*path).throughput * escaped_light(ray.direction, depth == 1u, (*path).previous_sampled_lights, (*path).previous_bsdf_pdf);
+        }
+        return false;
+    }
+    let triangle = scene_triangle(hit.triangle);
+    let normal = triangle_normal(triangle);
+    let p = ray.origin + hit.t * ray.direction;
+    let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
+    let towards_viewer = -ray.direction;
+    let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
+    let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
+    guide_vertex(material, shading, ray.direction);
+    // emission shines from both sides (a single-sided surface's from its front only)
+    let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, p, ray.direction);
+    if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {
+        let emitted = material_emitted(material) + surface_emitted;
+        let cos_light = abs(dot(normal, ray.direction));
+        let weight = emission_weight((*path).previous_sampled_lights, (*path).previous_bsdf_pdf, (*path).previous_position, hit.triangle, triangle, hit.t, cos_light);
+        (*path).radiance += (*path).throughput * emitted * weight;
+    }
+    if !material_reflects(material) || depth >= frame.max_depth {
+        return false;
+    }
+    let local = shading_frame(shading);
+    let wi = to_local(local, towards_viewer);
+    (*path).previous_sampled_lights = samples_lights(material);
+    (*path).previous_position = p;
+    if (*path).previous_sampled_lights || samples_delta_lights_only(material) {
+        (*path).radiance += (*path).throughput * direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
+    }
+    let u = sample_2d();
+    let sample = bsdf_sample(material, wi, u, sample_1d());
+    if sample.pdf <= 0.0 {
+        return false;
+    }
+    let direction = to_world(local, sample.direction);
+    let kept = shading_weight(shading, normal, towards_viewer, direction);
+    if kept <= 0.0 {
+        return false;
+    }
+    (*path).previous_bsdf_pdf = sample.pdf;
+    (*path).throughput *= sample.weight * kept;
+    (*path).eta_scale /= sample.eta * sample.eta;
+    if depth >= RUSSIAN_ROULETTE_DEPTH {
+        let survival = min(max_component((*path).throughput) * (*path).eta_scale, RUSSIAN_ROULETTE_MAX_SURVIVAL);
+        if sample_1d() >= survival {
+            return false;
+        }
+        (*path).throughput /= survival;
+    }
+    (*path).ray = Ray(offset_ray_origin(p, normal, direction, triangle.v0, triangle.v1, triangle.v2), direction);
+    (*path).skip_triangle = hit.triangle;
+    (*path).depth = depth + 1u;
+    return true;
+}
+
+// A path's first ray: through the pixel, jittered by the sample's first draw.
+fn camera_path(xy: vec2<u32>) -> PathState {
+    return path_start(camera_ray(xy, sample_2d()));
+}
+
+// The pixel's sum with one finished path added, or counted as cut short and dropped if the
+// driver's loop budget may have ended one of its loops (loop_budget_spent).
+fn add_sample(sum: AccumulatedPixel, pixel: u32, radiance: vec3<f32>) -> AccumulatedPixel {
+    if loop_budget_spent(frame.width) {
+        return drop_cut_short_sample(sum);
+    }
+    accumulate_guides(pixel, radiance);
+    return accumulate_sample(sum, radiance);
+}
+
+// `samples` samples of the pixel at column xy.x, row xy.y, after any it owes, in one loop over
+// path vertices (path regeneration, Novak et al. 2010): a path that ends starts the pixel's next
+// sample in the same pass, so that lanes run in lockstep do not wait for their group's longest
+// path. Each sample draws, adds and counts as it would alone in its dispatch, in the same order
+// (the pixel's sum stays in registers until the last). Under a loop budget (regeneration_hook)
+// a sample that finds it spent is left, with those after it, to dispatches of no samples, which
+// take one of those a pixel owes each. The viewer's band-of-rows entry point (main_rows) takes one.
+fn render_pixel(xy: vec2<u32>, samples: u32) {
     if xy.x >= frame.width || xy.y >= frame.height {
         return;
     }
     let pixel = xy.y * frame.width + xy.x;
-    sampler_begin(pixel);
-    let radiance = trace_path(camera_ray(xy, sample_2d()));
-    if loop_budget_spent(frame.width) {
-        accumulation[pixel] = drop_cut_short_sample(accumulation[pixel]);
-    } else {
-        accumulation[pixel] = accumulate_sample(accumulation[pixel], radiance);
-        accumulate_guides(pixel, radiance);
+    let owed = samples_owed(pixel);
+    let count = select(owed + samples, min(owed, 1u), samples == 0u);
+    if count == 0u {
+        return;
     }
-    sampler_end(pixel);
+    let defers = LOOP_BUDGET && samples != 0u;
+    sampler_begin(pixel);
+    var sum = accumulation[pixel];
+    var path = camera_path(xy);
+    var done = 0u;
+    loop {
+        count_lanes(LOOP_PATH);
+        if path_vertex(&path) {
+            continue;
+        }
+        if defers && loop_budget_spent(frame.width) {
+            break;
+        }
+        sum = add_sample(sum, pixel, path.radiance);
+        done++;
+        if done == count {
+            break;
+        }
+        sampler_next_sample();
+        guides_begin();
+        path = camera_path(xy);
+    }
+    // Short of `count`, the budget ran out: the driver ends this loop too, under way or above.
+    // Deferring, the sample under way and those after it are owed; otherwise they are cut short.
+    let rewound = defers && done < count;
+    if done < count && !rewound {
+        sum = drop_cut_short_samples(sum, count - done);
+        done = count;
+    }
+    accumulation[pixel] = sum;
+    if LOOP_BUDGET {
+        owe_samples(pixel, owed, select(owed - done, count - done, defers));
+    }
+    if rewound {
+        sampler_end_rewound(pixel);
+    } else {
+        sampler_end(pixel);
+    }
 }
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    render_pixel(id.xy);
+    count_lanes(LOOP_INVOCATION);
+    render_pixel(id.xy, samples_this_dispatch());
 }

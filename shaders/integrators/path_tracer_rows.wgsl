@@ -9,5 +9,5 @@
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
 fn main_rows(@builtin(global_invocation_id) id: vec3<u32>) {
-    render_pixel(vec2<u32>(id.x, id.y + band_first_row));
+    render_pixel(vec2<u32>(id.x, id.y + band_first_row), 1u);
 }

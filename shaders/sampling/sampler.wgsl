@@ -1,4 +1,7 @@
 // The sampler interface: sample_1d and sample_2d between sampler_begin(pixel) and sampler_end(pixel).
+// sampler_next_sample() between a pixel's samples within one invocation is sampler_end then
+// sampler_begin without the trip through memory (path regeneration takes several per dispatch);
+// sampler_end_rewound(pixel) ends as if the sample under way had not begun.
 //
 // A path draws, in order: the camera's 2D point, then per vertex the light sample's 2D + 2D, the
 // BSDF's 2D + 1D and roulette's 1D. Estimators draw only through this interface, so a sampler

@@ -11,19 +11,34 @@ var<private> sobol_pixel_seed: u32;
 var<private> sobol_index: u32;
 var<private> sobol_dimension: u32;
 
-fn sampler_begin(pixel: u32) {
-    let state = rng_states[pixel];
-    sobol_pixel_seed = state.x;
-    sobol_index = state.y;
+// Sample sobol_index starts at its first draw. Stochastic alpha draws independent numbers, a
+// stream per pixel and sample (xoshiro's state must not be all zero: w is odd).
+fn sobol_start_sample() {
     sobol_dimension = 0u;
-    // Stochastic alpha draws independent numbers, a stream per pixel and sample (xoshiro's state
-    // must not be all zero: w is odd).
     let stream = sobol_seed(sobol_pixel_seed, ~sobol_index);
     rng_state = vec4<u32>(stream, sobol_hash(stream + 1u), sobol_hash(stream + 2u), sobol_hash(stream + 3u) | 1u);
 }
 
+fn sampler_begin(pixel: u32) {
+    let state = rng_states[pixel];
+    sobol_pixel_seed = state.x;
+    sobol_index = state.y;
+    sobol_start_sample();
+}
+
 fn sampler_end(pixel: u32) {
     rng_states[pixel].y = sobol_index + 1u;
+}
+
+// sampler_end as if the sample under way had not begun: the next sampler_begin starts it again.
+fn sampler_end_rewound(pixel: u32) {
+    rng_states[pixel].y = sobol_index;
+}
+
+// sampler_end then sampler_begin, without the round trip through rng_states.
+fn sampler_next_sample() {
+    sobol_index++;
+    sobol_start_sample();
 }
 
 // The seed of the next draw of this sample, whose number it takes.

@@ -81,6 +81,20 @@ def test_impossible_variants_are_refused_in_one_line():
         _ = DEFAULT_VARIANT.entry
 
 
+def test_regeneration_binds_the_dispatch_group_and_names_its_count():
+    several = replace(MIS, samples_per_dispatch=8)
+    assert "dispatch" in {group.name for group in several.groups()} - {group.name for group in MIS.groups()}
+    assert "8 samples per dispatch" in several.label and "per dispatch" not in MIS.label
+    assert several.files() != MIS.files()
+    # the viewer's bands take one sample per pixel whatever the renderer's kernel takes, none owed
+    bands = replace(several, loop_budget=True, rows=True)
+    assert bands.samples_per_dispatch == 1 and not bands.loop_budget
+    with pytest.raises(ValueError, match="bdpt integrator's kernel takes one sample"):
+        replace(several, integrator=integrator("bdpt"))
+    with pytest.raises(ValueError, match="at least 1"):
+        replace(MIS, samples_per_dispatch=0)
+
+
 def test_the_mirror_states_the_scenes_part():
     lamp = make_box((0, 1, 0), (0, 0, 0), (0.2, 0.01, 0.2), Diffuse("lamp"), "lamp")
     scene = Scene([lamp], Camera())

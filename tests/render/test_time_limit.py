@@ -10,7 +10,7 @@ import time
 import pytest
 
 import wgputrace as wt
-from wgputrace.render.renderer import _MAX_DISPATCHES_PER_SUBMIT, _TARGET_SUBMIT_SECONDS, SubmitPlan
+from wgputrace.render.renderer import _MAX_SAMPLES_PER_SUBMIT, _TARGET_SUBMIT_SECONDS, SubmitPlan
 
 SIZE = 16
 ENDLESS_SPP = 1_000_000
@@ -22,17 +22,30 @@ def test_submits_double_while_quick_and_keep_to_what_is_left():
     for _ in range(10):
         sizes.append(plan.next())
         plan.measured(sizes[-1], 0.01 * _TARGET_SUBMIT_SECONDS)
-    assert sizes == [1, 2, 4, 8, 16, 32, 64, 64, 64, 64] and _MAX_DISPATCHES_PER_SUBMIT == 64
+    assert sizes == [1, 2, 4, 8, 16, 32, 64, 64, 64, 64] and _MAX_SAMPLES_PER_SUBMIT == 64
     assert plan.next(left=5) == 5
     plan.measured(64, _TARGET_SUBMIT_SECONDS)  # a slow submit: no more growth
     assert plan.next() == 64
 
 
+def test_after_one_sample_submits_take_whole_dispatches_and_grow_to_the_cap():
+    plan = SubmitPlan(8)
+    sizes = []
+    for _ in range(6):
+        sizes.append(plan.next())
+        plan.measured(sizes[-1], 0.01 * _TARGET_SUBMIT_SECONDS)
+    assert sizes == [1, 8, 16, 32, 64, 64]
+    assert plan.next(left=5) == 5  # the render's last dispatch takes fewer
+    slow = SubmitPlan(100)
+    slow.measured(slow.next(), 10 * _TARGET_SUBMIT_SECONDS)
+    assert slow.next() == 100  # a dispatch is never cut below what it takes, however slow
+
+
 def test_a_budget_shrinks_the_submit_to_the_time_remaining():
     plan = SubmitPlan()
     assert plan.next(remaining_seconds=1e-9) == 1  # nothing measured yet: one dispatch to measure
-    plan.dispatches = 32
-    plan.measured(32, 32 * 0.01)  # 10 ms per dispatch
+    plan.samples = 32
+    plan.measured(32, 32 * 0.01)  # 10 ms per sample
     assert plan.next(remaining_seconds=0.125) == 12
     assert plan.next(left=3, remaining_seconds=0.125) == 3
     assert plan.next(remaining_seconds=0.005) == 0  # not one more fits
@@ -74,8 +87,9 @@ def test_spp_caps_a_budget(gpu_context):
     assert renderer.samples_per_pixel == 3
 
 
-def test_stop_is_asked_before_every_submit(gpu_context):
-    renderer = wt.Renderer(wt.load_scene("cornell"), SIZE, SIZE)
+@pytest.mark.parametrize(("samples_per_dispatch", "submits"), [(1, [1, 2, 4, 8]), (8, [1, 8, 16, 32])])
+def test_stop_is_asked_before_every_submit(gpu_context, samples_per_dispatch, submits):
+    renderer = wt.Renderer(wt.load_scene("cornell"), SIZE, SIZE, samples_per_dispatch=samples_per_dispatch)
     batches = []
     renderer.render(progress=batches.append, stop=lambda: len(batches) == 4)
-    assert batches == [1, 2, 4, 8] and renderer.samples_per_pixel == 15
+    assert batches == submits and renderer.samples_per_pixel == sum(submits)

@@ -35,7 +35,9 @@ ATOMIC_COUNTERS = "atomic counters"
 TEXTURE_U32 = "texture u32"
 TEXTURE_F32 = "texture f32"
 STORAGE_TEXTURE = "storage texture"
-KINDS = (UNIFORM, STORAGE_READ, STORAGE_READ_WRITE, ATOMIC_COUNTERS, TEXTURE_U32, TEXTURE_F32, STORAGE_TEXTURE)
+# records in the texels of a read-only rgba32uint storage texture (`TrackedTexels`)
+TEXELS = "texels"
+KINDS = (UNIFORM, STORAGE_READ, STORAGE_READ_WRITE, ATOMIC_COUNTERS, TEXTURE_U32, TEXTURE_F32, STORAGE_TEXTURE, TEXELS)
 
 COMPUTE = wgpu.ShaderStage.COMPUTE
 VERTEX_FRAGMENT = wgpu.ShaderStage.VERTEX | wgpu.ShaderStage.FRAGMENT
@@ -77,6 +79,7 @@ class Binding:
             TEXTURE_U32: "texture_2d<u32>",
             TEXTURE_F32: "texture_2d<f32>",
             STORAGE_TEXTURE: f"texture_storage_2d<{self._type}, write>",
+            TEXELS: "texture_storage_2d<rgba32uint, read>",
         }
         declaration = f"var{address[self.kind]}" if self.kind in address else f"var {self.name}: {textures[self.kind]}"
         return f"@group({group}) @binding({slot}) {declaration};"
@@ -91,10 +94,12 @@ class Binding:
         }
         if self.kind in buffer_types:
             entry["buffer"] = {"type": buffer_types[self.kind]}
-        elif self.kind == STORAGE_TEXTURE:
+        elif self.kind in (STORAGE_TEXTURE, TEXELS):
             entry["storage_texture"] = {
-                "access": wgpu.StorageTextureAccess.write_only,
-                "format": self._type,
+                "access": wgpu.StorageTextureAccess.write_only
+                if self.kind == STORAGE_TEXTURE
+                else wgpu.StorageTextureAccess.read_only,
+                "format": self._type if self.kind == STORAGE_TEXTURE else wgpu.TextureFormat.rgba32uint,
                 "view_dimension": wgpu.TextureViewDimension.d2,
             }
         else:

@@ -17,7 +17,9 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from functools import cached_property
 
+import numpy as np
 import wgpu
 
 # The limits our buffers and dispatches depend on; `wgputrace info` prints these.
@@ -40,8 +42,26 @@ _FENCE_BYTES = 4
 # llvmpipe (Mesa's CPU driver) gives an invocation one budget of this many loop iterations, shared
 # by all its loops (nested or one after another) and by the 8 invocations it runs in lockstep, and
 # silently ends every loop once it is spent (Mesa 22.3; the shaders' `test_loop_budget` measures it).
-# `loop_budget_spent` tells a shader when it happened.
+# `loop_budget_spent` tells a shader when it happened. Mesa 25.0 has no such budget: `_LOOP_PROBE`
+# asks the driver.
 LLVMPIPE_LOOP_ITERATION_LIMIT = 65_535
+
+# A loop that must run 2 x LLVMPIPE_LOOP_ITERATION_LIMIT times, its trip count read from memory so
+# that it cannot be folded; it writes how often it ran.
+_LOOP_PROBE = """
+@group(0) @binding(0) var<storage, read_write> trips: array<u32, 2>;
+@compute @workgroup_size(1)
+fn main() {
+    var runs = 0u;
+    loop {
+        if runs >= trips[0] {
+            break;
+        }
+        runs++;
+    }
+    trips[1] = runs;
+}
+"""
 
 
 class DeviceLimitError(RuntimeError):
@@ -140,10 +160,35 @@ class GpuContext:
         return f"{info['device']} ({info['backend_type']}, {info['adapter_type']})"
 
     @property
+    def has_subgroups(self) -> bool:
+        """Whether kernels may use subgroup operations (wgpu-native's "subgroup" feature)."""
+        return "subgroup" in self.device.features
+
+    @cached_property
     def loop_iteration_limit(self) -> int | None:
         """Loop iterations after which the driver silently ends an invocation's loops (all of them
-        together); None where there is no such budget."""
-        return LLVMPIPE_LOOP_ITERATION_LIMIT if "llvmpipe" in self.adapter.info["device"] else None
+        together); None where there is no such budget. llvmpipe is asked once (`_LOOP_PROBE`)."""
+        if "llvmpipe" not in self.adapter.info["device"]:
+            return None
+        wanted = 2 * LLVMPIPE_LOOP_ITERATION_LIMIT
+        trips = self.device.create_buffer_with_data(
+            data=np.array([wanted, 0], np.uint32), usage=wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_SRC
+        )
+        pipeline = self.device.create_compute_pipeline(
+            layout="auto", compute={"module": self.device.create_shader_module(code=_LOOP_PROBE), "entry_point": "main"}
+        )
+        entries = [{"binding": 0, "resource": {"buffer": trips}}]
+        group = self.device.create_bind_group(layout=pipeline.get_bind_group_layout(0), entries=entries)
+        encoder = self.device.create_command_encoder()
+        probe = encoder.begin_compute_pass()
+        probe.set_pipeline(pipeline)
+        probe.set_bind_group(0, group)
+        probe.dispatch_workgroups(1)
+        probe.end()
+        self.device.queue.submit([encoder.finish()])
+        runs = int(np.frombuffer(self.device.queue.read_buffer(trips), np.uint32)[1])
+        trips.destroy()
+        return LLVMPIPE_LOOP_ITERATION_LIMIT if runs < wanted else None
 
     def require(self, limit: str, needed: int, what: str, *, largest: str = "") -> None:
         """DeviceLimitError unless `needed` is within `limit`; `largest` says what the limit allows
@@ -175,7 +220,8 @@ def new_context() -> GpuContext:
     if adapter is None:
         raise RuntimeError("wgpu found no adapter; on Debian install mesa-vulkan-drivers for a CPU fallback")
     wanted = {name: adapter.limits[name] for name in LIMITS_WE_USE}
-    features = [f for f in ("timestamp-query",) if f in adapter.features]
+    # subgroup operations: only the lane-counting kernel variant uses them (`KernelVariant.count_lanes`)
+    features = [f for f in ("timestamp-query", "subgroup") if f in adapter.features]
     with reporting(f"creating a device on {adapter.info['device']}"):
         device = adapter.request_device_sync(required_limits=wanted, required_features=features)
         fence = device.create_buffer(label="fence", size=_FENCE_BYTES, usage=wgpu.BufferUsage.COPY_SRC)

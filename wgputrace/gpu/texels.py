@@ -2,7 +2,9 @@
 
 On lavapipe a random texture load costs a fraction of a storage-buffer load, so the BVH's nodes
 and the triangles live in texels only (`python -m bench.kernel_profile --variants
-storage_triangles` measures the triangles' part). A record of S bytes is S / 16 consecutive texels
+storage_triangles` measures the triangles' part). Shaders read them as read-only storage textures
+(binding kind TEXELS): llvmpipe loads an image texel without the sampled path's mip-level
+arithmetic, which made the path tracer 1.4-1.5 times as fast (bench/README.md's log). A record of S bytes is S / 16 consecutive texels
 of its storage-buffer layout; texel t lies at column t % width, row t // width, width a power of
 two, so `texel_at` finds it with a mask and a shift. Each struct's WGSL loader is generated from its
 layout (`texel_loaders`); `TrackedTexels` is the `TrackedRecords` of such a texture.
@@ -66,7 +68,7 @@ def texel_loader(struct: GpuStruct) -> str:
     """WGSL `load_<name>(texels, index) -> <name>`: record `index` reassembled from its texels."""
     texel_count = texels_per_record(struct)
     lines = [
-        f"fn load_{struct.name}(texels: texture_2d<u32>, index: u32) -> {struct.name} {{",
+        f"fn load_{struct.name}(texels: texture_storage_2d<rgba32uint, read>, index: u32) -> {struct.name} {{",
         *(f"    let t{k} = texel_at(texels, {texel_count}u * index + {k}u);" for k in range(texel_count)),
     ]
     values = []
@@ -124,7 +126,11 @@ class TrackedTexels(TrackedRecords):
                 size=(width, height, 1),
                 format=wgpu.TextureFormat.rgba32uint,
                 # COPY_SRC: what was uploaded can be read back and checked against the host records
-                usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST | wgpu.TextureUsage.COPY_SRC,
+                # TEXTURE_BINDING: bench.kernel_profile's sampled_texels reads them the slower way
+                usage=wgpu.TextureUsage.STORAGE_BINDING
+                | wgpu.TextureUsage.TEXTURE_BINDING
+                | wgpu.TextureUsage.COPY_DST
+                | wgpu.TextureUsage.COPY_SRC,
             )
         self._view = self.texture.create_view()
 

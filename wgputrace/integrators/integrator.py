@@ -10,6 +10,8 @@ descriptor, registered by name, that they ask instead of naming it.
 | per-pixel arrays beside the accumulation    | `pixel_arrays`   | the pixels group, the Renderer, the limits  |
 | light tracing splats into any pixel         | `splats`         | the Renderer's image, tiles (refused)       |
 | the deepest path it can trace               | `max_depth`      | `check_depth`                               |
+| several samples per dispatch (regeneration) | `regenerates`    | `KernelVariant` (`check_regeneration`)      |
+| how many, by adapter type (measured)        | `dispatch_samples` | the Renderer (`samples_per_dispatch`)     |
 
 A new integrator is one module in this package that registers an instance (`register`), plus its
 WGSL entry file: the renderer, the CLI's choices and the limits follow from the descriptor.
@@ -49,6 +51,11 @@ class Integrator:
     pixel_arrays: tuple[PixelArray, ...] = ()
     splats: bool = False
     max_depth: int | None = None
+    # whether its kernel takes several samples of a pixel per dispatch (`samples_this_dispatch`)
+    regenerates: bool = False
+    # how many it takes by adapter type ("CPU", "DiscreteGPU", ...), as measured by
+    # `python -m bench.regeneration`; 1 on the others
+    dispatch_samples: tuple[tuple[str, int], ...] = ()
 
     def files(self, variant: KernelVariant) -> dict[str, str]:
         """Generated files of its own, for `variant`: none here."""
@@ -58,6 +65,15 @@ class Integrator:
         """ValueError unless it can trace paths of `max_depth` (-1: no limit)."""
         if self.max_depth is not None and not 1 <= max_depth <= self.max_depth:
             raise ValueError(f"integrator {self.name!r} takes max_depth from 1 to {self.max_depth}, got {max_depth}")
+
+    def samples_per_dispatch(self, adapter_type: str) -> int:
+        """Samples of each pixel a dispatch of its kernel takes on an adapter of `adapter_type`."""
+        return dict(self.dispatch_samples).get(adapter_type, 1)
+
+    def check_regeneration(self) -> None:
+        """ValueError unless its kernel can take several samples of a pixel per dispatch."""
+        if not self.regenerates:
+            raise ValueError(f"the {self.name} integrator's kernel takes one sample of each pixel per dispatch")
 
     def check_rows(self) -> None:
         """ValueError unless it has a band-of-rows kernel for the viewer."""

@@ -21,5 +21,7 @@ for _index, _name in enumerate(ESTIMATORS):
             _DESCRIPTIONS[_name],
             rows_entry="integrators/path_tracer_rows.wgsl",
             constants=(("INTEGRATOR", _index),),
+            regenerates=True,
+            dispatch_samples=(("CPU", 8),),
         )
     )

@@ -14,8 +14,8 @@ from ..gpu.bindings import (
     ATOMIC_COUNTERS,
     STORAGE_READ,
     STORAGE_READ_WRITE,
+    TEXELS,
     TEXTURE_F32,
-    TEXTURE_U32,
     UNIFORM,
     BindGroup,
     Binding,
@@ -45,13 +45,13 @@ SCENE_GROUP = BindGroup(
     0,
     (
         Binding("frame", UNIFORM, FRAME),
-        Binding("triangles", TEXTURE_U32),
-        Binding("nodes", TEXTURE_U32),
+        Binding("triangles", TEXELS),
+        Binding("nodes", TEXELS),
         Binding("materials", STORAGE_READ, MATERIAL),
         Binding("lights", STORAGE_READ, LIGHT),
     ),
 )
-_NODES = {"bvh": Binding("nodes", TEXTURE_U32), "flat": Binding("nodes", STORAGE_READ, BVH_NODE)}
+_NODES = {"bvh": Binding("nodes", TEXELS), "flat": Binding("nodes", STORAGE_READ, BVH_NODE)}
 ACCELERATIONS = tuple(_NODES)
 
 
@@ -78,7 +78,25 @@ GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
 
 # The viewer's band of rows: the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
-# Rays counted by kind (`ray_count_hook`), only in the counting variants.
+# How many samples of its pixel each invocation takes in this dispatch, only in the kernels that
+# take more than one (`KernelVariant.samples_per_dispatch`). Index 2 as the band group's: the
+# viewer's bands take one sample per pixel, so no kernel binds both. Under a loop budget
+# (`KernelVariant.loop_budget`) also the samples each pixel still owes, left by a dispatch whose
+# budget ran out, and their total (`dispatch_group`).
+DISPATCH_GROUP = BindGroup("dispatch", 2, (Binding("dispatch_samples", STORAGE_READ, "u32"),))
+_OWED_SAMPLES = (Binding("owed_samples", STORAGE_READ_WRITE, "u32"), Binding("owed_total", ATOMIC_COUNTERS))
+
+
+def dispatch_group(loop_budget: bool) -> BindGroup:
+    """The dispatch group of a kernel taking several samples per dispatch, with the owed samples
+    under a loop budget."""
+    group = DISPATCH_GROUP
+    for binding in _OWED_SAMPLES if loop_budget else ():
+        group = group.extended(binding)
+    return group
+
+
+# Rays and lanes counted (`ray_count_hook`), only in the counting variants.
 RAY_COUNT_GROUP = BindGroup("ray_count", 3, (Binding("ray_counts", ATOMIC_COUNTERS),))
 
 # The lights besides emissive triangles, each binding only where the scene needs it: the parameters

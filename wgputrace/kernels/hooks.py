@@ -14,6 +14,7 @@ from .light_dispatch import GENERATED_ESCAPED_LIGHT, GENERATED_LIGHTS, escaped_l
 from .material_dispatch import GENERATED_MATERIALS, materials_hook
 from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
 from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
+from .regeneration import GENERATED_REGENERATION, regeneration_hook
 from .sampler import GENERATED_SAMPLER, sampler_hook
 from .shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
 from .structs import GENERATED_STRUCTS, structs_hook
@@ -43,4 +44,5 @@ HOOKS: dict[str, Callable[[KernelVariant], str]] = {
     GENERATED_PATH_GUIDES: path_guides_hook,
     GENERATED_RAY_COUNT: ray_count_hook,
     GENERATED_SAMPLER: sampler_hook,
+    GENERATED_REGENERATION: regeneration_hook,
 }

@@ -1,7 +1,7 @@
 """The denoiser-guide hook of the integrators: `guide_vertex` at every hit, `accumulate_guides`
-where a sample is added to the image.
+where a sample is added to the image, `guides_begin` before an invocation's next path.
 
-Normally both are empty and inlined away, and no binding is declared. The guides variant
+Normally all three are empty and inlined away, and no binding is declared. The guides variant
 (`KernelVariant.guides`) brings in the guide sums of the pixels group (GUIDE_SUMS) and tells them
 which of the scene's material kinds are delta (`Material.delta`), whose vertices the guides look through.
 """
@@ -35,5 +35,6 @@ def path_guides_hook(variant: KernelVariant) -> str:
         lines += [
             "fn guide_vertex(material: Material, normal: vec3<f32>, direction: vec3<f32>) {}",
             "fn accumulate_guides(pixel: u32, radiance: vec3<f32>) {}",
+            "fn guides_begin() {}",
         ]
     return "\n".join(lines) + "\n"

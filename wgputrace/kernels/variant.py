@@ -13,7 +13,16 @@ from dataclasses import dataclass, field, fields, replace
 from typing import TYPE_CHECKING
 
 from ..scene.materials import material_class, material_classes
-from .bind_groups import BAND_GROUP, GUIDE_SUMS, PIXELS_GROUP, RAY_COUNT_GROUP, lights_group, scene_group, shading_group
+from .bind_groups import (
+    BAND_GROUP,
+    GUIDE_SUMS,
+    PIXELS_GROUP,
+    RAY_COUNT_GROUP,
+    dispatch_group,
+    lights_group,
+    scene_group,
+    shading_group,
+)
 from .hooks import HOOKS
 from .light_dispatch import NO_LIGHTS, LightFeatures
 from .sampler import DEFAULT_SAMPLER, check_sampler
@@ -90,15 +99,30 @@ class KernelVariant:
     rows: bool = flag("rows")
     # the ray counters
     count_rays: bool = flag("counting rays")
+    # the lane counters (subgroup operations: an adapter with subgroups)
+    count_lanes: bool = flag("counting lanes")
     # the denoiser's albedo and normal guides
     guides: bool = flag("guides")
+    # the adapter ends an invocation's loops after a budget of iterations (`loop_iteration_limit`),
+    # which the samples of a regenerating invocation share
+    loop_budget: bool = flag("loop budget")
     # other override constants of the entry file, sorted (name, value) pairs (for measurements)
     overrides: tuple[tuple[str, float], ...] = ()
+    # the most samples of its pixel an invocation takes in one dispatch (path regeneration); the
+    # viewer's band-of-rows kernel takes one
+    samples_per_dispatch: int = 1
 
     def __post_init__(self) -> None:
         check_sampler(self.sampler)
+        if self.samples_per_dispatch < 1:
+            raise ValueError(f"samples_per_dispatch must be at least 1, got {self.samples_per_dispatch}")
         if self.rows:
+            # the viewer's bands take one sample per pixel each, and nothing takes owed ones
             self.require_integrator().check_rows()
+            object.__setattr__(self, "samples_per_dispatch", 1)
+            object.__setattr__(self, "loop_budget", False)
+        if self.samples_per_dispatch > 1:
+            self.require_integrator().check_regeneration()
         object.__setattr__(self, "overrides", tuple(sorted(dict(self.overrides).items())))
 
     def require_integrator(self) -> Integrator:
@@ -113,7 +137,8 @@ class KernelVariant:
     def label(self) -> str:
         """How errors, compile messages and provenance name it."""
         integrator = [] if self.integrator is None else [self.integrator.name]
-        parts = [self.scene.acceleration, *integrator, *_flag_labels(self), *self.scene.labels]
+        regenerating = [f"{self.samples_per_dispatch} samples per dispatch"] if self.samples_per_dispatch > 1 else []
+        parts = [self.scene.acceleration, *integrator, *_flag_labels(self), *regenerating, *self.scene.labels]
         return f"{', '.join(parts)}, {self.sampler} sampler"
 
     @property
@@ -141,7 +166,8 @@ class KernelVariant:
         """Every bind group the integrator's kernel for this variant declares."""
         scene, *scene_extras = self.scene.groups()
         own = (self.pixels_group(), *((BAND_GROUP,) if self.rows else ()))
-        own += (RAY_COUNT_GROUP,) if self.count_rays else ()
+        own += (dispatch_group(self.loop_budget),) if self.samples_per_dispatch > 1 else ()
+        own += (RAY_COUNT_GROUP,) if self.count_rays or self.count_lanes else ()
         return (scene, *own, *scene_extras)
 
     def files(self) -> dict[str, str]:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
-from ..gpu.bindings import STORAGE_READ, TEXTURE_F32, TEXTURE_U32, UNIFORM, BindGroup, Binding
+from ..gpu.bindings import STORAGE_READ, TEXELS, TEXTURE_F32, UNIFORM, BindGroup, Binding
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE
 from ..gpu.device import GpuContext
 from ..gpu.float_texture import FloatTexture
@@ -81,7 +81,7 @@ _BY_BINDING = {(array.group, array.binding): array for array in RECORD_ARRAYS}
 
 
 def _create(context: GpuContext, array: RecordArray, binding: Binding, data: np.ndarray) -> GpuResource:
-    if binding.kind == TEXTURE_U32:
+    if binding.kind == TEXELS:
         return TrackedTexels(context, array.name, data, spare=array.spare)
     if binding.kind == TEXTURE_F32:
         return FloatTexture(context, array.name, data)

@@ -1,5 +1,5 @@
-"""The progressive renderer: scene buffers on the GPU, one path-tracing dispatch per sample per
-pixel, a drift-free accumulation buffer, and the mean image read back on request.
+"""The progressive renderer: scene buffers on the GPU, path-tracing dispatches of one or more
+samples per pixel, a drift-free accumulation buffer, and the mean image read back on request.
 
 Edits to the scene reach the GPU at the next `render` (or `update`): only the records that changed
 are uploaded (SceneMirror finds them, GpuRecords writes their runs), and
@@ -20,6 +20,7 @@ import wgpu
 from ..denoise import denoise
 from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
 from ..gpu.device import DeviceLimitError, gpu
+from ..gpu.kernel import ComputeKernel, Pass, submit
 from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..integrators import Integrator
@@ -42,36 +43,40 @@ from .sobol import pixel_sobol_states
 UNLIMITED_DEPTH = -1
 _UNLIMITED_DEPTH_GPU = 0xFFFFFFFF
 
-# Dispatches per submit grow until one submit takes about this long, so progress reports stay
+# Samples per submit grow until one submit takes about this long, so progress reports stay
 # frequent on slow adapters and submit overhead stays small on fast ones.
 _TARGET_SUBMIT_SECONDS = 0.25
-_MAX_DISPATCHES_PER_SUBMIT = 64
+_MAX_SAMPLES_PER_SUBMIT = 64
 
 
 class SubmitPlan:
-    """How many dispatches (samples per pixel) the next submit holds: the count doubles while a
-    submit takes under half of _TARGET_SUBMIT_SECONDS (up to _MAX_DISPATCHES_PER_SUBMIT), never
-    exceeds the samples left, and under a time budget never exceeds what the last measured time
-    per dispatch fits in the time remaining, so the last submit ends near the deadline instead of
-    up to _TARGET_SUBMIT_SECONDS after it."""
+    """How many samples per pixel the next submit adds: one first (the first progress report comes
+    soon, and the time per sample is known before a time budget is spent on more), then at least
+    one dispatch's `step`, the count doubling while a submit takes under half of
+    _TARGET_SUBMIT_SECONDS (up to _MAX_SAMPLES_PER_SUBMIT, or one dispatch if that takes more). It
+    never exceeds the samples left, and under a time budget never exceeds what the last measured
+    time per sample fits in the time remaining, so the last submit ends near the deadline instead
+    of up to _TARGET_SUBMIT_SECONDS (or a dispatch of `step` samples) after it."""
 
-    def __init__(self) -> None:
-        self.dispatches = 1
-        self.seconds_per_dispatch: float | None = None
+    def __init__(self, step: int = 1) -> None:
+        self.step = step
+        self.samples = 1
+        self.most = max(step, _MAX_SAMPLES_PER_SUBMIT)
+        self.seconds_per_sample: float | None = None
 
     def next(self, left: int | None = None, remaining_seconds: float | None = None) -> int:
-        """Dispatches for the next submit (0: none fits); `left`: samples still wanted (None: no
+        """Samples for the next submit (0: none fits); `left`: samples still wanted (None: no
         cap), `remaining_seconds`: time left in the budget (None: no budget)."""
-        count = self.dispatches if left is None else min(self.dispatches, left)
-        if remaining_seconds is not None and self.seconds_per_dispatch is not None:
-            count = min(count, max(int(remaining_seconds / self.seconds_per_dispatch), 0))
+        count = self.samples if left is None else min(self.samples, left)
+        if remaining_seconds is not None and self.seconds_per_sample is not None:
+            count = min(count, max(int(remaining_seconds / self.seconds_per_sample), 0))
         return count
 
-    def measured(self, dispatches: int, seconds: float) -> None:
-        """A submit of `dispatches` took `seconds`, waiting included."""
-        self.seconds_per_dispatch = seconds / dispatches
-        if seconds < _TARGET_SUBMIT_SECONDS / 2:
-            self.dispatches = min(2 * self.dispatches, _MAX_DISPATCHES_PER_SUBMIT)
+    def measured(self, samples: int, seconds: float) -> None:
+        """A submit of `samples` took `seconds`, waiting included."""
+        self.seconds_per_sample = seconds / samples
+        grown = 2 * self.samples if seconds < _TARGET_SUBMIT_SECONDS / 2 else self.samples
+        self.samples = min(max(grown, self.step), self.most)
 
 
 @dataclass
@@ -106,6 +111,7 @@ class Renderer:
         shader_overrides: dict[str, float] | None = None,
         guides: bool = False,
         sampler: str = DEFAULT_SAMPLER,
+        samples_per_dispatch: int | None = None,
     ) -> None:
         method = _integrator(integrator)
         if width < 1 or height < 1:
@@ -117,9 +123,19 @@ class Renderer:
         method.check_depth(max_depth)
         # the variant without its scene: checks the sampler and the overrides before anything is allocated
         variant = KernelVariant(
-            integrator=method, sampler=sampler, guides=guides, overrides=tuple((shader_overrides or {}).items())
+            integrator=method,
+            sampler=sampler,
+            guides=guides,
+            overrides=tuple((shader_overrides or {}).items()),
+            samples_per_dispatch=1 if samples_per_dispatch is None else samples_per_dispatch,
         )
         self.context = gpu()
+        if samples_per_dispatch is None:
+            chosen = method.samples_per_dispatch(self.context.adapter.info["adapter_type"])
+            variant = replace(variant, samples_per_dispatch=chosen)
+        # the samples of a regenerating invocation share the driver's loop budget (regeneration_hook)
+        shared_budget = variant.samples_per_dispatch > 1 and self.context.loop_iteration_limit is not None
+        variant = replace(variant, loop_budget=shared_budget)
         self.scene, self.width, self.height, self.seed, self.max_depth = scene, width, height, seed, max_depth
         # before anything is allocated and before the BVH build, which takes seconds for millions of triangles
         check_image_size(self.context, width, height, guides, method)
@@ -159,7 +175,16 @@ class Renderer:
             self._sums[GUIDE_SUMS.name] = self._new_guide_sums()
         for array in method.pixel_arrays:
             self._sums[array.binding.name] = self._zeroed_sums(array.binding.name, array.bytes_per_pixel)
-        self._submits = SubmitPlan()
+        # the samples each invocation takes in the next dispatch, where the kernel takes more than one,
+        # and under a loop budget the samples each pixel still owes and their total
+        self._dispatch_samples = storage_buffer(self.context, "dispatch samples", np.ones(1, np.uint32))
+        self._dispatch_count = 1
+        owed = np.zeros(width * height if self.variant.loop_budget else 1, np.uint32)
+        self._owed = {
+            "owed_samples": storage_buffer(self.context, "owed samples", owed, read_back=True),
+            "owed_total": storage_buffer(self.context, "owed total", np.zeros(1, np.uint32), read_back=True),
+        }
+        self._submits = SubmitPlan(self.samples_per_dispatch)
         self._bind()
 
     @property
@@ -173,6 +198,11 @@ class Renderer:
     @property
     def sampler(self) -> str:
         return self.variant.sampler
+
+    @property
+    def samples_per_dispatch(self) -> int:
+        """The most samples of each pixel one dispatch takes (the last of a render may take fewer)."""
+        return self.variant.samples_per_dispatch
 
     @property
     def records(self) -> SceneRecords:
@@ -257,6 +287,8 @@ class Renderer:
         """What the renderer binds in `group`, by binding name."""
         if group == "pixels":
             return {"rng_states": self._rng, **self._sums}
+        if group == "dispatch":
+            return {"dispatch_samples": self._dispatch_samples, **(self._owed if self.variant.loop_budget else {})}
         extra = {"frame": self._frame.buffer} if group == "scene" else {}
         return extra | self._records.bound_in(group)
 
@@ -394,16 +426,52 @@ class Renderer:
                     progress(batch)
         return self.stats
 
-    def _submit(self, dispatches: int, deferral: Deferral) -> None:
-        """Run `dispatches` samples per pixel in one submit, wait for them and count them; no signal
-        can come between the submit and the count."""
+    def _submit(self, samples: int, deferral: Deferral) -> None:
+        """Add `samples` samples per pixel, wait for them and count them; no signal can come between
+        the submit and the count."""
         with deferral.shield():
             start = time.perf_counter()
-            self.kernel.dispatch((self.width, self.height), self._bind_groups, repeat=dispatches, wait=True)
+            self.dispatch(samples)
             seconds = time.perf_counter() - start
-            self.stats.samples_per_pixel += dispatches
+            self.stats.samples_per_pixel += samples
             self.stats.render_seconds += seconds
-        self._submits.measured(dispatches, seconds)
+        self._submits.measured(samples, seconds)
+
+    def dispatch_sizes(self, samples: int) -> list[int]:
+        """The samples per pixel of each dispatch that adds `samples`: samples_per_dispatch each,
+        the last fewer."""
+        full, rest = divmod(samples, self.samples_per_dispatch)
+        return [self.samples_per_dispatch] * full + ([rest] if rest else [])
+
+    def dispatch(
+        self,
+        samples: int,
+        kernel: ComputeKernel | None = None,
+        extra_groups: dict[str, wgpu.GPUBindGroup] | None = None,
+    ) -> None:
+        """Add `samples` samples per pixel (`dispatch_sizes`) and wait for them, without counting
+        them in `stats`; under a loop budget it returns once no pixel owes a sample. `kernel`:
+        another variant of the renderer's kernel (a counting one) that also binds `extra_groups`."""
+        kernel = kernel or self.kernel
+        groups = {**self._bind_groups, **(extra_groups or {})}
+        sizes = self.dispatch_sizes(samples)
+        # one submit per run of dispatches that take the same count, written before it
+        for count in dict.fromkeys(sizes):
+            self._submit_dispatches(kernel, groups, count, sizes.count(count))
+        self.context.finish()
+        # Under a loop budget, samples left to later dispatches (regeneration_hook) are taken by
+        # dispatches of no samples, each taking one from every pixel that owes some.
+        while self.variant.loop_budget and read_buffer(self.context, self._owed["owed_total"], np.uint32, 1)[0]:
+            write_buffer(self.context, self._owed["owed_total"], 0, np.zeros(1, np.uint32))
+            self._submit_dispatches(kernel, groups, 0, 1)
+            self.context.finish()
+
+    def _submit_dispatches(self, kernel: ComputeKernel, groups: dict, count: int, repeat: int) -> None:
+        """One submit of `repeat` dispatches of `count` samples each (after the samples owed)."""
+        if count != self._dispatch_count:
+            write_buffer(self.context, self._dispatch_samples, 0, np.array([count], np.uint32))
+            self._dispatch_count = count
+        submit(self.context, [Pass(kernel, (self.width, self.height), groups)] * repeat)
 
     def _accumulated(self) -> np.ndarray:
         return read_buffer(self.context, self._sums["accumulation"], ACCUMULATED_PIXEL.dtype, self.width * self.height)
