@@ -15,7 +15,9 @@ from .image_io import load_image, load_layers, save_image
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
-from .scene import Camera, Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
+from .scene import Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
+from .scene.cameras import KINDS as CAMERA_KINDS
+from .scene.cameras import Sensor
 from .scene.lights import KINDS as LIGHT_KINDS
 from .scene.lights.environment import Environment
 from .scene.materials import KINDS
@@ -23,6 +25,9 @@ from .scenes import default_scene
 
 # every material kind (Diffuse, Emitter, Glass, Glossy, and any module added to wgputrace.scene.materials)
 globals().update(KINDS)
+# every camera kind (Camera, ThinLensCamera, OrthographicCamera, EquirectangularCamera, and any module added to
+# wgputrace.scene.cameras)
+globals().update(CAMERA_KINDS)
 # every light kind (DirectionalLight, PointLight, SpotLight, Sun, and any module added to wgputrace.scene.lights)
 globals().update(LIGHT_KINDS)
 
@@ -31,13 +36,13 @@ __version__ = version("wgputrace")
 
 __all__ = [
     "UNLIMITED_DEPTH",
-    "Camera",
     "DenoiserMissing",
     "DeviceLimitError",
     "Environment",
     "GpuFailure",
     "Renderer",
     "Scene",
+    "Sensor",
     "SceneLoadError",
     "SceneLoadWarning",
     "Shape",
@@ -56,6 +61,7 @@ __all__ = [
     "read_metadata",
     "render",
     "save_image",
+    *CAMERA_KINDS,
     *KINDS,
     *LIGHT_KINDS,
 ]

@@ -1,6 +1,8 @@
 // The path tracing megakernel: one sample per pixel per dispatch, added to the accumulation buffer.
 //! include "generated/acceleration.wgsl"
-//! include "camera/camera_ray.wgsl"
+// camera_ray: the scene's camera kind (camera_hook)
+//! include "generated/camera.wgsl"
+//! include "camera/lens_sample.wgsl"
 //! include "sampling/sampler.wgsl"
 //! include "materials/bsdf.wgsl"
 //! include "lights/direct_light_sampler.wgsl"
@@ -217,7 +219,8 @@ fn render_pixel(xy: vec2<u32>) {
     }
     let pixel = xy.y * frame.width + xy.x;
     sampler_begin(pixel);
-    let radiance = trace_path(camera_ray(xy, sample_2d()));
+    let jitter = sample_2d();
+    let radiance = trace_path(camera_ray(xy, jitter, lens_sample()));
     if loop_budget_spent(frame.width) {
         accumulation[pixel] = drop_cut_short_sample(accumulation[pixel]);
     } else {

@@ -343,10 +343,8 @@ class Renderer:
         """The FRAME record of the scene's camera for an image of `width` x `height` (this
         renderer's by default; the viewer traces smaller ones while moving)."""
         width, height = width or self.width, height or self.height
-        right, up, forward = self.scene.camera.image_plane(width, height)
         record = FRAME.zeros(1)
-        record["camera_position"] = self.scene.camera.position
-        record["camera_right"], record["camera_up"], record["camera_forward"] = right, up, forward
+        self.scene.camera.fill_frame(record, width, height)
         record["width"], record["height"] = width, height
         record["max_depth"] = _UNLIMITED_DEPTH_GPU if self.max_depth == UNLIMITED_DEPTH else self.max_depth
         record["node_count"] = len(self._mirror.nodes)
