@@ -125,6 +125,7 @@ class Renderer:
         check_image_size(self.context, width, height, guides, method)
         fit_environment(self.context, scene)
         check_scene_size(self.context, scene, accel)
+        scene.camera.check_image(width, height)
         self._mirror = SceneMirror(scene, accel, atlas_side(self.context))
         self.accel = accel
         loop_limit = self.context.loop_iteration_limit
@@ -234,6 +235,8 @@ class Renderer:
             self._frame_bytes = frame.tobytes()
         new_variant = variant != self.variant
         if new_variant:
+            if variant.scene.camera != self.variant.scene.camera:
+                self.scene.camera.check_image(self.width, self.height)
             self.variant = variant
             self.kernel = tracing_kernel(self.context, variant)
         if new_variant or regrouped:

@@ -8,7 +8,7 @@ import numpy as np
 from ..gpu.buffers import storage_buffer, uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
 from ..gpu.graphics import RenderKernel, read_texture, rgba8_texture, target_texture, write_rgba8
-from ..scene import Camera
+from ..scene import Sensor
 from .layout import (
     BOX_LINES_GROUP,
     BOX_LINES_PARAMS,
@@ -26,23 +26,11 @@ NEAR_FRACTION = 1e-4
 FAR_FACTOR = 1e3
 
 
-def camera_clip_matrix(camera: Camera, width: int, height: int, scene_size: float) -> np.ndarray:
+def camera_clip_matrix(camera: Sensor, width: int, height: int, scene_size: float) -> np.ndarray | None:
     """4x4 world-to-clip matrix that puts a point where the path tracer's camera ray through it
-    lands: clip x, y = the image-plane coordinates in [-1, 1] (y up), w = distance along forward."""
-    right, up, forward = camera.image_plane(width, height)
-    position = np.asarray(camera.position)
-    near, far = NEAR_FRACTION * scene_size, FAR_FACTOR * scene_size
-    depth_scale = far / (far - near)
-    rows = [
-        np.append(right / right.dot(right), 0.0),
-        np.append(up / up.dot(up), 0.0),
-        np.append(forward * depth_scale, -near * depth_scale),
-        np.append(forward, 0.0),
-    ]
-    matrix = np.array(rows)
-    # the rows above act on the offset from the camera; fold the translation in
-    matrix[:, 3] -= matrix[:, :3] @ position
-    return matrix
+    lands (`Sensor.clip_matrix`), clipping at NEAR_FRACTION and FAR_FACTOR of `scene_size`; None
+    for a camera no matrix projects for (the equirectangular one)."""
+    return camera.clip_matrix(width, height, NEAR_FRACTION * scene_size, FAR_FACTOR * scene_size)
 
 
 class Presenter:
@@ -93,11 +81,15 @@ class Presenter:
         self._lines = (buffer, len(points))
         self._lines_group = self._lines_kernel.bind("box_lines", params=self._lines_params, endpoints=buffer)
 
-    def set_camera(self, camera: Camera, width: int, height: int, scene_size: float) -> None:
-        """The camera (and full image size) the box lines are projected with."""
+    def set_camera(self, camera: Sensor, width: int, height: int, scene_size: float) -> None:
+        """The camera (and full image size) the box lines are projected with; a camera that no
+        matrix projects for hides them (every point at clip w = -1, which the GPU clips away)."""
         record = BOX_LINES_PARAMS.zeros(1)
         matrix = camera_clip_matrix(camera, width, height, scene_size)
-        record["row_x"], record["row_y"], record["row_z"], record["row_w"] = matrix
+        if matrix is None:
+            record["row_w"] = (0.0, 0.0, 0.0, -1.0)
+        else:
+            record["row_x"], record["row_y"], record["row_z"], record["row_w"] = matrix
         record["color"] = BOX_COLOR
         write_buffer(self.context, self._lines_params, 0, record)
 
