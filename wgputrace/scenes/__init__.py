@@ -22,6 +22,7 @@ from .principled import principled_spheres, principled_transmission
 from .punctual import point_spot_directional
 from .slivers import slivers
 from .smooth_sphere import smooth_sphere
+from .sunlit import sunlit_spheres
 from .textured import textured_quads
 from .textured_asset import textured_asset
 
@@ -49,6 +50,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "door_ajar": door_ajar,
     "caustic": caustic,
     "glossy_through_glossy": glossy_through_glossy,
+    # cameras and tone mapping (issue 28)
+    "sunlit_spheres": sunlit_spheres,
 }
 DEFAULT_SCENE = "cornell"
 

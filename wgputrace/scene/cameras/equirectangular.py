@@ -46,6 +46,10 @@ class EquirectangularCamera(Sensor):
                 stacklevel=3,
             )
 
+    def framed(self, radius: float, aspect: float) -> tuple[float, EquirectangularCamera]:
+        """At the centre: every direction is in view."""
+        return 0.0, self
+
     def clip_matrix(self, width: int, height: int, near: float, far: float) -> None:
         """None: no matrix maps the sphere of directions onto a rectangle."""
         return None

@@ -12,11 +12,15 @@ Mitsuba 3: `orthographic`, its [-1, 1] x [-1 / aspect, 1 / aspect] scaled by hal
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .sensor import Sensor
+
+# Framed, the rectangle stands this many radii before the sphere's centre: outside the sphere,
+# whose points behind the rectangle it would not see.
+FRAMING_STANDOFF = 2.0
 
 
 @dataclass
@@ -43,6 +47,10 @@ class OrthographicCamera(Sensor):
         right, up = self.half_extents(width, height)
         record["camera_position"] = self.position
         record["camera_right"], record["camera_up"], record["camera_forward"] = right, up, self.forward
+
+    def framed(self, radius: float, aspect: float) -> tuple[float, OrthographicCamera]:
+        """Outside the sphere, the rectangle as wide and high as it."""
+        return FRAMING_STANDOFF * radius, replace(self, view_height=2.0 * radius / min(1.0, aspect))
 
     def clip_matrix(self, width: int, height: int, near: float, far: float) -> np.ndarray:
         """Clip w = 1: no perspective divide."""

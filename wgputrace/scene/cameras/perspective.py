@@ -57,6 +57,12 @@ class Camera(Sensor):
         record["camera_position"] = self.position
         record["camera_right"], record["camera_up"], record["camera_forward"] = right, up, forward
 
+    def framed(self, radius: float, aspect: float) -> tuple[float, Camera]:
+        """Where the sphere just fills the narrower field of view."""
+        half_vertical = math.radians(self.vfov_degrees) / 2
+        half_horizontal = math.atan(math.tan(half_vertical) * aspect)
+        return radius / math.sin(min(half_vertical, half_horizontal)), self
+
     def clip_matrix(self, width: int, height: int, near: float, far: float) -> np.ndarray:
         """Clip w = the distance along forward (a perspective divide)."""
         right, up, forward = self.image_plane(width, height)

@@ -12,6 +12,7 @@ and nothing else: like a material or a light kind (`Kind`), the class is the who
 | its rays, and how bdpt connects to it     | `shader`            | `camera_hook` (the WGSL contract: `camera/camera.wgsl`) |
 | the images it is meant for                | `check_image`       | `Renderer` warns (CameraWarning)                |
 | where a point lands on its image          | `clip_matrix`       | the viewer's BVH box lines                      |
+| how it takes in a whole scene             | `framed`            | the viewer's F key                              |
 | its Mitsuba 3 sensor                      | `mitsuba_sensor`    | `mitsuba_scene`                                 |
 
 Every kind stands at `position` and looks along `forward` (normalised when set), `up` giving the
@@ -150,6 +151,12 @@ class Sensor(Kind):
         """A clip matrix whose rows act on the offset from `position`, with the translation folded in."""
         matrix[:, 3] -= matrix[:, :3] @ np.asarray(self.position)
         return matrix
+
+    def framed(self, radius: float, aspect: float) -> tuple[float, Sensor]:
+        """How far behind a sphere's centre, along forward, the camera stands to see all of the
+        sphere of `radius` on an image of width / height = `aspect`, and the camera with the
+        parameters that takes (an orthographic view widened to it)."""
+        raise NotImplementedError
 
     def mitsuba_sensor(self, width: int, height: int) -> dict | None:
         """The Mitsuba 3 sensor dict without its film, sampler and clip planes; None where no
