@@ -10,6 +10,7 @@ from functools import partial
 from ..scene import Scene
 from .alpha_cutout import alpha_blend, alpha_cutout
 from .axis_aligned import axis_boxes
+from .camera_views import depth_of_field, orthographic_boxes
 from .caustic import caustic
 from .cornell import cornell, scaled_cornell, tiny_light
 from .door_ajar import door_ajar
@@ -51,6 +52,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "caustic": caustic,
     "glossy_through_glossy": glossy_through_glossy,
     # cameras and tone mapping (issue 28)
+    "depth_of_field": depth_of_field,
+    "orthographic_boxes": orthographic_boxes,
     "sunlit_spheres": sunlit_spheres,
 }
 DEFAULT_SCENE = "cornell"
