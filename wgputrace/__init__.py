@@ -4,6 +4,7 @@ import wgputrace as wt
 scene = wt.default_scene()
 img = wt.render(scene, spp=64, width=512, height=512, seed=1, max_depth=9)
 wt.save_image("out.exr", img)
+wt.save_image("out.png", img, tonemap="agx", exposure=0.5)  # the picture: a tone curve, stops of exposure
 """
 
 from importlib.metadata import version
@@ -11,7 +12,7 @@ from importlib.metadata import version
 from . import cluster  # rendering on a Ray cluster; Ray itself is imported only when a cluster call runs
 from .denoise import DenoiserMissing, denoise
 from .gpu.device import DeviceLimitError, GpuFailure
-from .image_io import load_image, load_layers, save_image
+from .image_io import load_image, load_layers, save_image, tonemap
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
@@ -61,6 +62,7 @@ __all__ = [
     "read_metadata",
     "render",
     "save_image",
+    "tonemap",
     *CAMERA_KINDS,
     *KINDS,
     *LIGHT_KINDS,
