@@ -8,7 +8,7 @@
 - tone_curves.png: `sunlit_spheres` (its lit sides up to 35 times white) through clip, Khronos PBR
   Neutral, AgX and ACES, side by side, each labelled.
 
-Each is written with its provenance, and its render time is printed.
+The two single renders carry their provenance (`wgputrace info FILE`); every render's time is printed.
 """
 
 from __future__ import annotations
