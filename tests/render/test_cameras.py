@@ -16,7 +16,7 @@ from wgputrace.scene import CameraWarning
 from wgputrace.scene.lights.environment import Environment
 from wgputrace.testing.camera_rays import camera_rays
 from wgputrace.testing.image_statistics import Estimate
-from wgputrace.testing.references import assert_same_expectation
+from wgputrace.testing.references import assert_same_expectation, batches_of
 from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
@@ -97,12 +97,8 @@ def test_a_thin_lens_blurs_a_plane_out_of_focus_by_its_circle_of_confusion(gpu_c
     camera = thin_lens()
     width, height = EDGE_SIZE
     renderer = wt.Renderer(edge_wall(camera, DEFOCUSED_DEPTH), width, height, seed=SEED, max_depth=1)
-    batches = []
-    for _ in range(BLUR_BATCHES):
-        renderer.render(EDGE_SPP)
-        batches.append(renderer.image()[..., 1].mean(axis=0))
-        renderer.reset()
-    columns = Estimate.from_batches(np.array(batches)[:, None, :, None])
+    rows = batches_of(renderer, BLUR_BATCHES, EDGE_SPP).batches[..., 1].mean(axis=1)
+    columns = Estimate.from_batches(rows[:, None, :, None])
     radius = LENS["aperture_radius"] * abs(1.0 / LENS["focus_distance"] - 1.0 / DEFOCUSED_DEPTH)
     radius_pixels = radius / pixel_width(camera, height)
     assert 2.0 < radius_pixels < EDGE_COLUMN - 2, "the blur must be wider than a pixel and stay in the image"
@@ -254,13 +250,9 @@ BLOCKS = (4, KIND_SIZE)
 
 def batches(kind: str, integrator: str) -> Estimate:
     renderer = wt.Renderer(box_seen_by(kind), *size_of(kind), seed=SEED, max_depth=5, integrator=integrator)
-    images = []
-    for _ in range(BATCHES):
-        renderer.render(SPP)
-        images.append(renderer.image())
-        renderer.reset()
-    assert renderer.nonfinite_samples == 0
-    return Estimate.from_batches(np.stack(images))
+    rendered = batches_of(renderer, BATCHES, SPP)
+    assert rendered.nonfinite_samples == 0
+    return rendered.estimate
 
 
 @pytest.mark.slow
