@@ -1,9 +1,9 @@
 """The interactive viewer: a progressive path-traced picture in a window. Every frame adds samples
-on the GPU and presents the accumulation through tone mapping and sRGB on the GPU; nothing is read
-back to Python except for screenshots and a click's focus. `Viewer` composes the parts, each in its own module:
-FramePacing (frame budget, preview size, resting), ViewerInput (keys and mouse), ViewerDevice and
-ShownScene (device loss, scene reloads, what fails keeps the picture), ViewerDenoiser (Shift+D),
-Overlay, BoxLines and Screenshots."""
+on the GPU and presents the accumulation through exposure, a tone curve and sRGB on the GPU;
+nothing is read back to Python except for screenshots and a click's focus. `Viewer` composes the
+parts, each in its own module: FramePacing (frame budget, preview size, resting), ViewerInput
+(keys and mouse), ViewerDevice and ShownScene (device loss, scene reloads, what fails keeps the
+picture), ViewerDenoiser (Shift+D), Overlay, BoxLines and Screenshots."""
 
 from __future__ import annotations
 
