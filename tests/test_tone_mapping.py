@@ -118,6 +118,14 @@ def test_exposure_is_in_stops_and_auto_finds_middle_grey(rng):
     assert auto_exposure(np.full((2, 2, 3), np.nan)) == 0.0
 
 
+@pytest.mark.parametrize("operator", TONEMAP_OPERATORS)
+def test_infinite_radiance_is_white_and_nan_black_through_every_curve(operator):
+    """White as an 8-bit PNG shows it (AgX's sigmoid ends at 0.9987 encoded), with no overflow."""
+    values = np.array([[[np.inf, 1e300, 1e20], [np.nan, 0.0, 0.0]]])
+    np.testing.assert_array_equal(srgb8(tonemap(values, operator))[0, 0], 255)
+    np.testing.assert_array_equal(tonemap(values, operator)[0, 1], tonemap(np.zeros((1, 1, 3)), operator)[0, 0])
+
+
 def test_clip_at_zero_stops_is_the_png_of_before():
     """The default PNG is unchanged: radiance clipped at 1, sRGB-encoded, rounded (Mitsuba's)."""
     values = np.array([[[0.0, 0.25, 0.5], [0.75, 1.0, 7.0], [np.nan, np.inf, -2.0]]], np.float32)

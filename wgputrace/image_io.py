@@ -75,6 +75,9 @@ MIDDLE_GREY = 0.18
 LOG_AVERAGE_FLOOR = 1e-4
 # Rec. 709 luminance of linear sRGB.
 REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+# Exposed radiance above this counts as this much (+inf too): white through every curve, and the
+# curves' squares stay finite in float32 (the viewer's shader limits it alike).
+TONE_RADIANCE_MAX = 1e15
 
 # Khronos PBR Neutral (KhronosGroup/ToneMapping, PBR_Neutral/README.md, 2024): F90, the Fresnel
 # reflectance of IoR 1.5 at normal incidence, offsets the darks; highlights compress from
@@ -163,10 +166,10 @@ def check_tonemap(operator: str) -> None:
 
 
 def tone_curve(exposed: np.ndarray, operator: str = DEFAULT_TONEMAP) -> np.ndarray:
-    """The operator's curve, float64: exposed linear sRGB (..., 3), finite and >= 0, to display-linear
+    """The operator's curve, float64: exposed linear sRGB (..., 3), >= 0 and not NaN, to display-linear
     values in [0, 1] (before the sRGB transfer function). The viewer's shader computes the same."""
     check_tonemap(operator)
-    return _CURVES[operator](np.asarray(exposed, dtype=np.float64))
+    return _CURVES[operator](np.minimum(np.asarray(exposed, dtype=np.float64), TONE_RADIANCE_MAX))
 
 
 def auto_exposure(image: np.ndarray) -> float:
@@ -199,7 +202,7 @@ def _display(linear: np.ndarray, operator: str, exposure: float | str) -> np.nda
     linear = np.asarray(linear, dtype=np.float64)
     scale = 2.0 ** exposure_ev(linear, exposure)
     # NaN is black and +inf full white, as a clipped PNG always showed them
-    exposed = np.nan_to_num(linear * scale, nan=0.0, posinf=np.finfo(np.float64).max, neginf=0.0)
+    exposed = np.nan_to_num(linear * scale, nan=0.0, posinf=TONE_RADIANCE_MAX, neginf=0.0)
     return linear_to_srgb(tone_curve(np.maximum(exposed, 0.0), operator))
 
 

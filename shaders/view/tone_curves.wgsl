@@ -46,17 +46,18 @@ fn tone_aces(color: vec3<f32>) -> vec3<f32> {
     return clamp(ACES_OUTPUT * fitted, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// Tone curve `curve` (a TONEMAP_* id) of exposed linear radiance `exposed` (finite, >= 0).
+// Tone curve `curve` (a TONEMAP_* id) of exposed linear radiance `exposed` (>= 0), limited to
+// TONE_RADIANCE_MAX as the numpy curves are.
 fn tone_curve(exposed: vec3<f32>, curve: u32) -> vec3<f32> {
     switch curve {
         case TONEMAP_PBR_NEUTRAL: {
-            return tone_pbr_neutral(exposed);
+            return tone_pbr_neutral(min(exposed, vec3<f32>(TONE_RADIANCE_MAX)));
         }
         case TONEMAP_AGX: {
-            return tone_agx(exposed);
+            return tone_agx(min(exposed, vec3<f32>(TONE_RADIANCE_MAX)));
         }
         case TONEMAP_ACES: {
-            return tone_aces(exposed);
+            return tone_aces(min(exposed, vec3<f32>(TONE_RADIANCE_MAX)));
         }
         default: {
             return tone_clip(exposed);

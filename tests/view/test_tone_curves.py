@@ -35,9 +35,13 @@ EXPOSURE_GRID = 64
 
 
 def colours(rng) -> np.ndarray:
-    """Greys from 1e-4 to 1e3, and colours dim to very bright."""
+    """Greys from 1e-4 to 1e3 and far beyond (where ACES's squares would overflow float32), and
+    colours dim to very bright."""
     greys = np.repeat(np.geomspace(1e-4, 1e3, 40)[:, None], 3, axis=1)
-    return np.concatenate([np.zeros((1, 3)), greys, rng.exponential(2.0, (200, 3)), rng.exponential(50.0, (60, 3))])
+    beyond = np.array([[1e20, 1e20, 1e20], [1e25, 2.0, 0.0]])
+    return np.concatenate(
+        [np.zeros((1, 3)), greys, beyond, rng.exponential(2.0, (200, 3)), rng.exponential(50.0, (60, 3))]
+    )
 
 
 @pytest.mark.parametrize("operator", TONEMAP_OPERATORS)

@@ -191,7 +191,13 @@ def _wgsl_matrix(name: str, matrix) -> str:
 def tone_constants() -> list[str]:
     """The tone curves' ids and constants (`image_io.tone_curve`'s), as WGSL."""
     parts = [f"const TONEMAP_{name.upper()}: u32 = {index}u;" for index, name in enumerate(image_io.TONEMAP_OPERATORS)]
-    scalars = ("MIDDLE_GREY", "LOG_AVERAGE_FLOOR", "PBR_NEUTRAL_F90", "PBR_NEUTRAL_COMPRESSION_START")
+    scalars = (
+        "MIDDLE_GREY",
+        "LOG_AVERAGE_FLOOR",
+        "TONE_RADIANCE_MAX",
+        "PBR_NEUTRAL_F90",
+        "PBR_NEUTRAL_COMPRESSION_START",
+    )
     scalars += ("PBR_NEUTRAL_DESATURATION", "AGX_MIN_EV", "AGX_MAX_EV", "AGX_FLOOR", "AGX_DISPLAY_GAMMA")
     parts += [f"const {name}: f32 = {float(getattr(image_io, name))!r};" for name in scalars]
     for name in ("SRGB_TO_REC2020", "REC2020_TO_SRGB", "AGX_INSET", "AGX_OUTSET", "ACES_INPUT", "ACES_OUTPUT"):
