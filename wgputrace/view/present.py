@@ -1,6 +1,6 @@
 """Presenting a resolved image to a window's texture (or an offscreen one, for screenshots): scaled
 to the target, exposure (set, or measured by the auto-exposure pass), a tone curve, sRGB, the text
-overlay, and BVH box edges drawn as lines. All on the GPU, nothing read back."""
+overlay, and BVH box edges drawn as lines. All on the GPU: drawing reads nothing back."""
 
 from __future__ import annotations
 
