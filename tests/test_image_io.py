@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from wgputrace import image_io, load_image, save_image
-from wgputrace.image_io import FORMATS, linear_to_srgb, read_text_metadata, sidecar_path, tonemap
+from wgputrace.image_io import FORMATS, linear_to_srgb, read_text_metadata, sidecar_path, srgb8, tonemap
 
 
 def test_linear_formats_round_trip(tmp_path, rng):
@@ -20,7 +20,7 @@ def test_linear_formats_round_trip(tmp_path, rng):
 
 def test_png_is_srgb_encoded_and_clipped(tmp_path):
     image = np.array([[[0.0, 0.5, 4.0], [0.0031308, 0.2, 1.0]]], dtype=np.float32)
-    pixels = tonemap(image)
+    pixels = srgb8(tonemap(image))
     assert pixels[0, 0].tolist() == [0, 188, 255]  # sRGB(0.5) = 0.7354
     decoded = load_image(save_image(tmp_path / "x.png", image))
     np.testing.assert_allclose(decoded, np.minimum(image, 1.0), atol=0.01)
@@ -28,7 +28,7 @@ def test_png_is_srgb_encoded_and_clipped(tmp_path):
 
 
 def test_nan_never_reaches_a_png():
-    pixels = tonemap(np.array([[[np.nan, np.inf, -1.0]]], dtype=np.float32))
+    pixels = srgb8(tonemap(np.array([[[np.nan, np.inf, -1.0]]], dtype=np.float32)))
     assert pixels.tolist() == [[[0, 255, 0]]]
 
 

@@ -4,6 +4,7 @@ import wgputrace as wt
 scene = wt.default_scene()
 img = wt.render(scene, spp=64, width=512, height=512, seed=1, max_depth=9)
 wt.save_image("out.exr", img)
+wt.save_image("out.png", img, tonemap="agx", exposure=0.5)  # the picture: a tone curve, stops of exposure
 """
 
 from importlib.metadata import version
@@ -11,11 +12,13 @@ from importlib.metadata import version
 from . import cluster  # rendering on a Ray cluster; Ray itself is imported only when a cluster call runs
 from .denoise import DenoiserMissing, denoise
 from .gpu.device import DeviceLimitError, GpuFailure
-from .image_io import load_image, load_layers, save_image
+from .image_io import load_image, load_layers, save_image, tonemap
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
-from .scene import Camera, Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
+from .scene import Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
+from .scene.cameras import KINDS as CAMERA_KINDS
+from .scene.cameras import Sensor
 from .scene.lights import KINDS as LIGHT_KINDS
 from .scene.lights.environment import Environment
 from .scene.materials import KINDS
@@ -23,6 +26,9 @@ from .scenes import default_scene
 
 # every material kind (Diffuse, Emitter, Glass, Glossy, and any module added to wgputrace.scene.materials)
 globals().update(KINDS)
+# every camera kind (Camera, ThinLensCamera, OrthographicCamera, EquirectangularCamera, and any module added to
+# wgputrace.scene.cameras)
+globals().update(CAMERA_KINDS)
 # every light kind (DirectionalLight, PointLight, SpotLight, Sun, and any module added to wgputrace.scene.lights)
 globals().update(LIGHT_KINDS)
 
@@ -31,13 +37,13 @@ __version__ = version("wgputrace")
 
 __all__ = [
     "UNLIMITED_DEPTH",
-    "Camera",
     "DenoiserMissing",
     "DeviceLimitError",
     "Environment",
     "GpuFailure",
     "Renderer",
     "Scene",
+    "Sensor",
     "SceneLoadError",
     "SceneLoadWarning",
     "Shape",
@@ -56,6 +62,8 @@ __all__ = [
     "read_metadata",
     "render",
     "save_image",
+    "tonemap",
+    *CAMERA_KINDS,
     *KINDS,
     *LIGHT_KINDS,
 ]

@@ -36,7 +36,7 @@ from .cli_arguments import (
     positive_float,
     positive_int,
 )
-from .image_io import FORMATS, save_image
+from .image_io import FORMATS, exposure_ev, save_image
 from .loaders import load_scene
 from .render.interrupts import Aborted, Interrupted, deferred_signals, exit_status, signal_name, signals_abort
 
@@ -203,7 +203,7 @@ def _render_frames(args: argparse.Namespace) -> int:
 
 def _render(args: argparse.Namespace) -> int:
     from .gpu.device import gpu
-    from .provenance import NAMESPACE, render_metadata
+    from .provenance import NAMESPACE, render_metadata, tone_metadata
     from .render import Renderer
 
     _check_output(args.output)
@@ -239,7 +239,13 @@ def _render(args: argparse.Namespace) -> int:
                     denoised = _denoised(renderer)
                     image, layers = denoised.image, denoised.layers if keeps_layers else None
                     metadata |= {NAMESPACE + "denoised": DENOISED_BY, NAMESPACE + "denoiser_device": denoiser_device}
-                path = save_image(args.output, image, exposure=args.exposure, metadata=metadata, layers=layers)
+                # "auto" is measured on the image written: the denoised one where it is denoised
+                exposure = exposure_ev(image, args.exposure)
+                if args.output.suffix.lower() == ".png":
+                    metadata |= tone_metadata(args.tonemap, args.exposure, exposure)
+                path = save_image(
+                    args.output, image, exposure=exposure, tonemap=args.tonemap, metadata=metadata, layers=layers
+                )
         except Aborted as abort:
             _tell(f"wgputrace: second signal ({signal_name(abort.signal)}): aborted, {args.output} not written")
             return exit_status(abort.signal)

@@ -13,6 +13,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .image_io import AUTO_EXPOSURE, DEFAULT_TONEMAP, TONEMAP_OPERATORS
 from .image_io import FORMATS as IMAGE_FORMATS
 from .integrators import integrator_names
 from .kernels.sampler import DEFAULT_SAMPLER, SAMPLERS
@@ -75,11 +76,23 @@ def max_depth(text: str) -> int:
 
 
 def finite_float(text: str) -> float:
-    """argparse type for any finite number (an angle in degrees)."""
+    """argparse type for any finite number (an angle in degrees, stops of exposure)."""
     value = _parse(float, text, "a number")
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
     return value
+
+
+def exposure_value(text: str) -> float | str:
+    """argparse type for --exposure: stops (EV, any finite number) or AUTO_EXPOSURE."""
+    if text == AUTO_EXPOSURE:
+        return text
+    try:
+        return finite_float(text)
+    except argparse.ArgumentTypeError:
+        raise argparse.ArgumentTypeError(
+            f"must be a finite number of stops (EV) or {AUTO_EXPOSURE}, got {text!r}"
+        ) from None
 
 
 def environment_spec(text: str) -> str | tuple[float, float, float] | Path:
@@ -131,13 +144,27 @@ def add_debug_argument(parser: argparse.ArgumentParser, *, default: object = Fal
 
 
 def add_image_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int]) -> None:
-    """--size, --max-depth, --seed and --exposure: what every image a scene is rendered to takes."""
+    """--size, --max-depth, --seed, --exposure and --tonemap: what every image a scene is rendered to takes."""
     parser.add_argument("--size", type=parse_size, default=size, help=f"WIDTHxHEIGHT (default {size[0]}x{size[1]})")
     parser.add_argument(
         "--max-depth", type=max_depth, default=9, help="path vertices, Mitsuba's meaning; -1 = no limit"
     )
     parser.add_argument("--seed", type=int, default=1, help="random seed: same seed and adapter, same image")
-    parser.add_argument("--exposure", type=positive_float, default=1.0, help="multiplies radiance before tone mapping")
+    parser.add_argument(
+        "--exposure",
+        type=exposure_value,
+        default=0.0,
+        metavar=f"EV|{AUTO_EXPOSURE}",
+        help="stops of exposure before tone mapping (1 doubles the radiance; default 0); auto: the picture's "
+        "log-average luminance to middle grey (the viewer: measured every frame, smoothed)",
+    )
+    parser.add_argument(
+        "--tonemap",
+        choices=TONEMAP_OPERATORS,
+        default=DEFAULT_TONEMAP,
+        help="the tone curve of a PNG and of the viewer: clip (the default, as Mitsuba's PNGs), Khronos PBR "
+        "Neutral, AgX or ACES",
+    )
 
 
 def add_method_arguments(parser: argparse.ArgumentParser) -> None:

@@ -4,6 +4,9 @@ sidecar JSON named after it (`out.npy.json`, so it sorts beside its image). An E
 images as layers (channels `<layer>.R`, `.G`, `.B`, as OpenEXR names them); `load_image` reads the
 main RGB, `load_layers` the rest.
 
+The picture a PNG holds is `tonemap`'s: radiance scaled by an exposure in stops (EV), through a
+tone curve (TONEMAP_OPERATORS: `clip`, the default, Khronos PBR Neutral, AgX, ACES), sRGB-encoded.
+
 Every file is written whole or not at all: into a hidden temporary file in the target's folder
 (the same filesystem, where `os.replace` is atomic), renamed over the target once complete, and
 removed when anything (Ctrl-C included) stops the write.
@@ -12,11 +15,13 @@ removed when anything (Ctrl-C included) stops the write.
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 import secrets
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -55,11 +60,163 @@ def linear_to_srgb(linear: np.ndarray) -> np.ndarray:
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
 
 
-def tonemap(linear: np.ndarray, exposure: float = 1.0) -> np.ndarray:
-    """Linear radiance -> 8-bit sRGB: multiplied by `exposure`, clipped at 1 (as Mitsuba's PNG
-    output does, so PNGs of ours and of references compare directly), then sRGB-encoded."""
-    scaled = np.nan_to_num(np.asarray(linear, dtype=np.float64) * exposure, nan=0.0, posinf=1.0, neginf=0.0)
-    return np.round(linear_to_srgb(scaled) * 255.0).astype(np.uint8)
+# The tone curves, by the name `tonemap`, `save_image`, `--tonemap` and the viewer take; their index
+# is the id the viewer's shader switches on (TONEMAP_<NAME>). `clip` is the default everywhere: it
+# is Mitsuba's PNG output, so our PNGs and the references' compare directly, and it keeps every
+# PNG written before the other curves existed.
+TONEMAP_OPERATORS = ("clip", "pbr_neutral", "agx", "aces")
+DEFAULT_TONEMAP = "clip"
+# `exposure="auto"`: the exposure that takes the image's log-average luminance to MIDDLE_GREY
+# (Reinhard et al. 2002, "Photographic Tone Reproduction for Digital Images", its key value a).
+AUTO_EXPOSURE = "auto"
+MIDDLE_GREY = 0.18
+# Luminances below this count as it in the log average: black pixels would drag it to -inf (the
+# paper's delta), and an all-black image gets a finite exposure.
+LOG_AVERAGE_FLOOR = 1e-4
+# Rec. 709 luminance of linear sRGB.
+REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+# Exposed radiance above this counts as this much (+inf too): white through every curve, and the
+# curves' squares stay finite in float32 (the viewer's shader limits it alike).
+TONE_RADIANCE_MAX = 1e15
+
+# Khronos PBR Neutral (KhronosGroup/ToneMapping, PBR_Neutral/README.md, 2024): F90, the Fresnel
+# reflectance of IoR 1.5 at normal incidence, offsets the darks; highlights compress from
+# K_s = 0.8 - F90 and desaturate at rate K_d.
+PBR_NEUTRAL_F90 = 0.04
+PBR_NEUTRAL_COMPRESSION_START = 0.8 - PBR_NEUTRAL_F90
+PBR_NEUTRAL_DESATURATION = 0.15
+
+# AgX as three.js r162 ships it (AgXToneMapping, after Filament's port of Blender 4's AgX by
+# EaryChow): linear sRGB to Rec. 2020 (ITU-R BT.2407 matrices), the inset matrix, log2 encoding
+# from AGX_MIN_EV to AGX_MAX_EV (middle grey +-, log2(2^-10 x 0.18) and log2(2^6.5 x 0.18)), the
+# sigmoid as Wrensch's 6th-degree polynomial fit ("Minimal AgX implementation", iolite-engine.com,
+# 2023; mean squared error 3.7e-6), the outset matrix, a 2.2 power to display-linear, back to sRGB.
+# Matrices act on column vectors (rows as written; three.js writes GLSL columns).
+REC2020_TO_SRGB = np.array([[1.6605, -0.5876, -0.0728], [-0.1246, 1.1329, -0.0083], [-0.0182, -0.1006, 1.1187]])
+SRGB_TO_REC2020 = np.linalg.inv(REC2020_TO_SRGB)
+AGX_INSET = np.array(
+    [
+        [0.856627153315983, 0.137318972929847, 0.11189821299995],
+        [0.0951212405381588, 0.761241990602591, 0.0767994186031903],
+        [0.0482516061458583, 0.101439036467562, 0.811302368396859],
+    ]
+).T
+AGX_OUTSET = np.linalg.inv(
+    np.array(
+        [
+            [0.899796955911611, 0.11142098895748, 0.11142098895748],
+            [0.0871996192028351, 0.875575586156966, 0.0871996192028349],
+            [0.013003424885555, 0.0130034248855548, 0.801379391839686],
+        ]
+    ).T
+)
+AGX_MIN_EV, AGX_MAX_EV = -12.47393, 4.026069
+# the sigmoid's polynomial, highest power first (x^6 ... x^0)
+AGX_SIGMOID = (15.5, -40.14, 31.96, -6.868, 0.4298, 0.1191, -0.00232)
+# log2 of what the inset leaves of a black channel: keeps log2 finite (three.js's 1e-10)
+AGX_FLOOR = 1e-10
+AGX_DISPLAY_GAMMA = 2.2
+
+# ACES: Stephen Hill's fit of the ACES 1.0 RRT and sRGB ODT (BakingLab, ACES.hlsl, 2016): linear
+# sRGB to the RRT's saturated AP1, a rational curve, back to linear sRGB. Not three.js's variant,
+# which also multiplies the exposure by 1 / 0.6 (+0.74 EV) for brighter viewing.
+ACES_INPUT = np.array([[0.59719, 0.35458, 0.04823], [0.07600, 0.90834, 0.01566], [0.02840, 0.13383, 0.83777]])
+ACES_OUTPUT = np.array([[1.60475, -0.53108, -0.07367], [-0.10208, 1.10813, -0.00605], [-0.00327, -0.07276, 1.07602]])
+# RRTAndODTFit(v) = (v (v + a) - b) / (v (c v + d) + e)
+ACES_FIT = (0.0245786, 0.000090537, 0.983729, 0.4329510, 0.238081)
+
+
+def _clip(c: np.ndarray) -> np.ndarray:
+    return np.clip(c, 0.0, 1.0)
+
+
+def _pbr_neutral(c: np.ndarray) -> np.ndarray:
+    x = c.min(axis=-1, keepdims=True)
+    offset = np.where(x < 2.0 * PBR_NEUTRAL_F90, x - x * x / (4.0 * PBR_NEUTRAL_F90), PBR_NEUTRAL_F90)
+    c = c - offset
+    peak = c.max(axis=-1, keepdims=True)
+    d = 1.0 - PBR_NEUTRAL_COMPRESSION_START
+    new_peak = 1.0 - d * d / (peak + d - PBR_NEUTRAL_COMPRESSION_START)
+    mix = 1.0 - 1.0 / (PBR_NEUTRAL_DESATURATION * (peak - new_peak) + 1.0)
+    compressed = c * (new_peak / np.maximum(peak, PBR_NEUTRAL_COMPRESSION_START)) * (1.0 - mix) + new_peak * mix
+    return np.where(peak < PBR_NEUTRAL_COMPRESSION_START, c, compressed)
+
+
+def _agx(c: np.ndarray) -> np.ndarray:
+    v = np.maximum(c @ SRGB_TO_REC2020.T, 0.0) @ AGX_INSET.T
+    encoded = np.clip((np.log2(np.maximum(v, AGX_FLOOR)) - AGX_MIN_EV) / (AGX_MAX_EV - AGX_MIN_EV), 0.0, 1.0)
+    display = np.polyval(AGX_SIGMOID, encoded) @ AGX_OUTSET.T
+    return np.clip(np.maximum(display, 0.0) ** AGX_DISPLAY_GAMMA @ REC2020_TO_SRGB.T, 0.0, 1.0)
+
+
+def _aces(c: np.ndarray) -> np.ndarray:
+    a, b, c2, d, e = ACES_FIT
+    v = c @ ACES_INPUT.T
+    fitted = (v * (v + a) - b) / (v * (c2 * v + d) + e)
+    return np.clip(fitted @ ACES_OUTPUT.T, 0.0, 1.0)
+
+
+_CURVES = {"clip": _clip, "pbr_neutral": _pbr_neutral, "agx": _agx, "aces": _aces}
+
+
+def check_tonemap(operator: str) -> None:
+    """ValueError naming the operators unless `operator` is one of TONEMAP_OPERATORS."""
+    if operator not in TONEMAP_OPERATORS:
+        raise ValueError(f"tonemap must be one of {', '.join(TONEMAP_OPERATORS)}, got {operator!r}")
+
+
+def tone_curve(exposed: np.ndarray, operator: str = DEFAULT_TONEMAP) -> np.ndarray:
+    """The operator's curve, float64: exposed linear sRGB (..., 3), >= 0 and not NaN, to display-linear
+    values in [0, 1] (before the sRGB transfer function). The viewer's shader computes the same."""
+    check_tonemap(operator)
+    return _CURVES[operator](np.minimum(np.asarray(exposed, dtype=np.float64), TONE_RADIANCE_MAX))
+
+
+def auto_exposure(image: np.ndarray) -> float:
+    """The exposure in EV that takes `image`'s log-average luminance to MIDDLE_GREY (non-finite
+    pixels left out; an image with none finite gets 0)."""
+    luminance = np.asarray(image, dtype=np.float64).reshape(-1, 3) @ REC709_LUMINANCE
+    luminance = luminance[np.isfinite(luminance)]
+    if luminance.size == 0:
+        return 0.0
+    log_average = np.mean(np.log(np.maximum(luminance, LOG_AVERAGE_FLOOR)))
+    return float(np.log2(MIDDLE_GREY) - log_average / np.log(2.0))
+
+
+def exposure_ev(image: np.ndarray, exposure: float | str) -> float:
+    """`exposure` in EV, AUTO_EXPOSURE resolved for `image` (`auto_exposure`); ValueError for anything else."""
+    if exposure == AUTO_EXPOSURE:
+        return auto_exposure(image)
+    try:
+        stops = float(exposure)
+    except (TypeError, ValueError):
+        stops = math.nan
+    if not math.isfinite(stops):
+        raise ValueError(f"exposure must be a finite number of stops (EV) or {AUTO_EXPOSURE!r}, got {exposure!r}")
+    return stops
+
+
+def _display(linear: np.ndarray, operator: str, exposure: float | str) -> np.ndarray:
+    """float64 sRGB-encoded display values in [0, 1] (tonemap's, before its rounding to float32)."""
+    check_tonemap(operator)
+    linear = np.asarray(linear, dtype=np.float64)
+    scale = 2.0 ** exposure_ev(linear, exposure)
+    # NaN is black and +inf full white, as a clipped PNG always showed them
+    exposed = np.nan_to_num(linear * scale, nan=0.0, posinf=TONE_RADIANCE_MAX, neginf=0.0)
+    return linear_to_srgb(tone_curve(np.maximum(exposed, 0.0), operator))
+
+
+def tonemap(image: np.ndarray, operator: str = DEFAULT_TONEMAP, exposure: float | str = 0.0) -> np.ndarray:
+    """The picture of linear radiance `image` (H, W, 3) as a screen shows it: float32 sRGB-encoded
+    values in [0, 1] (matplotlib's imshow takes them; times 255, rounded, an 8-bit image). Radiance
+    is scaled by 2^`exposure` (stops; "auto": `auto_exposure`) and mapped by `operator`'s curve
+    (TONEMAP_OPERATORS, `tone_curve`)."""
+    return _display(image, operator, exposure).astype(np.float32)
+
+
+def srgb8(display: np.ndarray) -> np.ndarray:
+    """sRGB-encoded values in [0, 1] as 8-bit, rounded to the nearest step."""
+    return np.round(np.asarray(display, dtype=np.float64) * 255.0).astype(np.uint8)
 
 
 def sidecar_path(path: str | Path) -> Path:
@@ -123,22 +280,32 @@ def _temporary_beside(target: Path) -> Iterator[Path]:
         temporary.unlink(missing_ok=True)
 
 
+@dataclass(frozen=True)
+class ToneMapping:
+    """How a PNG shows radiance: `operator` (TONEMAP_OPERATORS) after 2^`exposure` (EV or "auto")."""
+
+    operator: str = DEFAULT_TONEMAP
+    exposure: float | str = 0.0
+
+
 # Each writer writes the whole file at the temporary path it is given, whose name says nothing of
-# the format: the format is passed explicitly or implied by the writer. Only the EXR writer takes
-# layers, and gets them only when there are some (save_image refuses them for the other formats).
-def _write_png(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+# the format: the format is passed explicitly or implied by the writer. Only the PNG writer tone
+# maps; only the EXR writer takes layers, and gets them only when there are some (save_image
+# refuses them for the other formats).
+def _write_png(path: Path, image: np.ndarray, tone: ToneMapping, metadata: dict[str, str]) -> None:
     from PIL import Image, PngImagePlugin
 
     text = PngImagePlugin.PngInfo()
     for key, value in metadata.items():
         text.add_text(key, value)  # tEXt, or iTXt (UTF-8) for text outside Latin-1
-    Image.fromarray(tonemap(image, exposure), mode="RGB").save(path, format="PNG", pnginfo=text)
+    pixels = srgb8(_display(image, tone.operator, tone.exposure))
+    Image.fromarray(pixels, mode="RGB").save(path, format="PNG", pnginfo=text)
 
 
 def _write_exr(
     path: Path,
     image: np.ndarray,
-    exposure: float,
+    tone: ToneMapping,
     metadata: dict[str, str],
     layers: Mapping[str, np.ndarray] | None = None,
 ) -> None:
@@ -156,7 +323,7 @@ def _write_exr(
         exr.write(str(path))
 
 
-def _write_npy(path: Path, image: np.ndarray, exposure: float, metadata: dict[str, str]) -> None:
+def _write_npy(path: Path, image: np.ndarray, tone: ToneMapping, metadata: dict[str, str]) -> None:
     with open(path, "wb") as file:  # a file object: np.save would append ".npy" to the temporary's name
         np.save(file, image)
 
@@ -184,23 +351,28 @@ def _replace_npy(temporary: Path, path: Path, metadata: dict[str, str]) -> None:
 def save_image(
     path: str | Path,
     image: np.ndarray,
-    exposure: float = 1.0,
+    exposure: float | str = 0.0,
     metadata: Mapping[str, str] | None = None,
     layers: Mapping[str, np.ndarray] | None = None,
+    tonemap: str = DEFAULT_TONEMAP,
 ) -> Path:
     """Write a linear (H, W, 3) image atomically; the extension picks the format (.png, .exr,
-    .npy). `metadata` (str to str) goes into the file, or for an .npy into its sidecar
-    `sidecar_path(path)` (an old sidecar is removed when there is none). `layers` (EXR only): more
-    linear images of the same shape by layer name ("raw", "albedo"), written as the channels
-    `<name>.R`, `<name>.G`, `<name>.B` beside the image's R, G, B."""
+    .npy). A PNG holds `tonemap`'s picture (`exposure` in EV or "auto", the `tonemap` operator);
+    EXR and NPY keep the linear values and ignore both. `metadata` (str to str) goes into the file,
+    or for an .npy into its sidecar `sidecar_path(path)` (an old sidecar is removed when there is
+    none). `layers` (EXR only): more linear images of the same shape by layer name ("raw",
+    "albedo"), written as the channels `<name>.R`, `<name>.G`, `<name>.B` beside the image's R, G, B."""
     path = Path(path)
     image = _check(image)
     suffix = _format(path)
+    tone = ToneMapping(tonemap, exposure)
+    check_tonemap(tone.operator)
+    exposure_ev(image, tone.exposure)  # refuses a bad exposure before anything is written
     metadata = _check_metadata(path, metadata)
     layers = _check_layers(path, image, layers)
     path.parent.mkdir(parents=True, exist_ok=True)
     with _temporary_beside(path) as temporary:
-        _WRITERS[suffix](temporary, image, exposure, metadata, **({"layers": layers} if layers else {}))
+        _WRITERS[suffix](temporary, image, tone, metadata, **({"layers": layers} if layers else {}))
         if suffix == ".npy":
             _replace_npy(temporary, path, metadata)
         else:

@@ -20,6 +20,9 @@ Every value is a string; each key is written as `wgputrace:<key>`:
 | kernel            | the kernel variant's label (`KernelVariant.label`)                      |
 | max_depth         | Mitsuba's max_depth (1: emitters seen directly only); -1 for no limit   |
 | accel             | bvh or flat                                                             |
+| camera            | the camera's kind and parameters (`Sensor.description`)                 |
+| tonemap, exposure | a PNG's tone curve, and its exposure in EV (`auto: +1.25 EV` where      |
+|                   | measured from the image); the PNG writer's to add (`tone_metadata`)     |
 | adapter, backend  | the GPU adapter's name and its API (Vulkan, Metal, ...)                 |
 | render_seconds    | the render time the caller gives; the CLI's: the dispatches' time       |
 |                   | (RenderStats.render_seconds), no scene loading or setup                 |
@@ -46,8 +49,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .image_io import read_text_metadata, sidecar_path
+from .image_io import AUTO_EXPOSURE, read_text_metadata, sidecar_path
 from .loaders.resolve import scene_file
+from .scene.cameras import Camera
 
 if TYPE_CHECKING:
     from .render import Renderer
@@ -72,6 +76,9 @@ KEYS = (
     "kernel",
     "max_depth",
     "accel",
+    "camera",
+    "tonemap",
+    "exposure",
     "adapter",
     "backend",
     "render_seconds",
@@ -106,6 +113,7 @@ def render_metadata(
         "kernel": renderer.variant.label,
         "max_depth": renderer.max_depth,
         "accel": renderer.accel,
+        "camera": renderer.scene.camera.description(),
         "adapter": info["device"],
         "backend": info["backend_type"],
         "render_seconds": f"{render_seconds:.3f}",
@@ -130,13 +138,28 @@ def _scene_identity(renderer: Renderer, scene: str | Path | None) -> dict[str, s
 
 def _records_sha256(renderer: Renderer) -> str:
     """The scene as rendered: its GPU records as last uploaded (triangles in the BVH's order, which
-    a given scene and accel fix) and the camera, which lives in the frame uniform instead."""
+    a given scene and accel fix) and the camera, which lives in the frame uniform instead: its
+    parameters' numbers, and its kind's name unless it is the pinhole (so pinholes hash as they did
+    before there were camera kinds)."""
     camera = renderer.scene.camera
     digest = hashlib.sha256()
     digest.update(renderer.records.triangles.tobytes())
     digest.update(renderer.records.materials.tobytes())
-    digest.update(np.array([*camera.position, *camera.forward, *camera.up, camera.vfov_degrees], np.float64).tobytes())
+    values = [value for name in camera.parameter_names() for value in np.ravel(getattr(camera, name))]
+    digest.update(np.array(values, np.float64).tobytes())
+    if camera.kind != Camera.kind:
+        digest.update(type(camera).__name__.encode())
     return digest.hexdigest()
+
+
+def tone_metadata(operator: str, requested: float | str, exposure: float) -> dict[str, str]:
+    """The keys a PNG adds: its tone curve `operator`, and its `exposure` in EV (`requested`: the
+    exposure asked for, "auto" where it was measured from the image)."""
+    shown = f"{exposure:+.3g} EV"
+    return {
+        NAMESPACE + "tonemap": operator,
+        NAMESPACE + "exposure": shown if requested != AUTO_EXPOSURE else f"auto: {shown}",
+    }
 
 
 def _environment(environment: Environment | None) -> str:
@@ -182,4 +205,4 @@ def format_metadata(metadata: Mapping[str, str]) -> str:
     return "\n".join(f"{key:<{width}}  {value}" for key, value in rows)
 
 
-__all__ = ["KEYS", "NAMESPACE", "format_metadata", "read_metadata", "render_metadata"]
+__all__ = ["KEYS", "NAMESPACE", "format_metadata", "read_metadata", "render_metadata", "tone_metadata"]

@@ -2,7 +2,9 @@
 // Every strategy (s, t) between them is weighted by MIS; light tracing's splats are summed apart
 // (splat) and added to the image by the renderer.
 //! include "generated/acceleration.wgsl"
-//! include "camera/camera_ray.wgsl"
+// camera_ray and what light tracing asks of the camera: the scene's camera kind (camera_hook)
+//! include "generated/camera.wgsl"
+//! include "camera/lens_sample.wgsl"
 //! include "sampling/sampler.wgsl"
 //! include "integrators/accumulate.wgsl"
 //! include "integrators/loop_budget.wgsl"
@@ -66,6 +68,9 @@ var<private> light_vertex_count: u32;
 // light tracing's splats, added to the image only once the sample is known complete (loop_budget_spent)
 var<private> splats_pending: array<Splat, BDPT_LIGHT_VERTICES>;
 var<private> splat_count: u32;
+// the lens sample through which the light subpath's vertices splat (CAMERA_LENS; one per light
+// subpath, drawn apart from the camera subpath's, as pbrt-v4's light tracing samples its own)
+var<private> light_lens: vec2<f32>;
 
 // Whether roulette ends a subpath at `edges`; `attenuation` is divided by the survival probability
 // where it goes on (the caller divides its throughput alike).
@@ -104,6 +109,7 @@ fn trace_light_subpath() {
     if frame.light_count == 0u || frame.max_depth < 2u {
         return;
     }
+    light_lens = lens_sample();
     for (var unused = light_subpath_draw_budget() - walk_light_subpath(); unused > 0u; unused--) {
         _ = sample_1d();
     }
@@ -145,7 +151,7 @@ fn walk_light_subpath() -> u32 {
             break;
         }
         if connectible(v) {
-            let splat = connect_to_camera(v, throughput, sums, edges + 1u);
+            let splat = connect_to_camera(v, throughput, sums, edges + 1u, light_lens);
             if any(splat.value != vec3<f32>(0.0)) && splat_count < BDPT_LIGHT_VERTICES {
                 splats_pending[splat_count] = splat;
                 splat_count++;
@@ -190,7 +196,7 @@ fn trace_camera_subpath(camera: Ray) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var skip_triangle = NO_TRIANGLE;
     var eta_scale = 1.0;
-    var sums = camera_mis_sums(camera_ray_pdf(dot(camera.direction, frame.camera_forward)));
+    var sums = camera_mis_sums(camera_ray_density(camera));
     for (var depth = 1u; ; depth++) {
         // this vertex makes t = depth + 1 with the camera
         let t = depth + 1u;
@@ -206,7 +212,7 @@ fn trace_camera_subpath(camera: Ray) -> vec3<f32> {
         let triangle = scene_triangle(hit.triangle);
         let v = surface_vertex(ray, hit, triangle, false);
         guide_vertex(v.material, v.shading, ray.direction);
-        sums = mis_sums_at_hit(sums, hit.t, abs(dot(v.geometric, ray.direction)), false);
+        sums = mis_sums_at_hit(sums, hit.t, abs(dot(v.geometric, ray.direction)), depth == 1u && CAMERA_PARALLEL);
         // emission shines from both sides (a single-sided surface's from its front only)
         let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, v.position, ray.direction);
         if material_emits(v.material) || any(surface_emitted > vec3<f32>(0.0)) {
@@ -252,9 +258,11 @@ fn render_pixel(xy: vec2<u32>) {
     }
     let pixel = xy.y * frame.width + xy.x;
     sampler_begin(pixel);
-    let camera = camera_ray(xy, sample_2d());
+    let jitter = sample_2d();
+    let lens = lens_sample();
+    let camera = camera_ray(xy, jitter, lens);
     if BDPT_CHECK_WEIGHT_SUMS {
-        accumulation[pixel] = accumulate_sample(accumulation[pixel], check_weight_sums(camera));
+        accumulation[pixel] = accumulate_sample(accumulation[pixel], check_weight_sums(camera, lens));
         sampler_end(pixel);
         return;
     }

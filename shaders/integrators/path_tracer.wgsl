@@ -1,6 +1,8 @@
 // The path tracing megakernel: each pixel's samples of a dispatch, added to the accumulation buffer.
 //! include "generated/acceleration.wgsl"
-//! include "camera/camera_ray.wgsl"
+// camera_ray: the scene's camera kind (camera_hook)
+//! include "generated/camera.wgsl"
+//! include "camera/lens_sample.wgsl"
 //! include "sampling/sampler.wgsl"
 //! include "materials/bsdf.wgsl"
 //! include "lights/direct_light_sampler.wgsl"
@@ -221,9 +223,11 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     return true;
 }
 
-// A path's first ray: through the pixel, jittered by the sample's first draw.
+// A path's first ray: through the pixel, jittered by the sample's first draw, through the lens
+// by its second where the camera has one.
 fn camera_path(xy: vec2<u32>) -> PathState {
-    return path_start(camera_ray(xy, sample_2d()));
+    let jitter = sample_2d();
+    return path_start(camera_ray(xy, jitter, lens_sample()));
 }
 
 // The pixel's sum with one finished path added, or counted as cut short and dropped if the

@@ -72,3 +72,18 @@ fn sample_uniform_cone(u: vec2<f32>, one_minus_cos_max: f32) -> vec3<f32> {
 fn pdf_uniform_cone(one_minus_cos_max: f32) -> f32 {
     return 1.0 / (TWO_PI * one_minus_cos_max);
 }
+
+// Uniform point on the unit disk by Shirley and Chiu's concentric map: squares to rings, so
+// neighbouring (stratified) samples stay neighbours on the disk; (0.5, 0.5) is its centre.
+fn sample_concentric_disk(u: vec2<f32>) -> vec2<f32> {
+    let offset = 2.0 * u - 1.0;
+    if all(offset == vec2<f32>(0.0)) {
+        return vec2<f32>(0.0);
+    }
+    if abs(offset.x) > abs(offset.y) {
+        let phi = 0.25 * PI * (offset.y / offset.x);
+        return offset.x * vec2<f32>(cos(phi), sin(phi));
+    }
+    let phi = 0.5 * PI - 0.25 * PI * (offset.x / offset.y);
+    return offset.y * vec2<f32>(cos(phi), sin(phi));
+}

@@ -1,6 +1,6 @@
 // First-hit guides per pixel (normal, albedo, depth, BVH steps): debug views and the filter's edge stops.
 //! include "generated/acceleration.wgsl"
-//! include "camera/camera_ray.wgsl"
+//! include "generated/camera.wgsl"
 //! include "view/guide_packing.wgsl"
 // shading_normal, resolve_material and mapped_normal: the scene's smooth shading and textures, as
 // the path tracer sees them at its first hit (the renderer's SceneVariant)
@@ -9,7 +9,8 @@
 //! include "generated/bindings/guides.wgsl"
 //! include "generated/workgroup.wgsl"
 
-// Through each pixel's centre, so the guides of a frame do not change from sample to sample.
+// Through each pixel's centre (and a lens's centre), so the guides of a frame do not change from
+// sample to sample.
 const PIXEL_CENTRE: vec2<f32> = vec2<f32>(0.5, 0.5);
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
@@ -20,7 +21,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // BLEND surfaces (surface_blocks) draw from rng_state, never seeded here: xoshiro's zero
     // state draws 0 forever, so the guides see every surface whose alpha is above 0, frame after frame
     traversal_steps = 0u;
-    let ray = camera_ray(id.xy, PIXEL_CENTRE);
+    let ray = camera_ray(id.xy, PIXEL_CENTRE, LENS_CENTRE);
     let hit = closest_hit(ray, FLOAT_MAX, NO_TRIANGLE);
     // depth 0 marks "nothing hit": the filter never mixes such pixels with surfaces
     var guide = Guide(vec3<f32>(0.0, 0.0, 1.0), 0.0, vec3<f32>(0.0), 0u);

@@ -1,5 +1,5 @@
-// Presenting a frame: the resolved linear image scaled to the window, exposure, and the text overlay.
-//! include "generated/view_structs.wgsl"
+// Presenting a frame: the resolved linear image scaled to the window, exposure, tone curve, and the text overlay.
+//! include "view/tone_curves.wgsl"
 //! include "generated/bindings/present.wgsl"
 //
 // Writes linear values: the target is an sRGB format whose hardware encodes them, unless
@@ -29,7 +29,11 @@ fn fragment_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f3
         vec2<u32>(params.image_width - 1u, params.image_height - 1u),
     );
     let value = textureLoad(image, source, 0);
-    var color = clamp(value.xyz * params.exposure, vec3<f32>(0.0), vec3<f32>(1.0));
+    var exposure = params.exposure;
+    if params.auto_exposure != 0u && exposure_state[0].y != 0.0 {
+        exposure *= MIDDLE_GREY / exp(exposure_state[0].x);
+    }
+    var color = tone_curve(value.xyz * exposure, params.tonemap);
     let in_overlay = target_pixel - vec2<u32>(params.overlay_x, params.overlay_y);
     if params.overlay_visible != 0u && all(target_pixel >= vec2<u32>(params.overlay_x, params.overlay_y))
         && all(in_overlay < textureDimensions(overlay)) {

@@ -1,5 +1,6 @@
 """Fly-camera navigation: keys move along the view's axes for the time they are held, drags turn,
-the wheel scales speed, R resets and F frames the scene."""
+the wheel scales speed, R resets and F frames the scene (every camera kind); the aperture keys open
+and close a lens on the pinhole, a click's focus waits for the lens."""
 
 from __future__ import annotations
 
@@ -8,8 +9,16 @@ import math
 import numpy as np
 import pytest
 
-from wgputrace import Camera
-from wgputrace.app.controls import LOOK_RADIANS_PER_PIXEL, PITCH_LIMIT, SPEED_STEP, WHEEL_NOTCH, FlyCamera
+from wgputrace import Camera, EquirectangularCamera, OrthographicCamera, ThinLensCamera
+from wgputrace.app.controls import (
+    APERTURE_FIRST_FRACTION,
+    APERTURE_STEP,
+    LOOK_RADIANS_PER_PIXEL,
+    PITCH_LIMIT,
+    SPEED_STEP,
+    WHEEL_NOTCH,
+    FlyCamera,
+)
 
 BOUNDS = (np.array([-1.0, 0.0, -1.0]), np.array([1.0, 2.0, 1.0]))
 
@@ -76,3 +85,58 @@ def test_frame_puts_every_corner_of_the_scene_in_view(fly, aspect):
     # the bounding sphere just fits, so the box's corners lie inside, some of them near the edge
     assert np.abs(ndc).max() <= 1.0
     assert np.abs(ndc).max() > 0.5
+
+
+def test_the_aperture_keys_open_a_lens_on_the_pinhole_and_close_it_again(fly):
+    assert fly.aperture_radius == 0.0 and type(fly.camera()) is Camera
+    assert fly.step_aperture(1)
+    lens = fly.camera()
+    assert isinstance(lens, ThinLensCamera)
+    assert lens.aperture_radius == pytest.approx(APERTURE_FIRST_FRACTION * fly.scene_size)
+    # before any click it focuses where the scene's centre lies along the view
+    assert lens.focus_distance == pytest.approx(3.0)
+    fly.step_aperture(2)
+    assert fly.camera().aperture_radius == pytest.approx(lens.aperture_radius * APERTURE_STEP**2)
+    fly.step_aperture(-2)
+    assert fly.camera().aperture_radius == pytest.approx(lens.aperture_radius)
+    fly.step_aperture(-1)
+    assert type(fly.camera()) is Camera  # back to the pinhole, whose kernel draws no lens sample
+    assert fly.camera() == Camera(tuple(fly.position), tuple(fly.forward), tuple(fly.world_up), 60.0)
+
+
+def test_focus_is_kept_for_the_lens_to_come_and_reset_restores_the_scenes_camera(fly):
+    fly.focus_at(1.25)
+    fly.step_aperture(1)
+    assert fly.camera().focus_distance == 1.25
+    fly.focus_at(2.5)
+    assert fly.camera().focus_distance == 2.5
+    fly.reset()
+    assert type(fly.camera()) is Camera and fly.focus_distance == pytest.approx(3.0)
+
+
+@pytest.mark.parametrize(
+    "camera",
+    [
+        OrthographicCamera((0.0, 1.0, -3.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0), view_height=1.0),
+        EquirectangularCamera((0.0, 1.0, -3.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
+    ],
+    ids=type,
+)
+def test_cameras_without_a_lens_keep_their_kind(camera):
+    fly = FlyCamera(camera, BOUNDS)
+    assert fly.aperture_radius is None and not fly.step_aperture(1)
+    fly.look(10.0, 0.0)
+    assert type(fly.camera()) is type(camera)
+
+
+@pytest.mark.parametrize("aspect", [0.5, 2.0])
+def test_frame_widens_an_orthographic_view_to_the_scene(aspect):
+    fly = FlyCamera(OrthographicCamera((0.0, 1.0, -3.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0), view_height=0.1), BOUNDS)
+    fly.frame_scene(aspect)
+    camera = fly.camera()
+    right, up = camera.half_extents(round(aspect * 100), 100)
+    corners = np.array([[BOUNDS[(k >> axis) & 1][axis] for axis in range(3)] for k in range(8)])
+    offsets = corners - camera.position
+    assert np.all(offsets @ np.asarray(camera.forward) > 0)
+    ndc = np.stack([offsets @ right / (right @ right), offsets @ up / (up @ up)], axis=1)
+    assert np.abs(ndc).max() <= 1.0 and np.abs(ndc).max() > 0.5

@@ -12,7 +12,7 @@ from PIL import Image
 from wgputrace import Renderer, default_scene, load_image
 from wgputrace.app.controls import LOOK_RADIANS_PER_PIXEL, SPEED_STEP
 from wgputrace.app.pacing import REST_SECONDS
-from wgputrace.image_io import tonemap
+from wgputrace.image_io import srgb8, tonemap
 from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores
 from wgputrace.testing.running_app import START_SECONDS, RunningApp
 from wgputrace.testing.stats import sidak, z_limit
@@ -117,7 +117,7 @@ def test_window_pixels_are_the_screenshot_and_the_tone_mapped_exr(gpu_context, v
         driver.tap("Tab")
     png = np.asarray(Image.open(shot.png).convert("RGB"))
     np.testing.assert_array_equal(shown, png)
-    expected = tonemap(load_image(shot.exr), 1.0).astype(int)
+    expected = srgb8(tonemap(load_image(shot.exr))).astype(int)
     assert np.abs(png.astype(int) - expected).max() <= SRGB_CODE_TOLERANCE
 
 

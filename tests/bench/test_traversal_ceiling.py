@@ -18,9 +18,9 @@ WIDTH, HEIGHT = 7, 5
 DIRECTION_ATOL = 1e-6
 
 KERNEL = """
-//! include "camera/camera_ray.wgsl"
+//! include "generated/camera.wgsl"
 fn compute(i: u32) -> vec4<f32> {
-    let ray = camera_ray(vec2<u32>(i % frame.width, i / frame.width), vec2<f32>(0.5));
+    let ray = camera_ray(vec2<u32>(i % frame.width, i / frame.width), vec2<f32>(0.5), LENS_CENTRE);
     return vec4<f32>(ray.direction, 0.0);
 }
 """
@@ -29,8 +29,8 @@ fn compute(i: u32) -> vec4<f32> {
 def test_pixel_centre_rays_are_the_shipped_camera_rays(gpu_context):
     camera = scene_by_name("cornell").camera
     frame = frame_record()
-    frame["width"], frame["height"], frame["camera_position"] = WIDTH, HEIGHT, camera.position
-    frame["camera_right"], frame["camera_up"], frame["camera_forward"] = camera.image_plane(WIDTH, HEIGHT)
+    frame["width"], frame["height"] = WIDTH, HEIGHT
+    camera.fill_frame(frame, WIDTH, HEIGHT)
     shipped = run_kernel(
         gpu_context,
         KERNEL,

@@ -20,7 +20,7 @@ from PIL import Image
 
 import wgputrace
 import wgputrace as wt
-from wgputrace.image_io import sidecar_path, tonemap
+from wgputrace.image_io import sidecar_path, srgb8, tonemap
 from wgputrace.provenance import NAMESPACE, read_metadata
 
 pytestmark = [pytest.mark.gpu, pytest.mark.slow]  # each case starts a process and renders twice
@@ -86,7 +86,7 @@ def assert_holds_what_it_claims(output: Path, signal_name: str) -> None:
     assert metadata[NAMESPACE + "stopped_by"] == signal_name
     expected = fresh_render(spp)
     if output.suffix == ".png":
-        np.testing.assert_array_equal(np.asarray(Image.open(output).convert("RGB")), tonemap(expected))
+        np.testing.assert_array_equal(np.asarray(Image.open(output).convert("RGB")), srgb8(tonemap(expected)))
     else:
         np.testing.assert_array_equal(wt.load_image(output), expected)
 

@@ -9,7 +9,7 @@ import pytest
 import wgputrace as wt
 from wgputrace.cluster.batches import split_samples
 from wgputrace.cluster.merge import TiledSum
-from wgputrace.cluster.tiles import split_image
+from wgputrace.cluster.tiles import check_tileable, split_image
 from wgputrace.cluster.worker import RenderSettings, RenderWorker
 from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores
 from wgputrace.testing.stats import sidak, z_limit
@@ -56,3 +56,11 @@ def test_a_tiled_render_converges_to_wgputrace_render():
     scores = block_z_scores(tiled, reference)
     limit = z_limit(sidak(SIGNIFICANCE, BLOCKS * BLOCKS * CHANNELS))
     assert np.abs(scores).max() < limit, f"block z-scores {np.round(scores, 1).tolist()} beyond {limit:.2f}"
+
+
+def test_tiles_cut_the_pinhole_only():
+    """TileCamera cuts a pinhole's view; another camera kind would lose its lens or projection."""
+    check_tileable(wt.Camera())
+    lens = wt.ThinLensCamera(aperture_radius=0.1, focus_distance=2.0)
+    with pytest.raises(ValueError, match="tiles cut the pinhole Camera's view only: a ThinLensCamera renders untiled"):
+        check_tileable(lens)

@@ -10,7 +10,17 @@ import struct
 import numpy as np
 import pytest
 
-from wgputrace import Diffuse, Emitter, Glossy, Principled, SceneLoadError, SceneLoadWarning, load_scene
+from wgputrace import (
+    Camera,
+    Diffuse,
+    Emitter,
+    Glossy,
+    OrthographicCamera,
+    Principled,
+    SceneLoadError,
+    SceneLoadWarning,
+    load_scene,
+)
 from wgputrace.testing.gltf_files import BOX, BOX_INDICES, MATERIALS, gltf_document, write_glb, write_gltf
 
 
@@ -43,6 +53,33 @@ def test_materials_transforms_and_camera(tmp_path, writer):
     np.testing.assert_allclose(scene.camera.position, [0, 1, 5])
     np.testing.assert_allclose(scene.camera.forward, [0, 0, -1])
     assert scene.camera.vfov_degrees == pytest.approx(math.degrees(0.8))
+
+
+def test_an_orthographic_camera_is_the_orthographic_kind(tmp_path):
+    """glTF's ymag is half the view's height, in the camera node's units (its y scale applies); the
+    image's own aspect sets the width, xmag is not read."""
+    ortho = {"type": "orthographic", "orthographic": {"xmag": 3.0, "ymag": 1.5, "znear": 0.1, "zfar": 50.0}}
+    document, blob = box_document(1, cameras=[ortho])
+    quarter_turn = [-math.sin(math.pi / 4), 0, 0, math.cos(math.pi / 4)]  # -90 deg about x: looking down
+    document["nodes"].append({"camera": 0, "translation": [0, 4, 0], "rotation": quarter_turn, "scale": [2, 2, 2]})
+    document["scenes"][0]["nodes"].append(len(document["nodes"]) - 1)
+    scene = load_scene(write_glb(tmp_path / "ortho.glb", document, blob))
+    assert isinstance(scene.camera, OrthographicCamera)
+    assert scene.camera.view_height == pytest.approx(2 * 1.5 * 2)
+    np.testing.assert_allclose(scene.camera.position, [0, 4, 0])
+    np.testing.assert_allclose(scene.camera.forward, [0, -1, 0], atol=1e-12)
+    np.testing.assert_allclose(scene.camera.up, [0, 0, -2], atol=1e-12)
+
+
+def test_a_camera_of_another_type_warns_and_the_scene_is_framed(tmp_path):
+    document, blob = box_document(1, cameras=[{"type": "fisheye", "fisheye": {}}])
+    document["nodes"].append({"camera": 0, "translation": [0, 1, 5]})
+    document["scenes"][0]["nodes"].append(len(document["nodes"]) - 1)
+    with pytest.warns(
+        SceneLoadWarning, match=r"cameras\[0\] is of type 'fisheye', neither perspective nor orthographic"
+    ):
+        scene = load_scene(write_glb(tmp_path / "fisheye.glb", document, blob))
+    assert type(scene.camera) is Camera and scene.camera.forward == (0.0, 0.0, -1.0)
 
 
 def test_without_a_camera_the_scene_is_framed_from_plus_z(tmp_path):

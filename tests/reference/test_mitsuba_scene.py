@@ -1,19 +1,23 @@
 """The Mitsuba scene built from ours (`mitsuba_scene`) holds the same
-triangles, emitters and camera. Needs mitsuba (the `reference` extra), which CI does not install."""
+triangles, emitters and camera, whatever its kind. Needs mitsuba (the `reference` extra), which CI
+does not install."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+import wgputrace as wt
 from wgputrace.reference.mitsuba_scene import (
     EMITTER_BACK_OFFSET_RELATIVE,
     NEAR_CLIP_RELATIVE,
     SCALAR_VARIANT,
     load_mitsuba,
     mitsuba_scene,
+    sensor_dict,
 )
 from wgputrace.scenes import scene_by_name
+from wgputrace.testing.camera_rays import camera_rays
 
 pytest.importorskip("mitsuba", reason="Mitsuba 3 (the reference extra) is not installed")
 
@@ -69,3 +73,43 @@ def test_same_camera(mi):
     right = np.cross(ours.camera.forward, ours.camera.up)
     assert np.dot(np.array(corner.d), right) < 0.0
     assert np.dot(np.array(corner.d), ours.camera.up) > 0.0
+
+
+# Tilted poses, so that no basis vector is an axis; a film that is not square.
+POSE = ((0.3, -0.2, 1.0), (0.2, -0.1, 1.0), (0.1, 1.0, 0.05))
+FILM = (8, 6)
+FILM_POINTS = ((0.5, 0.5), (0.0, 0.0), (1.0, 0.25), (0.2, 0.9))
+
+
+@pytest.mark.parametrize(
+    "camera",
+    [
+        wt.Camera(*POSE, 35.0),
+        wt.ThinLensCamera(*POSE, 35.0, aperture_radius=0.2, focus_distance=2.5),
+        wt.OrthographicCamera(*POSE, view_height=1.7),
+    ],
+    ids=lambda camera: type(camera).__name__,
+)
+def test_every_camera_kind_is_mitsubas_sensor(mi, camera):
+    """Through the lens's centre Mitsuba's rays are ours (`camera_rays`, at the near clip plane);
+    a thin lens's rays from anywhere on the lens meet ours at the plane in focus."""
+    width, height = FILM
+    sensor = mi.load_dict(
+        {**sensor_dict(mi, camera, width, height), "film": {"type": "hdrfilm", "width": width, "height": height}}
+    )
+    centre = mi.Point2f(0.5, 0.5)
+    for point in FILM_POINTS:
+        pixel_point = np.array(point) * FILM
+        origin, direction = camera_rays(
+            camera, width, height, np.floor(pixel_point)[None], (pixel_point % 1)[None], [(0.5, 0.5)]
+        )
+        ray, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(*point), centre)
+        near = float(np.dot(np.array(ray.o) - origin[0], direction[0]))
+        np.testing.assert_allclose(np.array(ray.o), origin[0] + near * direction[0], atol=COORDINATE_ATOL)
+        np.testing.assert_allclose(np.array(ray.d), direction[0], atol=DIRECTION_ATOL)
+        if isinstance(camera, wt.ThinLensCamera):
+            focus = origin[0] + camera.focus_distance / float(direction[0] @ camera.forward) * direction[0]
+            off_centre, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(*point), mi.Point2f(0.9, 0.2))
+            o, d = np.array(off_centre.o), np.array(off_centre.d)
+            np.testing.assert_allclose(o + float((focus - o) @ d) * d, focus, atol=1e-5)
+            assert np.linalg.norm(o - origin[0]) > 0.05  # it did leave from elsewhere on the lens

@@ -27,6 +27,7 @@ def options_from(args: argparse.Namespace) -> ViewerOptions:
         max_depth=args.max_depth,
         seed=args.seed,
         exposure=args.exposure,
+        tonemap=args.tonemap,
         target_fps=args.fps,
         filter=args.filter,
         denoise=args.denoise,

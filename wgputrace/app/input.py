@@ -1,20 +1,29 @@
 """Keys and the mouse: rendercanvas's events turned into what they do to the viewer. HELP, which the
-overlay shows, lists the keys; FlyCamera turns held keys and drags into camera motion."""
+overlay shows, lists the keys; FlyCamera turns held keys and drags into camera motion; a click (a
+press and release of the left button that did not drag) focuses the lens there."""
 
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
+from ..image_io import TONEMAP_OPERATORS
 from ..view.layout import View
 from .controls import MOVE_KEYS
 
-EXPOSURE_STEP = 2.0**0.5
+# The exposure keys' step, in stops.
+EXPOSURE_STEP_EV = 0.5
+# A left-button press and release this close together (pixels, either way) is a click, not a drag.
+CLICK_PIXELS = 3.0
+# Aperture keys: the lens opens and closes by a step of FlyCamera.step_aperture.
+APERTURE_KEYS = {",": -1, ".": 1}
 # Shift+D switches the denoiser: a plain d moves the camera right (W A S D).
 DENOISER_KEY = "D"
 VIEW_KEYS = {"1": View.RADIANCE, "2": View.NORMAL, "3": View.ALBEDO, "4": View.DEPTH, "5": View.HEAT}
 HELP = (
-    "WASDQE move, drag look, wheel speed, R reset, F frame the scene",
-    "1-5 views, N filter, Shift+D denoiser, B boxes, [ ] box level, P screenshot, +/- exposure, Space pause, Tab info",
+    "WASDQE move, drag look, wheel speed, R reset, F frame the scene, click focus, , . aperture",
+    "1-5 views, N filter, Shift+D denoiser, B boxes, [ ] box level, P screenshot, Space pause, Tab info",
+    "+/- exposure, X auto-exposure, T tone curve",
 )
 EVENT_TYPES = ("key_down", "key_up", "pointer_down", "pointer_up", "pointer_move", "wheel")
 
@@ -31,6 +40,7 @@ class ViewerInput:
         self.viewer = viewer
         self._dragging = False
         self._pointer = (0.0, 0.0)
+        self._pressed_at = (0.0, 0.0)
 
     def on_event(self, event: dict) -> None:
         viewer = self.viewer
@@ -42,8 +52,12 @@ class ViewerInput:
                 viewer.controller.release(_normalized(event["key"]), time.perf_counter())
         elif kind == "pointer_down" and event.get("button") == 1:
             self._dragging, self._pointer = True, (event["x"], event["y"])
+            self._pressed_at = self._pointer
         elif kind == "pointer_up" and event.get("button") == 1:
             self._dragging = False
+            moved = max(abs(event["x"] - self._pressed_at[0]), abs(event["y"] - self._pressed_at[1]))
+            if moved <= CLICK_PIXELS:
+                viewer.focus_at(event["x"], event["y"])
         elif kind == "pointer_move" and self._dragging:
             self.look(event["x"] - self._pointer[0], event["y"] - self._pointer[1])
             self._pointer = (event["x"], event["y"])
@@ -86,9 +100,19 @@ class ViewerInput:
         elif key in ("[", "]") and viewer.view is not None:
             viewer.boxes.step(1 if key == "]" else -1, presenter, viewer.view)
         elif key in ("+", "="):
-            viewer.exposure *= EXPOSURE_STEP
+            viewer.tone = replace(viewer.tone, ev=viewer.tone.ev + EXPOSURE_STEP_EV)
         elif key == "-":
-            viewer.exposure /= EXPOSURE_STEP
+            viewer.tone = replace(viewer.tone, ev=viewer.tone.ev - EXPOSURE_STEP_EV)
+        elif key == "x":
+            viewer.tone = replace(viewer.tone, automatic=not viewer.tone.automatic)
+        elif key == "t":
+            following = (TONEMAP_OPERATORS.index(viewer.tone.operator) + 1) % len(TONEMAP_OPERATORS)
+            viewer.tone = replace(viewer.tone, operator=TONEMAP_OPERATORS[following])
+        elif controller is not None and key in APERTURE_KEYS:
+            if controller.step_aperture(APERTURE_KEYS[key]):
+                viewer.pacing.camera_turned()
+            else:
+                viewer.overlay.show_status(f"the {type(controller.optics).__name__} has no lens to open")
         elif key == "p":
             viewer.screenshot()
         elif controller is not None and key == "r":

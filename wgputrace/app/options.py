@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..image_io import DEFAULT_TONEMAP
 from ..scenes import DEFAULT_SCENE
 from .pacing import TARGET_FPS
 
@@ -15,7 +16,8 @@ class ViewerOptions:
     size: tuple[int, int] = (640, 480)
     max_depth: int = 9
     seed: int = 1
-    exposure: float = 1.0
+    exposure: float | str = 0.0  # stops (EV), or "auto": the auto-exposure on from the start
+    tonemap: str = DEFAULT_TONEMAP
     target_fps: float = TARGET_FPS
     filter: bool = False
     denoise: bool = False

@@ -1,9 +1,9 @@
 """The interactive viewer: a progressive path-traced picture in a window. Every frame adds samples
-on the GPU and presents the accumulation through tone mapping and sRGB on the GPU; nothing is read
-back to Python except for screenshots. `Viewer` composes the parts, each in its own module:
-FramePacing (frame budget, preview size, resting), ViewerInput (keys and mouse), ViewerDevice and
-ShownScene (device loss, scene reloads, what fails keeps the picture), ViewerDenoiser (Shift+D),
-Overlay, BoxLines and Screenshots."""
+on the GPU and presents the accumulation through exposure, a tone curve and sRGB on the GPU;
+nothing is read back to Python except for screenshots and a click's focus. `Viewer` composes the
+parts, each in its own module: FramePacing (frame budget, preview size, resting), ViewerInput
+(keys and mouse), ViewerDevice and ShownScene (device loss, scene reloads, what fails keeps the
+picture), ViewerDenoiser (Shift+D), Overlay, BoxLines and Screenshots."""
 
 from __future__ import annotations
 
@@ -15,9 +15,11 @@ import numpy as np
 
 from ..gpu.device import GpuFailure, reporting
 from ..gpu.graphics import read_texture
-from ..scene import Scene
+from ..image_io import AUTO_EXPOSURE
+from ..scene import Camera, Scene
 from ..view.display import ViewSettings
 from ..view.layout import View
+from ..view.present import Tone
 from .boxes import BoxLines
 from .controls import FlyCamera
 from .denoising import ViewerDenoiser
@@ -40,7 +42,11 @@ class Viewer:
         self.exit_status = 0
         self.settings = ViewSettings(filter_enabled=options.filter)
         self.denoiser = ViewerDenoiser(options.denoise, self.settings)
-        self.exposure = options.exposure
+        automatic = options.exposure == AUTO_EXPOSURE
+        # how the radiance view is shown (keys +/-, X, T); the other views are shown as they are
+        self.tone = Tone(options.tonemap, 0.0 if automatic else float(options.exposure), automatic)
+        # when the auto-exposure last measured the picture (None: it starts again)
+        self._exposure_measured_at: float | None = None
         self.paused = False  # Space: stop adding samples (the picture stays as it is)
         self.boxes = BoxLines()
         self.overlay = Overlay(options.info)
@@ -90,8 +96,42 @@ class Viewer:
         """Which picture of the samples the radiance view shows: "OIDN (CPU), 16 spp", "a-trous" or "raw"."""
         return self.denoiser.shown_label(self.view)
 
-    def _exposure(self) -> float:
-        return self.exposure if self.settings.view == View.RADIANCE else 1.0
+    def _tone(self) -> Tone:
+        return self.tone if self.settings.view == View.RADIANCE else Tone()
+
+    def _measure_exposure(self, image, image_size: tuple[int, int], now: float) -> None:
+        """Where the auto-exposure is on, blend this frame's picture into its measurement."""
+        if not self._tone().automatic:
+            self._exposure_measured_at = None
+            return
+        last = self._exposure_measured_at
+        seconds = 0.0 if last is None else now - last
+        self.device.presenter.measure_exposure(image, image_size, seconds, restart=last is None)
+        self._exposure_measured_at = now
+
+    def focus_at(self, x: float, y: float) -> None:
+        """Focus the lens at what the window shows at (x, y) (logical pixels): the first hit's
+        distance (the guides' depth) along the camera's axis. Opens no lens: the aperture keys do."""
+        view, controller = self.view, self.controller
+        if view is None or controller is None:
+            return
+        camera = controller.camera()
+        if not isinstance(camera, Camera):
+            self.overlay.show_status(f"the {type(camera).__name__} has no lens to focus")
+            return
+        window = self.canvas.get_logical_size()
+        width, height = view.banded.size
+        column = min(max(int(x / max(window[0], 1) * width), 0), width - 1)
+        row = min(max(int(y / max(window[1], 1) * height), 0), height - 1)
+        depth = float(view.display.read_guides()["depth"][row, column])
+        if not depth > 0.0:
+            self.overlay.show_status("nothing there to focus on")
+            return
+        right, up, forward = camera.image_plane(width, height)
+        ndc = ((column + 0.5) / width * 2.0 - 1.0, (row + 0.5) / height * 2.0 - 1.0)
+        controller.focus_at(depth / float(np.linalg.norm(forward + ndc[0] * right - ndc[1] * up)))
+        self.pacing.camera_turned()
+        self.overlay.show_status(f"focus at {controller.focus_distance:.4g}")
 
     def _restart(self, now: float, *, moving: bool) -> None:
         """Start the samples again from the camera as it is: at a reduced size while `moving`."""
@@ -155,7 +195,9 @@ class Viewer:
         if self.overlay.due(start):
             errors = self.errors + self.denoiser.notice()
             self.overlay.redraw(self.device.presenter, start, size, self.info_lines, errors)
-        self.device.presenter.draw(texture, image, image_size, self._exposure())
+        if view is not None:
+            self._measure_exposure(image, image_size, start)
+        self.device.presenter.draw(texture, image, image_size, self._tone())
         seconds = self.pacing.frame_done(start, time.perf_counter(), trace_seconds)
         if view is not None:
             banded = view.banded
@@ -177,8 +219,8 @@ class Viewer:
             lines += [
                 f"{banded.samples_done:.2f} spp   {samples_per_second / 1e6:.3f} M samples/s   "
                 f"tracing {banded.size[0]}x{banded.size[1]} of {banded.full_size[0]}x{banded.full_size[1]} ({state})",
-                "camera ({:.3f}, {:.3f}, {:.3f})  dir ({:.3f}, {:.3f}, {:.3f})  speed {:.3g}/s".format(
-                    *camera.position, *camera.forward, self.controller.speed
+                "camera ({:.3f}, {:.3f}, {:.3f})  dir ({:.3f}, {:.3f}, {:.3f})  speed {:.3g}/s  {}".format(
+                    *camera.position, *camera.forward, self.controller.speed, self._lens_label()
                 ),
                 f"scene {self.options.scene}: {renderer.triangle_count:,} triangles, "
                 f"{renderer.records.acceleration.node_count:,} BVH nodes, depth {int(view.levels.max())}",
@@ -188,11 +230,20 @@ class Viewer:
                 + (f"on (weight {view.display.filter_weight:.2f})" if self.settings.filter_enabled else "off")
                 + f"   denoiser {self.denoiser.state(view)}"
                 + (f"   boxes level {self.boxes.level}" if self.boxes.shown else "")
-                + f"   exposure {self.exposure:.3g}"
+                + f"   tone {self.tone.operator}  exposure {self.tone.ev:+.3g} EV"
+                + (" auto" if self.tone.automatic else "")
                 + ("   PAUSED" if self.paused else ""),
             ]
         lines += [f"adapter {self.device.context.adapter_name}", *HELP]
         return lines
+
+    def _lens_label(self) -> str:
+        """The camera's kind, and its lens where it has one open: aperture radius and focus distance."""
+        controller = self.controller
+        radius = controller.aperture_radius
+        if radius is None or radius == 0.0:
+            return type(controller.optics).__name__
+        return f"lens {radius:.3g} focus {controller.focus_distance:.4g}"
 
     def screenshot(self) -> tuple[Path, Path] | None:
         """Save what the window shows (without the overlay) as PNG, and the linear image as EXR."""
@@ -200,7 +251,7 @@ class Viewer:
         if view is None:
             return None
         image, image_size = self.denoiser.picture(view, self.pacing.moving)
-        pixels = self.device.presenter.screenshot(image, image_size, self.canvas.get_physical_size(), self._exposure())
+        pixels = self.device.presenter.screenshot(image, image_size, self.canvas.get_physical_size(), self._tone())
         linear = read_texture(self.device.context, image, np.float32, 4, image_size)[:, :, :3].copy()
         png, exr = self.screenshots.save(pixels, linear)
         banded = view.banded

@@ -23,7 +23,7 @@ from .connection import connected
 from .merge import TiledSum
 from .pool import Placement, WorkerPool
 from .progress import ClusterProgress
-from .tiles import Tile
+from .tiles import Tile, check_tileable
 from .worker import BatchOutcome, RenderSettings, WorkerIdentity
 
 
@@ -83,6 +83,8 @@ def render_batches(
         raise ValueError(
             f"tiles need an integrator that does not splat ({tiled}): {method.name} splats light paths onto the whole image"
         )
+    if tile is not None:
+        check_tileable(scene.camera)
     work = split_samples(spp, seed, batches)
     settings = RenderSettings(width, height, seed, max_depth, options, tile)
     tiles = settings.tiles()

@@ -62,7 +62,7 @@ def render_on_cluster(args: argparse.Namespace, scene, options: dict[str, object
         f"of the Ray cluster at {args.ray}",
     }
     metadata = {NAMESPACE + key: str(value) for key, value in values.items()}
-    path = save_image(args.output, result.image, exposure=args.exposure, metadata=metadata)
+    path = save_image(args.output, result.image, exposure=args.exposure, metadata=metadata, tonemap=args.tonemap)
     samples = spp * width * height
     adapters = sorted({worker.adapter for worker in result.workers})
     print(f"cluster          {args.ray}: {len(result.workers)} workers on {', '.join(adapters)}")
@@ -89,7 +89,16 @@ def render_frames_on_cluster(args: argparse.Namespace, options: dict[str, object
     width, height = args.size
     with cluster_job(args, "frame") as job:
         report = render_frames(
-            args.scene, args.frames, args.output, args.spp, width, height, exposure=args.exposure, **job, **options
+            args.scene,
+            args.frames,
+            args.output,
+            args.spp,
+            width,
+            height,
+            exposure=args.exposure,
+            tonemap=args.tonemap,
+            **job,
+            **options,
         )
     if report.skipped:
         print(f"skipped          {len(report.skipped)} frames written before ({report.skipped[0]} ...)")

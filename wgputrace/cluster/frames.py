@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..image_io import save_image
+from ..image_io import DEFAULT_TONEMAP, save_image
 from ..loaders.python_scene import read_source
 from .connection import connected
 from .pool import Placement, WorkerPool
@@ -73,7 +73,8 @@ def render_frames(
     *,
     seed: int = 1,
     max_depth: int = 9,
-    exposure: float = 1.0,
+    exposure: float | str = 0.0,
+    tonemap: str = DEFAULT_TONEMAP,
     address: str | None = None,
     workers: int | None = None,
     progress: Callable[[ClusterProgress], None] | None = None,
@@ -81,7 +82,8 @@ def render_frames(
 ) -> FramesReport:
     """Render `frames` of the animation `scene_file` (scene(frame)) to `output` (a pattern with
     {frame}), skipping frames whose file exists; every frame from `seed`, as `wgputrace render` of
-    that frame would. The other arguments are cluster.render_batches'."""
+    that frame would; a PNG frame through `tonemap` at `exposure` (EV, or "auto" per frame). The other
+    arguments are cluster.render_batches'."""
     path = Path(scene_file)
     source = read_source(path)
     report = FramesReport()
@@ -105,7 +107,8 @@ def render_frames(
 
         try:
             for frame, outcome, worker in pool.run(todo, submit):
-                report.written.append(save_image(frame_path(output, frame), outcome.image, exposure=exposure))
+                written = save_image(frame_path(output, frame), outcome.image, exposure=exposure, tonemap=tonemap)
+                report.written.append(written)
                 if progress is not None:
                     done = len(report.written)
                     elapsed = time.perf_counter() - start

@@ -59,6 +59,12 @@ def split_image(width: int, height: int, side: int | None) -> list[Tile]:
     ]
 
 
+def check_tileable(camera: Camera) -> None:
+    """ValueError unless `camera` is the pinhole `Camera`, the only kind TileCamera cuts."""
+    if type(camera) is not Camera:
+        raise ValueError(f"tiles cut the pinhole Camera's view only: a {type(camera).__name__} renders untiled")
+
+
 @dataclass
 class TileCamera(Camera):
     """`Camera` seeing only `tile` of its `image_width` x `image_height` view: the image plane of

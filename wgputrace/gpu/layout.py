@@ -126,8 +126,11 @@ FRAME = GpuStruct(
         ("node_count", "u32"),
         ("light_count", "u32"),
         ("light_weight_total", "f32"),
+        ("aperture_radius", "f32"),
+        ("focus_distance", "f32"),
     ),
-    "Per-frame values; camera_right and camera_up span half the image plane at distance 1.",
+    "Per-frame values; the camera's fields as its kind writes them (`Sensor.fill_frame`): for the "
+    "perspective kinds camera_right and camera_up span half the image plane at distance 1.",
 )
 ACCUMULATED_PIXEL = GpuStruct(
     "AccumulatedPixel",

@@ -23,6 +23,7 @@ from .bind_groups import (
     scene_group,
     shading_group,
 )
+from .camera import DEFAULT_CAMERA, camera_label
 from .hooks import HOOKS
 from .light_dispatch import NO_LIGHTS, LightFeatures
 from .sampler import DEFAULT_SAMPLER, check_sampler
@@ -62,6 +63,8 @@ class SceneFeatures:
     material_kinds: tuple[int, ...] = ALL_KINDS
     # the lights besides emissive triangles
     lights: LightFeatures = NO_LIGHTS
+    # the camera kind (a registered kind's id): how camera rays are made and bdpt connects to the camera
+    camera: int = DEFAULT_CAMERA
     # per-vertex normals
     smooth: bool = flag("smooth shading")
     # materials that read textures or have a texture record
@@ -73,11 +76,12 @@ class SceneFeatures:
 
     def __post_init__(self) -> None:
         scene_group(self.acceleration)  # refuses an unknown acceleration
+        camera_label(self.camera)  # refuses an unregistered camera kind
         object.__setattr__(self, "material_kinds", shaded_kinds(self.material_kinds))
 
     @property
     def labels(self) -> list[str]:
-        return ([self.lights.description] if self.lights.any else []) + _flag_labels(self)
+        return ([self.lights.description] if self.lights.any else []) + _flag_labels(self) + camera_label(self.camera)
 
     def groups(self) -> tuple[BindGroup, ...]:
         """The bind groups a kernel tracing this scene declares besides its own: the scene group,

@@ -28,8 +28,10 @@ from ..scene import (
     DirectionalLight,
     Light,
     LightError,
+    OrthographicCamera,
     PointLight,
     SceneError,
+    Sensor,
     Shape,
     SpotLight,
 )
@@ -367,7 +369,7 @@ class GltfContents(NamedTuple):
     """What a glTF file holds for a Scene: its shapes, its first perspective camera, its lights."""
 
     shapes: list[Shape]
-    camera: Camera | None
+    camera: Sensor | None
     lights: list[Light]
 
 
@@ -516,23 +518,36 @@ def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
     return np.stack([indices[k + 1], indices[k + 2], np.broadcast_to(indices[:1], k.shape)], axis=1)
 
 
-def _camera(reader: _Reader, index, world: np.ndarray, where: str) -> Camera | None:
+def _camera(reader: _Reader, index, world: np.ndarray, where: str) -> Sensor | None:
+    """Camera `index` placed by a node of world matrix `world`, looking along its -z with its +y up:
+
+    | glTF camera                           | wgputrace camera                                       |
+    |---------------------------------------|--------------------------------------------------------|
+    | `perspective`: yfov (radians)          | Camera: vfov_degrees                                   |
+    | `orthographic`: ymag (half the height) | OrthographicCamera: view_height = 2 ymag x the node's y scale |
+    | ignored: aspectRatio, xmag (the image's own aspect sets the width), znear, zfar (nothing is clipped) | |
+
+    Another type warns and is left out (None)."""
     entry = reader.item("cameras", index, f"{where}.camera")
     camera_where = f"cameras[{index}]"
-    if reader.get(entry, "type", str, camera_where, "perspective") != "perspective":
+    kind = reader.get(entry, "type", str, camera_where, "perspective")
+    if kind not in ("perspective", "orthographic"):
         warnings.warn(
-            f"{reader.path}: {camera_where} is not perspective: framing the scene instead",
+            f"{reader.path}: {camera_where} is of type {kind!r}, neither perspective nor orthographic: "
+            "framing the scene instead",
             SceneLoadWarning,
             stacklevel=4,
         )
         return None
-    perspective = reader.get(entry, "perspective", dict, camera_where)
-    yfov = reader.get(perspective, "yfov", float, f"{camera_where}.perspective")
+    projection = reader.get(entry, kind, dict, camera_where)
     linear = world[:3, :3]
+    pose = (tuple(world[:3, 3]), tuple(linear @ [0.0, 0.0, -1.0]), tuple(linear @ [0.0, 1.0, 0.0]))
     try:
-        return Camera(
-            tuple(world[:3, 3]), tuple(linear @ [0.0, 0.0, -1.0]), tuple(linear @ [0.0, 1.0, 0.0]), np.degrees(yfov)
-        )
+        if kind == "orthographic":
+            ymag = reader.get(projection, "ymag", float, f"{camera_where}.orthographic")
+            return OrthographicCamera(*pose, view_height=2.0 * abs(ymag) * float(np.linalg.norm(linear[:, 1])))
+        yfov = reader.get(projection, "yfov", float, f"{camera_where}.perspective")
+        return Camera(*pose, np.degrees(yfov))
     except ValueError as error:
         raise reader.fail(f"{camera_where} at {where}", str(error)) from None
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ..scene import Camera, Scene
+from ..scene import Scene, Sensor
 from ..scene.scene import zero_area
 from ..scenes import BUILTIN_SCENES, scene_by_name
 from .errors import SceneLoadError
@@ -35,7 +35,7 @@ def scene_file(spec: str | Path) -> Path | None:
     return Path(spec)
 
 
-def load_scene(spec: str | Path, *, camera: Camera | None = None) -> Scene:
+def load_scene(spec: str | Path, *, camera: Sensor | None = None) -> Scene:
     """The built-in scene called `spec`, the scene in the file `spec`, or the one a .py file's
     scene() returns; `camera` replaces the scene's camera (for a file without one, its framing).
     Every failure is a SceneLoadError."""

@@ -21,7 +21,7 @@ from types import ModuleType
 
 import numpy as np
 
-from wgputrace.scene import Light, Material, Scene
+from wgputrace.scene import Light, Material, Scene, Sensor
 from wgputrace.scene.lights.environment import Environment
 from wgputrace.scene.registry import mitsuba_rgb
 from wgputrace.scene.shapes import corner_normals, corner_uvs
@@ -37,10 +37,25 @@ SCALAR_VARIANT = "scalar_rgb"
 # this fraction of the largest coordinate, far more than float32 intersection error and far less
 # than any gap in our scenes, so a ray from either side meets the copy that faces it.
 EMITTER_BACK_OFFSET_RELATIVE = 1e-4
-# Mitsuba's perspective camera clips at near_clip (default 0.01, an absolute length); ours clips
-# nothing. Near and far clip as fractions of the scene's extent keep every surface in view.
+# Mitsuba's cameras clip at near_clip (default 0.01, an absolute length; its orthographic and thin
+# lens rays start there); ours clip nothing. Near and far clip as fractions of the scene's extent
+# keep every surface in view.
 NEAR_CLIP_RELATIVE = 1e-6
 FAR_CLIP_RELATIVE = 1e3
+
+
+def sensor_dict(mi: ModuleType, camera: Sensor, width: int, height: int) -> dict:
+    """The camera kind's Mitsuba sensor (`Sensor.mitsuba_sensor`) with its transform made: Mitsuba's
+    look_at gives image right = cross(forward, up), as ours (checked: the Cornell box's red wall is
+    left), then the kind's scale. ValueError for a kind no Mitsuba sensor is."""
+    sensor = camera.mitsuba_sensor(width, height)
+    if sensor is None:
+        raise ValueError(f"Mitsuba 3 has no sensor for the {type(camera).__name__}")
+    pose = sensor["to_world"]
+    to_world = mi.ScalarTransform4f().look_at(**pose["look_at"])
+    if "scale" in pose:
+        to_world = to_world @ mi.ScalarTransform4f().scale(list(pose["scale"]))
+    return {**sensor, "to_world": to_world}
 
 
 def libllvm_path() -> str | None:
@@ -274,18 +289,10 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
         else:
             shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs)
     lights, hide_emitters = emitters(mi, scene, emitting)
-    camera = scene.camera
-    position = np.asarray(camera.position)
     sensor = {
-        "type": "perspective",
-        "fov_axis": "y",
-        "fov": camera.vfov_degrees,
+        **sensor_dict(mi, scene.camera, width, height),
         "near_clip": NEAR_CLIP_RELATIVE * extent,
         "far_clip": FAR_CLIP_RELATIVE * extent,
-        # Mitsuba's look_at gives image right = cross(forward, up), as ours (checked: red wall left)
-        "to_world": mi.ScalarTransform4f().look_at(
-            origin=position.tolist(), target=(position + camera.forward).tolist(), up=list(camera.up)
-        ),
         "film": {
             "type": "hdrfilm",
             "width": width,

@@ -141,6 +141,7 @@ class Renderer:
         check_image_size(self.context, width, height, guides, method)
         fit_environment(self.context, scene)
         check_scene_size(self.context, scene, accel)
+        scene.camera.check_image(width, height)
         self._mirror = SceneMirror(scene, accel, atlas_side(self.context))
         loop_limit = self.context.loop_iteration_limit
         # The flat list tests every triangle for each of a path's rays (a camera or extension ray
@@ -267,6 +268,8 @@ class Renderer:
             self._frame_bytes = frame.tobytes()
         new_variant = variant != self.variant
         if new_variant:
+            if variant.scene.camera != self.variant.scene.camera:
+                self.scene.camera.check_image(self.width, self.height)
             self.variant = variant
             self.kernel = tracing_kernel(self.context, variant)
         if new_variant or regrouped:
@@ -373,10 +376,8 @@ class Renderer:
         """The FRAME record of the scene's camera for an image of `width` x `height` (this
         renderer's by default; the viewer traces smaller ones while moving)."""
         width, height = width or self.width, height or self.height
-        right, up, forward = self.scene.camera.image_plane(width, height)
         record = FRAME.zeros(1)
-        record["camera_position"] = self.scene.camera.position
-        record["camera_right"], record["camera_up"], record["camera_forward"] = right, up, forward
+        self.scene.camera.fill_frame(record, width, height)
         record["width"], record["height"] = width, height
         record["max_depth"] = _UNLIMITED_DEPTH_GPU if self.max_depth == UNLIMITED_DEPTH else self.max_depth
         record["node_count"] = len(self._mirror.nodes)

@@ -138,6 +138,7 @@ class SceneMirror:
             stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self.wide.max_stack),
             material_kinds=self.material_kinds,
             lights=self.light_features,
+            camera=self.scene.camera.kind,
             smooth=self.corner_attributes is not None,
             textured=self.textured,
             see_through=self.see_through,

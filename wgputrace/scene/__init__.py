@@ -1,7 +1,7 @@
-"""Scene description in pure numpy (never imports wgpu): shapes, materials, lights, camera."""
+"""Scene description in pure numpy (never imports wgpu): shapes, materials, lights, cameras."""
 
-from . import lights, materials
-from .camera import Camera
+from . import cameras, lights, materials
+from .cameras import *  # noqa: F403 (the base, its error and every camera kind, by module discovery)
 from .cornell import cornell_box
 from .errors import SceneError
 from .lights import *  # noqa: F403 (the base, its error and every light kind, by module discovery)
@@ -11,7 +11,6 @@ from .shapes import Shape, make_box, make_icosphere, make_plane, model_matrix
 from .texture import Texture, TextureTransform
 
 __all__ = [
-    "Camera",
     "DegenerateTrianglesWarning",
     "Scene",
     "SceneError",
@@ -24,6 +23,7 @@ __all__ = [
     "make_icosphere",
     "make_plane",
     "model_matrix",
+    *cameras.__all__,
     *lights.__all__,
     *materials.__all__,
 ]

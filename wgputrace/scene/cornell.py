@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .camera import Camera
+from .cameras import Camera
 from .materials import Diffuse, Emitter, Glass, Glossy
 from .scene import Scene
 from .shapes import make_box, make_icosphere, make_plane

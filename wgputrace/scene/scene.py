@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .camera import Camera
+from .cameras import Camera, Sensor, camera_classes
 from .errors import SceneError
 from .lights import Light
 from .lights.environment import Environment
@@ -55,14 +55,17 @@ class TriangleArrays:
 @dataclass
 class Scene:
     shapes: list[Shape] = field(default_factory=list)
-    camera: Camera = field(default_factory=Camera)
+    camera: Sensor = field(default_factory=Camera)
     # the light arriving from infinitely far in every direction (`Environment`); None: black
     environment: Environment | None = None
     _lights: list[Light] = field(default_factory=list, init=False, repr=False)
 
     def __setattr__(self, key: str, value) -> None:
-        if key == "camera" and not isinstance(value, Camera):
-            raise SceneError(f"scene camera must be a Camera, got {type(value).__name__}")
+        if key == "camera" and not isinstance(value, Sensor):
+            kinds = ", ".join(cls.__name__ for cls in camera_classes())
+            raise SceneError(
+                f"scene camera must be a Camera or another camera kind ({kinds}), got {type(value).__name__}"
+            )
         if key == "shapes":
             value = list(value)
             _check_shapes(value)

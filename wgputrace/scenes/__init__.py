@@ -10,6 +10,7 @@ from functools import partial
 from ..scene import Scene
 from .alpha_cutout import alpha_blend, alpha_cutout
 from .axis_aligned import axis_boxes
+from .camera_views import depth_of_field, orthographic_boxes
 from .caustic import caustic
 from .cornell import cornell, scaled_cornell, tiny_light
 from .door_ajar import door_ajar
@@ -22,6 +23,7 @@ from .principled import principled_spheres, principled_transmission
 from .punctual import point_spot_directional
 from .slivers import slivers
 from .smooth_sphere import smooth_sphere
+from .sunlit import sunlit_spheres
 from .textured import textured_quads
 from .textured_asset import textured_asset
 
@@ -49,6 +51,10 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "door_ajar": door_ajar,
     "caustic": caustic,
     "glossy_through_glossy": glossy_through_glossy,
+    # cameras and tone mapping (issue 28)
+    "depth_of_field": depth_of_field,
+    "orthographic_boxes": orthographic_boxes,
+    "sunlit_spheres": sunlit_spheres,
 }
 DEFAULT_SCENE = "cornell"
 

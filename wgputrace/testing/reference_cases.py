@@ -62,6 +62,9 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "door_ajar": ReferenceSettings(max_depth=10, spp=4096),
     "caustic": ReferenceSettings(max_depth=8, spp=4096),
     "glossy_through_glossy": ReferenceSettings(max_depth=8, spp=4096),
+    # the camera kinds (issue 28): Mitsuba's thinlens and orthographic
+    "depth_of_field": ReferenceSettings(max_depth=6),
+    "orthographic_boxes": ReferenceSettings(max_depth=6),
 }
 
 
@@ -240,7 +243,24 @@ BDPT_CASES = (
     _bdpt("glossy_through_glossy", seed=20261227),
 )
 
-CASES: tuple[ReferenceCase, ...] = PATH_TRACER_CASES + LIGHT_CASES + MATERIAL_CASES + SHADING_NORMAL_CASES + BDPT_CASES
+# --- Camera kinds ---------------------------------------------------------------------------------
+# Issue 28's thin lens and orthographic camera against Mitsuba's `thinlens` and `orthographic`
+# (wgputrace.scenes.camera_views says what each scene's blocks catch), under the path tracer and
+# under bdpt, whose light tracing splats through the lens and onto the orthographic rectangle.
+# The pinhole is every other case's camera; the equirectangular camera has no Mitsuba sensor and is
+# held to closed forms (`test_a_360_render_of_a_constant_environment_is_constant` and its neighbours).
+_cameras = partial(ReferenceCase, family="cameras", size=64, batches=16, spp=32)
+_cameras_bdpt = partial(_cameras, size=32, batches=8, spp=16, integrator="bdpt")
+CAMERA_CASES = (
+    _cameras("depth_of_field", seed=20261301),
+    _cameras("orthographic_boxes", seed=20261302),
+    _cameras_bdpt("depth_of_field", seed=20261303),
+    _cameras_bdpt("orthographic_boxes", seed=20261304),
+)
+
+CASES: tuple[ReferenceCase, ...] = (
+    PATH_TRACER_CASES + LIGHT_CASES + MATERIAL_CASES + SHADING_NORMAL_CASES + BDPT_CASES + CAMERA_CASES
+)
 
 
 def block_tests(size: int) -> int:

@@ -68,6 +68,11 @@ def render_batches(
         # the slivers scene drops its zero-area triangles on purpose (the scene tests check the warning)
         warnings.simplefilter("ignore", DegenerateTrianglesWarning)
         renderer = Renderer(scene_by_name(scene_name), size, size, seed=seed, max_depth=max_depth, **renderer_options)
+    return batches_of(renderer, batches, spp)
+
+
+def batches_of(renderer: Renderer, batches: int, spp: int) -> BatchedRender:
+    """`batches` images of `spp` samples each from `renderer`, reset between them (independent)."""
     images, nonfinite = [], 0
     for _ in range(batches):
         renderer.render(spp)

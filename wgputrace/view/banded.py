@@ -21,7 +21,7 @@ from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL
 from ..kernels.compile import tracing_kernel
 from ..render.renderer import Renderer, RenderStats
-from ..scene import Camera
+from ..scene import Sensor
 
 # Bands are whole rows of the path tracer's workgroups.
 BAND_ROWS_STEP = IMAGE_WORKGROUP[1]
@@ -81,7 +81,7 @@ class BandedRenderer:
     def reduced(self) -> bool:
         return self.size != self.full_size
 
-    def restart(self, camera: Camera, size: tuple[int, int] | None = None) -> None:
+    def restart(self, camera: Sensor, size: tuple[int, int] | None = None) -> None:
         """Forget all samples; trace `size` pixels (at most the full size) through `camera`."""
         width, height = size or self.full_size
         if not (1 <= width <= self.full_size[0] and 1 <= height <= self.full_size[1]):
@@ -89,6 +89,8 @@ class BandedRenderer:
                 f"size {width}x{height} must lie within the renderer's {self.full_size[0]}x{self.full_size[1]}"
             )
         self.renderer.scene.camera = camera
+        if camera.kind != self.renderer.variant.scene.camera:
+            self.renderer.update()  # another kind of camera: another kernel
         record = self.renderer.frame_record(width, height)
         resources = self.renderer.resources
         write_buffer(self.context, resources["frame"], 0, record)

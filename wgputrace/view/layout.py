@@ -1,13 +1,17 @@
 """Host/GPU structs, constants and bind groups of the viewer's kernels (guides, resolve, filter,
-present, box lines), defined once like the renderer's (`GpuStruct`, `BindGroup`): each struct becomes
-a numpy dtype and the WGSL of GENERATED_VIEW_STRUCTS, each group its WGSL declarations and layout."""
+present, exposure, box lines), defined once like the renderer's (`GpuStruct`, `BindGroup`): each
+struct becomes a numpy dtype and the WGSL of GENERATED_VIEW_STRUCTS, each group its WGSL
+declarations and layout. The tone curves' constants come from wgputrace.image_io, whose numpy
+curves the shader's must equal."""
 
 from __future__ import annotations
 
 from enum import IntEnum
 
+from .. import image_io
 from ..gpu.bindings import (
     STORAGE_READ,
+    STORAGE_READ_WRITE,
     STORAGE_TEXTURE,
     TEXTURE_F32,
     TEXTURE_U32,
@@ -93,8 +97,21 @@ PRESENT_PARAMS = GpuStruct(
         ("overlay_y", "u32"),
         ("overlay_visible", "u32"),
         ("exposure", "f32"),
+        ("tonemap", "u32"),
+        ("auto_exposure", "u32"),
     ),
-    "Image and target sizes in pixels, where the overlay sits, and the exposure.",
+    "Image and target sizes in pixels, where the overlay sits, the exposure (a factor; with auto_exposure "
+    "times MIDDLE_GREY over the measured log average) and the tone curve (a TONEMAP_* id).",
+)
+EXPOSURE_PARAMS = GpuStruct(
+    "ExposureParams",
+    (
+        ("width", "u32"),
+        ("height", "u32"),
+        ("blend", "f32"),
+        ("restart", "u32"),
+    ),
+    "The image's size, and how much of the new log average the smoothed one takes (restart: all of it).",
 )
 BOX_LINES_PARAMS = GpuStruct(
     "BoxLinesParams",
@@ -108,7 +125,10 @@ BOX_LINES_PARAMS = GpuStruct(
     "Rows of the 4x4 world-to-clip matrix of the path tracer's camera, and the line colour.",
 )
 
-VIEW_STRUCTS = (RESOLVE_PARAMS, ATROUS_PARAMS, PRESENT_PARAMS, BOX_LINES_PARAMS)
+VIEW_STRUCTS = (RESOLVE_PARAMS, ATROUS_PARAMS, PRESENT_PARAMS, EXPOSURE_PARAMS, BOX_LINES_PARAMS)
+# The auto-exposure's state, one vec4 on the GPU: x the smoothed log-average luminance (natural
+# log), y 1 once measured.
+EXPOSURE_STATE = "vec4<f32>"
 
 # The guides kernel (`guides_kernel`) writes them beside the scene group (group 0).
 GUIDES_GROUP = BindGroup("guides", 1, (Binding("guides", STORAGE_TEXTURE, GUIDE_FORMAT),))
@@ -137,8 +157,22 @@ ATROUS_GROUP = BindGroup(
 PRESENT_GROUP = BindGroup(
     "present",
     0,
-    (Binding("params", UNIFORM, PRESENT_PARAMS), Binding("image", TEXTURE_F32), Binding("overlay", TEXTURE_F32)),
+    (
+        Binding("params", UNIFORM, PRESENT_PARAMS),
+        Binding("image", TEXTURE_F32),
+        Binding("overlay", TEXTURE_F32),
+        Binding("exposure_state", STORAGE_READ, EXPOSURE_STATE),
+    ),
     VERTEX_FRAGMENT,
+)
+EXPOSURE_GROUP = BindGroup(
+    "exposure",
+    0,
+    (
+        Binding("params", UNIFORM, EXPOSURE_PARAMS),
+        Binding("image", TEXTURE_F32),
+        Binding("exposure_state", STORAGE_READ_WRITE, EXPOSURE_STATE),
+    ),
 )
 BOX_LINES_GROUP = BindGroup(
     "box_lines",
@@ -148,10 +182,42 @@ BOX_LINES_GROUP = BindGroup(
 )
 
 
+def _wgsl_matrix(name: str, matrix) -> str:
+    """A 3x3 numpy matrix (acting on column vectors) as a WGSL constant (mat3x3 takes columns)."""
+    columns = ", ".join(f"{value!r}" for value in matrix.T.ravel().tolist())
+    return f"const {name}: mat3x3<f32> = mat3x3<f32>({columns});"
+
+
+def tone_constants() -> list[str]:
+    """The tone curves' ids and constants (`image_io.tone_curve`'s), as WGSL."""
+    parts = [f"const TONEMAP_{name.upper()}: u32 = {index}u;" for index, name in enumerate(image_io.TONEMAP_OPERATORS)]
+    scalars = (
+        "MIDDLE_GREY",
+        "LOG_AVERAGE_FLOOR",
+        "TONE_RADIANCE_MAX",
+        "PBR_NEUTRAL_F90",
+        "PBR_NEUTRAL_COMPRESSION_START",
+    )
+    scalars += ("PBR_NEUTRAL_DESATURATION", "AGX_MIN_EV", "AGX_MAX_EV", "AGX_FLOOR", "AGX_DISPLAY_GAMMA")
+    parts += [f"const {name}: f32 = {float(getattr(image_io, name))!r};" for name in scalars]
+    for name in ("SRGB_TO_REC2020", "REC2020_TO_SRGB", "AGX_INSET", "AGX_OUTSET", "ACES_INPUT", "ACES_OUTPUT"):
+        parts.append(_wgsl_matrix(name, getattr(image_io, name)))
+    luminance = ", ".join(repr(float(w)) for w in image_io.REC709_LUMINANCE)
+    parts.append(f"const REC709_LUMINANCE: vec3<f32> = vec3<f32>({luminance});")
+    sigmoid = ", ".join(repr(float(c)) for c in image_io.AGX_SIGMOID)
+    parts.append(
+        f"const AGX_SIGMOID: array<f32, {len(image_io.AGX_SIGMOID)}> = array<f32, {len(image_io.AGX_SIGMOID)}>({sigmoid});"
+    )
+    fit = ", ".join(repr(float(c)) for c in image_io.ACES_FIT)
+    parts.append(f"const ACES_FIT: array<f32, {len(image_io.ACES_FIT)}> = array<f32, {len(image_io.ACES_FIT)}>({fit});")
+    return parts
+
+
 def generated_view_structs() -> str:
-    parts = ["// Generated from wgputrace.view.layout: the viewer's host/GPU structs and view ids."]
+    parts = ["// Generated from wgputrace.view.layout: the viewer's host/GPU structs, view ids and tone curves."]
     parts += [struct.wgsl() for struct in VIEW_STRUCTS]
     parts += [f"const VIEW_{view.name}: u32 = {int(view)}u;" for view in View]
     parts += [f"const RESOLVE_{mode.name}: u32 = {int(mode)}u;" for mode in ResolveMode]
     parts.append(f"const FILTER_ALBEDO_MIN: f32 = {FILTER_ALBEDO_MIN!r};")
+    parts += tone_constants()
     return "\n".join(parts) + "\n"

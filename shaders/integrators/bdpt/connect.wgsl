@@ -4,7 +4,7 @@
 //! include "integrators/bdpt/vertex.wgsl"
 //! include "integrators/bdpt/shadow_queue.wgsl"
 //! include "integrators/bdpt/mis_weight.wgsl"
-//! include "camera/camera_importance.wgsl"
+//! include "generated/camera.wgsl"
 //! include "lights/light_path_sampler.wgsl"
 
 // A vertex of the light subpath kept for connections: where it is, what the light subpath carries
@@ -160,36 +160,43 @@ struct Splat {
     value: vec3<f32>,
 }
 
+// The falloff from the camera's density of a ray (camera_ray_density) to its density per unit
+// area at a point at `distance_squared` (before the point's cosine): 1 / d^2 for rays from a
+// point or lens, none for parallel rays, whose density is per unit area already.
+fn camera_falloff(distance_squared: f32) -> f32 {
+    return select(distance_squared, 1.0, CAMERA_PARALLEL);
+}
+
 // The weight of joining light vertex `y` (its subpath's `sums`, scattering `light_side` towards the
 // camera along `direction`) to the camera, whose ray through it has density `camera_pdf`.
 fn camera_connection_mis(y: SurfaceVertex, sums: MisSums, light_side: Scattering, camera_pdf: f32, direction: vec3<f32>, distance_squared: f32) -> f32 {
     let cos_y = abs(dot(y.geometric, direction));
-    return connection_weight(mis_subpath_term(sums, light_side.reverse, camera_pdf * cos_y / distance_squared), 0.0);
+    return connection_weight(mis_subpath_term(sums, light_side.reverse, camera_pdf * cos_y / camera_falloff(distance_squared)), 0.0);
 }
 
 // Light vertex `y` (s vertices with the light, carrying `throughput` and `sums`) joined to the
-// camera (t = 1): the contribution to the pixel it lands in, zero where unseen or blocked.
-fn connect_to_camera(y: SurfaceVertex, throughput: vec3<f32>, sums: MisSums, s: u32) -> Splat {
+// camera (t = 1) at lens sample `lens`: the contribution to the pixel it lands in, zero where
+// unseen or blocked.
+fn connect_to_camera(y: SurfaceVertex, throughput: vec3<f32>, sums: MisSums, s: u32, lens: vec2<f32>) -> Splat {
     let none = Splat(0u, vec3<f32>(0.0));
-    let projection = camera_projection(y.position);
-    if !projection.seen {
+    let camera = camera_connection(y.position, lens);
+    if !camera.seen {
         return none;
     }
-    let to_camera = frame.camera_position - y.position;
+    let to_camera = camera.position - y.position;
     let distance_squared = dot(to_camera, to_camera);
     let direction = to_camera * inverseSqrt(distance_squared);
     let light_side = scattering(y, direction);
     if all(light_side.value == vec3<f32>(0.0)) {
         return none;
     }
-    let camera_pdf = camera_ray_pdf(projection.cos_theta);
-    let weight = strategy_weight(s, 1u, camera_connection_mis(y, sums, light_side, camera_pdf, direction, distance_squared));
+    let weight = strategy_weight(s, 1u, camera_connection_mis(y, sums, light_side, camera.pdf, direction, distance_squared));
     if weight == 0.0 {
         return none;
     }
     let ray = vertex_ray(y, direction);
-    if occluded(ray, length(frame.camera_position - ray.origin) * SHADOW_RAY_SHORTENING, y.triangle_index) {
+    if occluded(ray, length(camera.position - ray.origin) * SHADOW_RAY_SHORTENING, y.triangle_index) {
         return none;
     }
-    return Splat(projection.pixel, throughput * light_side.value * (camera_pdf * weight / distance_squared));
+    return Splat(camera.pixel, throughput * light_side.value * (camera.pdf * weight / camera_falloff(distance_squared)));
 }

@@ -30,8 +30,10 @@ struct MisSums {
     dvc: f32,
 }
 
-// A camera subpath's sums at its start: the camera ray's density over the whole image plane
-// (camera_ray_pdf), against which light tracing's density is weighed; no vertex before it.
+// A camera subpath's sums at its start: the camera ray's density over the whole image
+// (camera_ray_density), against which light tracing's density is weighed; no vertex before it.
+// A parallel camera's density is per unit area already, which mis_sums_at_hit is told at its first
+// hit as it is for a distant light's first ray.
 fn camera_mis_sums(camera_pdf: f32) -> MisSums {
     return MisSums(mis(1.0 / camera_pdf), 0.0);
 }

@@ -24,6 +24,8 @@ struct WeightSumCheck {
 
 // x_1 .. x_m of the camera subpath: a checked path of m + 1 edges (at most max_depth) ends beyond x_m
 var<private> checked_vertices: array<CheckedVertex, BDPT_LIGHT_VERTICES>;
+// the lens sample of the camera ray checked: its point on the lens is the path's camera vertex
+var<private> camera_lens: vec2<f32>;
 
 // The start a light subpath would have had at the path's light end, travelling to x_m.
 fn end_emission(end: NextEventSample) -> EmissionSample {
@@ -102,13 +104,14 @@ fn checked_path_weights(m: u32, end: NextEventSample, last_delta: bool) -> vec2<
         let delta_here = select(here.delta, last_delta, j == 1u);
         let joins = connectible(y) && !delta_here;
         if i == 0u {
-            let projection = camera_projection(p);
-            let to_camera = frame.camera_position - p;
+            // light tracing reaches the camera at the camera ray's own lens point
+            let camera = camera_connection(p, camera_lens);
+            let to_camera = camera.position - p;
             let distance_squared = dot(to_camera, to_camera);
             let direction = to_camera * inverseSqrt(distance_squared);
             let light_side = scattering(y, direction);
-            if joins && projection.seen && any(light_side.value != vec3<f32>(0.0)) {
-                sum += camera_connection_mis(y, sums, light_side, camera_ray_pdf(projection.cos_theta), direction, distance_squared);
+            if joins && camera.seen && any(light_side.value != vec3<f32>(0.0)) {
+                sum += camera_connection_mis(y, sums, light_side, camera.pdf, direction, distance_squared);
                 count += 1.0;
             }
             break;
@@ -139,14 +142,16 @@ fn with_checked_path(check: WeightSumCheck, weights: vec2<f32>) -> WeightSumChec
 // evaluates the weight of every strategy (s, t) that could have sampled that same path, from both
 // ends, with the kernel's own weight functions, and sums them.
 //
-// One camera subpath from `camera` (BSDF sampling as trace_camera_subpath, without roulette) and
-// every path it closes checked: (largest |sum - 1|, paths, weights summed) as a colour. A NaN sum
-// makes the colour non-finite, which the accumulation counts.
-fn check_weight_sums(camera: Ray) -> vec3<f32> {
+// One camera subpath from `camera`, made from lens sample `lens` (BSDF sampling as
+// trace_camera_subpath, without roulette) and every path it closes checked: (largest |sum - 1|,
+// paths, weights summed) as a colour. A NaN sum makes the colour non-finite, which the
+// accumulation counts.
+fn check_weight_sums(camera: Ray, lens: vec2<f32>) -> vec3<f32> {
+    camera_lens = lens;
     var check = WeightSumCheck(0.0, 0.0, 0.0);
     var ray = camera;
     var skip_triangle = NO_TRIANGLE;
-    var sums = camera_mis_sums(camera_ray_pdf(dot(camera.direction, frame.camera_forward)));
+    var sums = camera_mis_sums(camera_ray_density(camera));
     for (var depth = 1u; ; depth++) {
         let hit = closest_hit(ray, FLOAT_MAX, skip_triangle);
         if hit.triangle == NO_TRIANGLE {
@@ -172,7 +177,7 @@ fn check_weight_sums(camera: Ray) -> vec3<f32> {
             let scattered = scattering(previous.vertex, direction);
             sums = mis_sums_after_scattering(previous.sums, abs(dot(previous.vertex.geometric, direction)), scattered.forward, scattered.reverse, previous.delta);
         }
-        sums = mis_sums_at_hit(sums, distance, abs(dot(v.geometric, direction)), false);
+        sums = mis_sums_at_hit(sums, distance, abs(dot(v.geometric, direction)), depth == 1u && CAMERA_PARALLEL);
         let emitted = material_emitted(v.material) + surface_emission(triangle.material, hit.triangle, triangle, v.position, ray.direction);
         if depth >= 2u && any(emitted > vec3<f32>(0.0)) {
             let end = emission_hit_end(v.position, hit.triangle, v.geometric, emitted, previous_point, direction);
