@@ -141,9 +141,7 @@ def browse(site: Path, page: str, screenshots: Path, browser: str) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("site", nargs="?", type=Path, default=Path("docs/_build/html"), help="the built site")
-    parser.add_argument(
-        "--screenshots", type=Path, default=Path("docs/_build/screenshots"), help="where the PNGs go"
-    )
+    parser.add_argument("--screenshots", type=Path, default=Path("docs/_build/screenshots"), help="where the PNGs go")
     parser.add_argument("--no-browser", action="store_true", help="check links and images only")
     args = parser.parse_args(argv)
     if not (args.site / "index.html").is_file():
