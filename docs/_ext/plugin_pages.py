@@ -15,6 +15,7 @@ import sys
 from dataclasses import MISSING, dataclass, fields
 from pathlib import Path
 
+import numpy as np
 from sphinx.application import Sphinx
 from sphinx.util import logging
 
@@ -84,26 +85,45 @@ def _default_text(default: object) -> str:
     return f"`{default!r}`"
 
 
+def _meaning(row: dict[str, str]) -> str:
+    return next((value for key, value in row.items() if key.startswith("meaning")), "")
+
+
 def parameter_table(cls: type, docstring: Docstring) -> str:
-    """The parameters of a dataclass kind: type and default from the field, range and meaning from
-    the docstring's table (its default too, where the field's is None: "3/4 of cutoff")."""
+    """The parameters of a dataclass kind: type and range, and meaning, from the docstring's table;
+    the default from the field (with the docstring's where the field's is None: "3/4 of cutoff")."""
     rows = []
     for field in fields(cls):
         if field.name == "name":
             continue
         doc = docstring.rows.get(field.name, {})
         default = field.default_factory() if field.default_factory is not MISSING else field.default
-        meaning = doc.get("meaning", "") or next((v for k, v in doc.items() if k.startswith("meaning")), "")
-        if default is None and doc.get("default"):
-            meaning = f"{meaning} (None: {doc['default']})"
-        rows.append((f"`{field.name}`", f"`{field.type}`", _default_text(default), doc.get("type", ""), meaning))
-    return markdown_table(("parameter", "type", "default", "range", "meaning"), rows)
+        shown = _default_text(default)
+        if default is None and doc.get("default", "None") not in ("", "None", "-"):
+            shown = f"{shown}: {doc['default']}"
+        rows.append((f"`{field.name}`", doc.get("type") or f"`{field.type}`", shown, _meaning(doc)))
+    return markdown_table(("parameter", "type and range", "default", "meaning"), rows)
+
+
+def _plain(value: object) -> object:
+    """A Mitsuba dict with numpy numbers as Python floats, to 6 significant digits: as it reads."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if isinstance(value, (float, np.floating)):
+        return float(f"{float(value):.6g}")
+    return value
 
 
 def _mitsuba_block(plugin: dict | None, what: str) -> str:
     if plugin is None:
         return f"No Mitsuba 3 {what}.\n"
-    return f"```python\n{pprint.pformat(plugin, sort_dicts=False, width=100)}\n```\n"
+    return f"```python\n{pprint.pformat(_plain(plugin), sort_dicts=False, width=100)}\n```\n"
+
+
+def _call(cls: type, arguments: dict[str, object]) -> str:
+    return f"{cls.__name__}({', '.join(f'{name}={value!r}' for name, value in arguments.items())})"
 
 
 def _summary(text: str) -> str:
@@ -149,7 +169,7 @@ def material_page(cls: type, folder: Path) -> Page:
 {markdown_table(("what the renderer asks", "answer"), flags)}
 ## Mitsuba 3
 
-`{material!r}` exports to this BSDF:
+`{cls.__name__}("{material.name}")`, its parameters at their defaults, exports to this BSDF:
 
 {_mitsuba_block(bsdf_dict(material) if cls.shader else None, "BSDF: it reflects nothing")}
 and this emitter (of each side):
@@ -159,7 +179,7 @@ and this emitter (of each side):
 
 ![{cls.__name__} with its default parameters]({slug}.png)
 
-A sphere of `{material!r}` on a grey floor before light and dark stripes, under a square lamp
+A sphere of `{cls.__name__}("{material.name}")` on a grey floor before light and dark stripes, under a square lamp
 ({plugin_pictures.WIDTH}x{plugin_pictures.HEIGHT}, {plugin_pictures.SPP} samples per pixel, rendered when this page was built).
 """
     return Page(slug, cls.__name__, _summary(docstring.before), text)
@@ -168,7 +188,8 @@ A sphere of `{material!r}` on a grey floor before light and dark stripes, under 
 def light_page(cls: type, folder: Path) -> Page:
     docstring = Docstring.of(cls.__module__)
     _check_table(cls.__name__, docstring, list(cls.parameter_names()), cls.__module__)
-    light = plugin_pictures.example_light(cls)
+    arguments = plugin_pictures.example_arguments(cls)
+    light, call = cls(**arguments), _call(cls, arguments)
     slug = cls.__name__.lower()
     plugin_pictures.render_picture(folder / f"{slug}.png", plugin_pictures.light_scene(light))
     flags = [
@@ -195,14 +216,14 @@ def light_page(cls: type, folder: Path) -> Page:
 {markdown_table(("what the renderer asks", "answer"), flags)}
 ## Mitsuba 3
 
-`{light!r}` exports to this emitter:
+`{call}`, its other parameters at their defaults, exports to this emitter:
 
 {_mitsuba_block(light.mitsuba_emitter(), "emitter of this form")}
 ## Picture
 
 ![{cls.__name__}]({slug}.png)
 
-`{light!r}` alone lighting a sphere and a box before a wall
+`{call}` alone lighting a sphere and a box before a wall
 ({plugin_pictures.WIDTH}x{plugin_pictures.HEIGHT}, {plugin_pictures.SPP} samples per pixel, rendered when this page was built).
 """
     return Page(slug, cls.__name__, _summary(docstring.before), text)
@@ -220,7 +241,7 @@ def environment_page(folder: Path) -> Page:
             f"`{name}`",
             _default_text(MISSING if parameter.default is inspect.Parameter.empty else parameter.default),
             docstring.rows[name].get("type", ""),
-            next((v for k, v in docstring.rows[name].items() if k.startswith("meaning")), ""),
+            _meaning(docstring.rows[name]),
         )
         for name, parameter in signature.parameters.items()
         if name in docstring.rows

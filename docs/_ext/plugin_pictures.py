@@ -69,13 +69,13 @@ def light_scene(light: Light) -> wt.Scene:
     return scene
 
 
-def example_light(cls: type[Light]) -> Light:
-    """`cls` with its defaults and LIGHT_EXAMPLE's values for what has none."""
+def example_arguments(cls: type[Light]) -> dict[str, object]:
+    """LIGHT_EXAMPLE's values for the parameters of `cls` that have no default."""
     required = [f.name for f in fields(cls) if f.default is MISSING and f.default_factory is MISSING]
     unknown = [name for name in required if name not in LIGHT_EXAMPLE]
     if unknown:
         raise KeyError(f"{cls.__name__} needs {', '.join(unknown)}: give an example value in LIGHT_EXAMPLE")
-    return cls(**{name: LIGHT_EXAMPLE[name] for name in required})
+    return {name: LIGHT_EXAMPLE[name] for name in required}
 
 
 def example_environment() -> wt.Environment:
