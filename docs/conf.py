@@ -30,6 +30,8 @@ exclude_patterns = ["_build", "gallery/**"]
 # `name` in a docstring links to that symbol where Sphinx finds it, and reads as code where not
 default_role = "py:obj"
 
+# "--env" stays two hyphens and quotes stay straight: options and code are quoted verbatim
+smartquotes = False
 myst_heading_anchors = 3
 myst_enable_extensions = ["colon_fence", "deflist"]
 

@@ -65,7 +65,13 @@ class Result:
 
     @property
     def created(self) -> str:
+        """When it was written, ISO 8601 UTC ("" for results older than the field)."""
         return self.data.get("environment", {}).get("created_utc", "")
+
+    @property
+    def date(self) -> str:
+        """`created` to the minute, as the pages show it: 2026-12-02 02:10."""
+        return self.created[:16].replace("T", " ")
 
     def relative(self, suffix: str, page: str) -> str | None:
         """The file beside the JSON with `suffix`, as a path from the page `page` (srcdir-relative), or None."""
@@ -164,7 +170,7 @@ def provenance(result: Result) -> str:
         ("CPU cores", environment.get("cpu_count")),
         ("platform", environment.get("platform")),
         ("Python, numpy, wgpu", ", ".join(str(environment.get(k, "?")) for k in ("python", "numpy", "wgpu"))),
-        ("measured (UTC)", result.created),
+        ("measured (UTC)", result.date),
         ("command", f"`{environment['command']}`" if environment.get("command") else data.get("command")),
         ("wall time", f"{data['wall_seconds']:.0f} s" if isinstance(data.get("wall_seconds"), float) else None),
         ("load average when written", _text(data.get("load_average_at_write", ""))),
@@ -201,7 +207,7 @@ def index_page(by_benchmark: dict[str, list[Result]]) -> str:
             f"[{benchmark}](results/{benchmark}.md)",
             result.adapter,
             f"`{result.data.get('git_revision', '')}`",
-            result.created,
+            result.date,
         )
         for benchmark, found in by_benchmark.items()
         for result in found
@@ -212,7 +218,7 @@ def index_page(by_benchmark: dict[str, list[Result]]) -> str:
     if newest is not None:
         chart = (
             f"## Error against time\n\nThe newest [{ERROR_AGAINST_TIME}](results/{ERROR_AGAINST_TIME}.md) chart: "
-            f"{newest.adapter}, revision `{newest.data.get('git_revision', '')}`, measured {newest.created}.\n\n"
+            f"{newest.adapter}, revision `{newest.data.get('git_revision', '')}`, measured {newest.date} UTC.\n\n"
             f"![Error against time, {newest.adapter}]({newest.relative('.png', INDEX)})\n\n"
         )
     toctree = "\n".join(f"results/{benchmark}" for benchmark in by_benchmark)

@@ -16,7 +16,7 @@ from .generated_files import markdown_table, write_page
 
 PAGE = "reference/cli.md"
 # usage lines wrapped at a fixed width, not the width of the terminal that builds the site
-USAGE_WIDTH = 100
+USAGE_WIDTH = 80
 
 
 def _default(action: argparse.Action) -> str:
