@@ -126,10 +126,10 @@ def _call(cls: type, arguments: dict[str, object]) -> str:
     return f"{cls.__name__}({', '.join(f'{name}={value!r}' for name, value in arguments.items())})"
 
 
-def _summary(text: str) -> str:
-    """The first sentence of a docstring's first paragraph: the index's line for a plugin."""
-    paragraph = text.split("\n\n")[0].replace("\n", " ")
-    return re.split(r"(?<=[.:])\s", paragraph, maxsplit=1)[0].rstrip(".:")
+def _summary(text: str, title: str) -> str:
+    """The index's line for a plugin: the first sentence of its docstring, less a leading "Title:"."""
+    paragraph = re.sub(rf"^(the )?{title}:\s*", "", " ".join(text.split("\n\n")[0].split()), flags=re.IGNORECASE)
+    return re.split(r"(?<=\.)\s", paragraph, maxsplit=1)[0].rstrip(".")
 
 
 @dataclass(frozen=True)
@@ -182,7 +182,7 @@ and this emitter (of each side):
 A sphere of `{cls.__name__}("{material.name}")` on a grey floor before light and dark stripes, under a square lamp
 ({plugin_pictures.WIDTH}x{plugin_pictures.HEIGHT}, {plugin_pictures.SPP} samples per pixel, rendered when this page was built).
 """
-    return Page(slug, cls.__name__, _summary(docstring.before), text)
+    return Page(slug, cls.__name__, _summary(docstring.before, cls.__name__), text)
 
 
 def light_page(cls: type, folder: Path) -> Page:
@@ -226,7 +226,7 @@ def light_page(cls: type, folder: Path) -> Page:
 `{call}` alone lighting a sphere and a box before a wall
 ({plugin_pictures.WIDTH}x{plugin_pictures.HEIGHT}, {plugin_pictures.SPP} samples per pixel, rendered when this page was built).
 """
-    return Page(slug, cls.__name__, _summary(docstring.before), text)
+    return Page(slug, cls.__name__, _summary(docstring.before, cls.__name__), text)
 
 
 def environment_page(folder: Path) -> Page:
@@ -268,7 +268,7 @@ A mirror-like sphere on a floor under a 64x32 map made in numpy (blue sky, brigh
 ground, a small bright sun) and nothing else ({plugin_pictures.WIDTH}x{plugin_pictures.HEIGHT},
 {plugin_pictures.SPP} samples per pixel, rendered when this page was built).
 """
-    return Page("environment", "Environment", _summary(docstring.before), text)
+    return Page("environment", "Environment", _summary(docstring.before, "Environment"), text)
 
 
 def _latest_convergence() -> tuple[Path, dict] | None:

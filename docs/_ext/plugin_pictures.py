@@ -90,7 +90,7 @@ def example_environment() -> wt.Environment:
 
 def environment_scene(environment: wt.Environment) -> wt.Scene:
     shapes = [
-        floor(wt.Diffuse("floor", color=0.5), 4.0),
+        floor(wt.Diffuse("floor", color=0.5), 40.0),
         wt.make_icosphere((0.0, 0.5, 0.0), (0, 0, 0), 0.5, 3, wt.Glossy("metal", roughness=0.05), smooth=True),
     ]
     return wt.Scene(shapes, _camera(), environment=environment)
