@@ -54,6 +54,8 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "remove_config_comments": True,
     "min_reported_time": 1,
+    # no page of computation times (its table loads scripts from CDNs)
+    "write_computation_times": False,
     "show_memory": False,
     "show_signature": False,
     # a script's last expression (save_image's path) is not output worth showing
