@@ -13,7 +13,7 @@ from pathlib import Path
 
 from sphinx.application import Sphinx
 
-from .generated_files import markdown_table, remove_stale, write_page
+from .generated_files import markdown_table, plain_text, remove_stale, write_page
 
 ROOT = Path(__file__).parents[2]
 RESULTS = ROOT / "bench" / "results"
@@ -94,7 +94,7 @@ def bench_docstring(benchmark: str) -> str:
     path = ROOT / "bench" / f"{name}.py"
     if not path.is_file():
         return ""
-    return ast.get_docstring(ast.parse(path.read_text())) or ""
+    return plain_text(ast.get_docstring(ast.parse(path.read_text())) or "")
 
 
 def _scalar(value: object) -> bool:

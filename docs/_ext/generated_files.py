@@ -1,8 +1,9 @@
 """What the page generators share: pages written only when their text changed (so that Sphinx reads
-again only what did), stale pages removed, and Markdown tables."""
+again only what did), stale pages removed, docstrings as Markdown, and Markdown tables."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
@@ -21,6 +22,18 @@ def remove_stale(folder: Path, pattern: str, keep: Iterable[Path]) -> None:
     for path in folder.glob(pattern):
         if path.resolve() not in kept:
             path.unlink()
+
+
+def plain_text(docstring: str) -> str:
+    """A docstring as Markdown that reads as written: `<adapter>` in "results_<adapter>.json" is a
+    placeholder, not an HTML tag (code spans and indented code are left alone: Markdown shows their
+    < as it is)."""
+    return "\n".join(line if line.startswith("    ") else _escaped(line) for line in docstring.split("\n"))
+
+
+def _escaped(line: str) -> str:
+    parts = re.split(r"(`[^`]*`)", line)
+    return "".join(part if part.startswith("`") else part.replace("<", "\\<") for part in parts)
 
 
 def cell(value: object) -> str:

@@ -26,7 +26,7 @@ from wgputrace.scene.lights.environment import Environment
 from wgputrace.scene.materials import material_classes
 
 from . import plugin_pictures
-from .generated_files import markdown_table, remove_stale, write_page
+from .generated_files import markdown_table, plain_text, remove_stale, write_page
 
 logger = logging.getLogger(__name__)
 
@@ -45,7 +45,7 @@ class Docstring:
 
     @classmethod
     def of(cls, module_name: str) -> Docstring:
-        lines = (inspect.getdoc(sys.modules[module_name]) or "").splitlines()
+        lines = plain_text(inspect.getdoc(sys.modules[module_name]) or "").splitlines()
         start = next((i for i, line in enumerate(lines) if _cells(line)[:1] == ["parameter"]), None)
         if start is None:
             return cls("\n".join(lines), {}, "")
@@ -309,7 +309,7 @@ def integrator_page(name: str, folder: Path) -> Page:
     method = integrator(name)
     # an integrator's module is named as its kernel's file (path_tracer.py: integrators/path_tracer.wgsl)
     module = sys.modules.get(f"wgputrace.integrators.{Path(method.entry).stem}")
-    docstring = (inspect.getdoc(module) if module else None) or ""
+    docstring = plain_text((inspect.getdoc(module) if module else None) or "")
     plugin_pictures.render_picture(folder / f"{name}.png", plugin_pictures.integrator_scene(), integrator=name)
     facts = [
         ("kernel", f"`{method.entry}`"),
