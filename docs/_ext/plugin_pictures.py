@@ -15,7 +15,7 @@ from wgputrace.scene.lights import Light
 from wgputrace.scenes import scene_by_name
 from wgputrace.scenes.stage import floor, square_lamp
 
-WIDTH, HEIGHT, SPP = 160, 120, 16
+WIDTH, HEIGHT, SPP = 128, 96, 16
 # Values for the light parameters that have no default, by name: a light above and in front of
 # the sphere, shining down onto it. A light kind with another required parameter needs one here.
 LIGHT_EXAMPLE = {
