@@ -356,12 +356,27 @@ def save_image(
     layers: Mapping[str, np.ndarray] | None = None,
     tonemap: str = DEFAULT_TONEMAP,
 ) -> Path:
-    """Write a linear (H, W, 3) image atomically; the extension picks the format (.png, .exr,
-    .npy). A PNG holds `tonemap`'s picture (`exposure` in EV or "auto", the `tonemap` operator);
-    EXR and NPY keep the linear values and ignore both. `metadata` (str to str) goes into the file,
-    or for an .npy into its sidecar `sidecar_path(path)` (an old sidecar is removed when there is
-    none). `layers` (EXR only): more linear images of the same shape by layer name ("raw",
-    "albedo"), written as the channels `<name>.R`, `<name>.G`, `<name>.B` beside the image's R, G, B."""
+    """Write a linear (H, W, 3) `image` to `path` atomically (the old file or the new one, never a
+    part); the extension picks the format: .png (tone mapped, sRGB, 8 bit), .exr or .npy (linear float32).
+
+    Args:
+        path: the file; its folder is made where missing.
+        image: linear radiance, (H, W, 3).
+        exposure: a .png's exposure in stops (EV: the radiance is scaled by 2**exposure), or
+            "auto" (`auto_exposure`); EXR and NPY keep the linear values and ignore it.
+        metadata: str to str, written into the file, or for an .npy into its sidecar
+            `sidecar_path(path)` (an old sidecar is removed when there is none).
+        layers: (EXR only) more linear images of the same shape by layer name ("raw", "albedo"),
+            written as the channels `<name>.R`, `<name>.G`, `<name>.B` beside the image's R, G, B.
+        tonemap: a .png's tone curve (`TONEMAP_OPERATORS`); EXR and NPY ignore it.
+
+    Returns:
+        `path`, as a Path.
+
+    Raises:
+        ValueError: an unknown extension, an image not (H, W, 3), bad metadata or layers, a bad
+            exposure or tone curve, naming the file.
+    """
     path = Path(path)
     image = _check(image)
     suffix = _format(path)
@@ -381,7 +396,8 @@ def save_image(
 
 
 def load_image(path: str | Path) -> np.ndarray:
-    """Read back what save_image wrote: linear float32 for .exr and .npy, decoded sRGB for .png."""
+    """Read back the image at `path` that save_image wrote: linear float32 (H, W, 3) for .exr and
+    .npy, decoded sRGB for .png. ValueError for an unknown extension or an image not (H, W, 3)."""
     path = Path(path)
     suffix = _format(path)
     if suffix == ".npy":
@@ -398,8 +414,9 @@ def load_image(path: str | Path) -> np.ndarray:
 
 
 def load_layers(path: str | Path) -> dict[str, np.ndarray]:
-    """The layers of an EXR file (save_image's `layers`): linear float32 (H, W, 3) by name, for
-    every layer holding R, G and B channels; {} for a file with none."""
+    """The layers of the EXR file at `path` (save_image's `layers`): linear float32 (H, W, 3) by
+    name, for every layer holding R, G and B channels; {} for a file with none. ValueError for a
+    file that is not an .exr."""
     path = Path(path)
     if _format(path) != ".exr":
         raise ValueError(f"{path}: only .exr files carry layers")

@@ -181,9 +181,9 @@ def _lights(lights: Sequence[Light]) -> str:
 
 
 def read_metadata(path: str | Path) -> dict[str, str]:
-    """The wgputrace metadata of an image file save_image wrote, keys in the documented order.
-    Raises a one-line ValueError naming the file when it does not exist, cannot be read, or holds
-    none."""
+    """The wgputrace metadata of the image file at `path` that save_image wrote, keys in the
+    documented order. Raises a one-line ValueError naming the file when it does not exist, cannot be
+    read, or holds none."""
     path = Path(path)
     ours = {key: value for key, value in read_text_metadata(path).items() if key.startswith(NAMESPACE)}
     if not ours:

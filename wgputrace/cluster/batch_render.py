@@ -41,8 +41,11 @@ class BatchTiming:
 
 @dataclass
 class ClusterRender:
-    """A finished cluster render: the image (float32 (H, W, 3), as wgputrace.render returns it) and
-    what it took."""
+    """A finished cluster render: the `image` (float32 (H, W, 3), as wgputrace.render returns it) and
+    what it took: the `batches` and `tiles` rendered, the `workers` that rendered one (in the order
+    of their first), each worker's Renderer `build_seconds`, the `wall_seconds` of the whole, the
+    `lost_workers` and `resubmitted_batches` (run again elsewhere), the `dropped_samples`
+    (non-finite or cut short) and the `timings` of every batch."""
 
     image: np.ndarray
     batches: list[Batch]
@@ -130,7 +133,9 @@ def _merge(merged: TiledSum, batch: Batch, tile: Tile, outcome: BatchOutcome) ->
 
 
 def render(scene: Scene, spp: int = 64, width: int = 512, height: int = 512, **options) -> np.ndarray:
-    """What `wgputrace.render` returns (the mean of `spp` samples per pixel, float32 (H, W, 3)),
-    rendered on a Ray cluster; `options` are render_batches' keyword arguments (seed, max_depth,
-    address, batches, workers, tile, and the Renderer's accel, integrator, ...)."""
+    """What `wgputrace.render(scene, spp, width, height)` returns (the mean of `spp` samples per
+    pixel, float32 (height, width, 3)), rendered on a Ray cluster; `options` are render_batches'
+    keyword arguments (seed, max_depth, address, batches, workers, tile, and the Renderer's accel,
+    integrator, ...). RayMissing without the ray extra, ClusterUnreachable, NoWorkersLeft and
+    WorkerFailed as their names say."""
     return render_batches(scene, spp, width, height, **options).image

@@ -27,7 +27,8 @@ FRAME_FIELD = "frame"
 
 @dataclass
 class FramesReport:
-    """What a frames job did: the files it wrote and those it found written already."""
+    """What a frames job did: the files `written` and those `skipped` (found written already),
+    and the `lost_workers` whose frames ran again elsewhere."""
 
     written: list[Path] = field(default_factory=list)
     skipped: list[Path] = field(default_factory=list)
@@ -82,8 +83,9 @@ def render_frames(
 ) -> FramesReport:
     """Render `frames` of the animation `scene_file` (scene(frame)) to `output` (a pattern with
     {frame}), skipping frames whose file exists; every frame from `seed`, as `wgputrace render` of
-    that frame would; a PNG frame through `tonemap` at `exposure` (EV, or "auto" per frame). The other
-    arguments are cluster.render_batches'."""
+    that frame would. `spp`, `width`, `height`, `max_depth`, `address`, `workers`, `progress` and
+    the Renderer's `options` are as render_batches takes them; `tonemap` and `exposure` (EV, or
+    "auto" per frame) as save_image takes them.
     path = Path(scene_file)
     source = read_source(path)
     report = FramesReport()

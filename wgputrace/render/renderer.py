@@ -92,11 +92,28 @@ class RenderStats:
 class Renderer:
     """Keeps the device and the scene's buffers; each `render` call adds samples to the mean.
 
-    With `guides` (or `guides_enabled` set later), every sample also adds the albedo and shading
-    normal the denoiser takes as guides (`guides()`); without, the kernel compiles no guide code
-    and the renderer allocates no guide buffer. `integrator` is a registered integrator's name
-    (`integrator_names`); `sampler` one of SAMPLERS: independent streams or Owen-scrambled Sobol
-    points, each pixel's sequence taken in order across `render` calls either way."""
+    Args:
+        scene: what to render; edits to it reach the GPU at the next `render` (or `update`).
+        width: the image's width in pixels.
+        height: the image's height in pixels.
+        seed: the random seed: same seed, adapter and arguments, the same image bit for bit.
+        max_depth: the most path segments, Mitsuba's meaning; UNLIMITED_DEPTH (-1): no limit.
+        accel: "bvh", or "flat" (trac0r's list of boxes, for comparisons).
+        integrator: a registered integrator's name (`integrator_names`): "mis", "nee", "bsdf" or
+            "bdpt"; each has a page under the plugins reference.
+        shader_overrides: WGSL override constants by name, such as MITSUBA_SHADING_NORMALS; each
+            set compiles its own pipeline.
+        guides: every sample also adds the albedo and shading normal the denoiser takes as guides
+            (`guides()`; or set `guides_enabled` later); without, no guide code or buffer.
+        sampler: one of SAMPLERS, "sobol" (Owen-scrambled Sobol points) or "independent"; each
+            pixel's sequence is taken in order across `render` calls either way.
+
+    Raises:
+        ValueError: a size, depth, acceleration, integrator, sampler or override out of range, naming it.
+        DeviceLimitError: the image or scene needs more than the adapter (or the host's free memory)
+            offers, naming the limit, the value asked and the largest allowed.
+        GpuFailure: wgpu refused or lost the work, naming the buffer and its size.
+    """
 
     def __init__(
         self,
@@ -560,8 +577,23 @@ class Renderer:
 
 
 def render(scene: Scene, spp: int = 64, width: int = 512, height: int = 512, **options) -> np.ndarray:
-    """Render `scene` from scratch: the mean of `spp` samples per pixel, float32 (H, W, 3).
-    `options` are the Renderer's keyword arguments (seed, max_depth, accel, integrator, sampler, ...)."""
+    """Render `scene` from scratch: the mean of `spp` samples per pixel.
+
+    Args:
+        scene: what to render, through its camera.
+        spp: samples per pixel.
+        width: the image's width in pixels.
+        height: the image's height in pixels.
+        **options: the Renderer's keyword arguments (seed, max_depth, accel, integrator, sampler, ...).
+
+    Returns:
+        float32 (height, width, 3), linear radiance, row 0 on top.
+
+    Raises:
+        ValueError: a size, depth, integrator, sampler or spp out of range, naming it.
+        DeviceLimitError: the image or scene needs more than the adapter offers, naming the limit.
+        GpuFailure: wgpu refused or lost the work.
+    """
     renderer = Renderer(scene, width, height, **options)
     renderer.render(spp)
     return renderer.image()

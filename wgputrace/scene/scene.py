@@ -54,6 +54,17 @@ class TriangleArrays:
 
 @dataclass
 class Scene:
+    """Shapes seen by a camera, lit by their emitting materials, an environment and lights.
+
+    Args:
+        shapes: the Shapes; `shape(name)` finds one by its name.
+        camera: where the picture is taken from.
+        environment: the light arriving from infinitely far away (`Environment`); None: none.
+
+    Assigning `shapes`, `camera` or `environment` checks the value: a SceneError (a ValueError)
+    names what is wrong and leaves the scene as it was.
+    """
+
     shapes: list[Shape] = field(default_factory=list)
     camera: Sensor = field(default_factory=Camera)
     # the light arriving from infinitely far in every direction (`Environment`); None: black
@@ -83,6 +94,8 @@ class Scene:
         return bool(self._lights) or self.environment is not None or any(m.emits() for m in self.materials)
 
     def add_light(self, *lights: Light) -> Scene:
+        """Add `lights` (PointLight, SpotLight, DirectionalLight, Sun, ...); returns the scene.
+        SceneError for what is not a light or is in the scene already."""
         for light in lights:
             if not isinstance(light, Light):
                 raise SceneError(f"add_light takes lights (wgputrace.PointLight, ...), got {type(light).__name__}")
@@ -92,6 +105,7 @@ class Scene:
         return self
 
     def remove_light(self, *lights: Light) -> Scene:
+        """Remove `lights`; returns the scene. SceneError for one that is not in the scene."""
         for light in lights:
             if not any(light is other for other in self._lights):
                 raise SceneError(f"cannot remove {light.label}: it is not in the scene")
@@ -99,12 +113,14 @@ class Scene:
         return self
 
     def add(self, *shapes: Shape) -> Scene:
+        """Add `shapes`; returns the scene. SceneError for what is not a Shape."""
         _check_shapes(shapes, first=len(self.shapes))
         self.shapes.extend(shapes)
         return self
 
     def remove(self, *shapes: Shape | str) -> Scene:
-        """Remove shapes, given as objects or by (unique) name."""
+        """Remove `shapes`, given as objects or by (unique) name; returns the scene. SceneError for
+        one that is not in the scene."""
         for item in shapes:
             shape = self.shape(item) if isinstance(item, str) else item
             if not any(s is shape for s in self.shapes):
@@ -113,7 +129,7 @@ class Scene:
         return self
 
     def shape(self, name: str) -> Shape:
-        """The one shape called `name`."""
+        """The one shape called `name`; SceneError where there is none or more than one."""
         found = [s for s in self.shapes if s.name == name]
         if len(found) != 1:
             names = ", ".join(repr(s.name) for s in self.shapes[:20])
@@ -131,10 +147,12 @@ class Scene:
 
     @property
     def triangle_count(self) -> int:
+        """Triangles of all shapes, zero-area ones included."""
         _check_shapes(self.shapes)
         return sum(shape.triangle_count for shape in self.shapes)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The (min, max) corners of the box around every triangle, in world coordinates."""
         vertices = self.arrays().vertices.reshape(-1, 3)
         return vertices.min(axis=0), vertices.max(axis=0)
 

@@ -172,7 +172,8 @@ class CornerAttribute:
 class Shape:
     """A named group of flat triangles sharing one material, placed in the world by a 4x4 transform.
 
-    `vertices` (n, 3, 3) float32 are local (triangle, corner, xyz); the world sees `world_vertices`,
+    `name` names it in errors and `Scene.shape`; `tags` is a dict of anything kept with it (the
+    renderer ignores it). `vertices` (n, 3, 3) float32 are local (triangle, corner, xyz); the world sees `world_vertices`,
     the transform applied in float64 (a mirroring one swaps two corners so normals keep their side;
     `world_normals`, `world_uvs` and `world_tangents` follow). Optional per-corner attributes:
     `normals` (smooth shading), `uvs` (glTF's convention, as `Texture` reads them) and `tangents` (a
@@ -377,7 +378,8 @@ def euler_rotation(orientation) -> np.ndarray:
 
 
 def model_matrix(position, orientation, scale) -> np.ndarray:
-    """translate(position) . rotate(orientation) . scale(scale) as a 4x4 matrix."""
+    """translate(position) . rotate(orientation) . scale(scale) as a 4x4 matrix: `orientation` is
+    Euler angles (x, y, z) in radians applied as Rz Ry Rx, `scale` one number or three."""
     matrix = np.eye(4)
     matrix[:3, :3] = euler_rotation(orientation) @ np.diag(np.broadcast_to(np.asarray(scale, float), 3))
     matrix[:3, 3] = np.asarray(position, dtype=np.float64)
@@ -463,7 +465,9 @@ def _place(name: str, corners: np.ndarray, faces: np.ndarray, matrix: np.ndarray
 
 
 def make_plane(position, orientation, size, material: Material, name: str = "plane") -> Shape:
-    """Two triangles: a size[0] x size[1] rectangle in the local xz plane, rotated and moved."""
+    """Two triangles: a size[0] x size[1] rectangle in the local xz plane facing +y, rotated by
+    `orientation` (Euler angles in radians, as `model_matrix`) and centred at `position`; a Shape
+    called `name` of `material`."""
     width, depth = (float(s) for s in size)
     return _place(
         name, _PLANE_CORNERS, _PLANE_FACES, model_matrix(position, orientation, (width, 1.0, depth)), material
@@ -471,7 +475,8 @@ def make_plane(position, orientation, size, material: Material, name: str = "pla
 
 
 def make_box(position, orientation, size, material: Material, name: str = "box") -> Shape:
-    """Twelve triangles: a box of edge lengths `size` centred at `position`."""
+    """Twelve triangles: a box of edge lengths `size` (x, y, z) centred at `position`, rotated by
+    `orientation` (Euler angles in radians, as `model_matrix`); a Shape called `name` of `material`."""
     return _place(name, _BOX_CORNERS, _BOX_FACES, model_matrix(position, orientation, size), material)
 
 
@@ -484,8 +489,10 @@ def make_icosphere(
     name: str = "icosphere",
     smooth: bool = False,
 ) -> Shape:
-    """An icosahedron subdivided `iterations` times (20 * 4**iterations triangles), radius `radius`;
-    `smooth` gives it the sphere's normals at the corners (smooth shading), else it shades flat.
+    """An icosahedron subdivided `iterations` times (20 * 4**iterations triangles), radius `radius`,
+    centred at `position` and turned by `orientation` (Euler angles in radians, as `model_matrix`): a
+    Shape called `name` of `material`. `smooth` gives it the sphere's normals at the corners (smooth
+    shading), else it shades flat. ValueError for negative `iterations`.
 
     Each subdivision splits a triangle (a, b, c) into (a, ab, ca), (b, bc, ab), (c, ca, bc),
     (ab, bc, ca), the new vertices pushed out to the unit sphere.

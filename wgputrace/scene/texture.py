@@ -53,10 +53,20 @@ def linear_to_srgb(values: np.ndarray) -> np.ndarray:
 
 
 class Texture:
-    """`pixels`: uint8 (H, W, C) or float (H, W, C), C in 1..4 (a (H, W) array is one channel).
-    `srgb`: the colour channels are sRGB-encoded (base colour, emission), else linear data
-    (metallic-roughness, normals) and for float pixels, which are taken as they are; alpha is
-    always linear."""
+    """An image a material parameter reads (`Principled`'s textures).
+
+    Args:
+        pixels: uint8 (H, W, C) or float (H, W, C), C in 1..4 (a (H, W) array is one channel).
+        srgb: the colour channels are sRGB-encoded (base colour, emission), else linear data
+            (metallic-roughness, normals); float pixels are taken as they are, alpha is always linear.
+        wrap_s: how u wraps outside [0, 1]: "repeat", "clamp" (to the edge texel) or "mirror".
+        wrap_t: the same for v.
+        name: names it in errors.
+        transform: maps a shape's texture coordinates before the lookup (KHR_texture_transform).
+
+    Raises:
+        SceneError: (a ValueError) bad pixels or wrap mode, naming the texture.
+    """
 
     def __init__(
         self,
@@ -92,7 +102,8 @@ class Texture:
 
     @classmethod
     def from_file(cls, path, *, srgb: bool = True, **options) -> Texture:
-        """A texture of an image file PIL reads; SceneError naming the file where it cannot."""
+        """A texture of the image file at `path` (any format PIL reads), named by the file; `srgb`
+        and the other `options` as Texture takes them. SceneError naming the file where it cannot."""
         from PIL import Image, UnidentifiedImageError
 
         path = Path(path)

@@ -77,7 +77,21 @@ class EnvironmentTables:
 
 
 class Environment:
-    """A constant environment (`radiance`) or a map (`texels`, or `Environment.from_file`)."""
+    """The light arriving from infinitely far away: a constant or an equirectangular map, as
+    Mitsuba 3's `constant` and `envmap`.
+
+    Args:
+        radiance: a constant environment's RGB radiance (one number: grey).
+        texels: a map's float32 (H, W, 3) radiance, row 0 looking straight up (or `from_file`).
+        intensity: multiplies the radiance (Mitsuba's `scale`).
+        rotation_degrees: turns the map about +y (Mitsuba's to_world rotate).
+        visible: camera rays that escape see it; False: they see black while it still lights.
+        source: what made the map (the file `from_file` read), in its repr and errors.
+
+    Raises:
+        SceneError: (a ValueError) both or neither of radiance and texels, or a value out of
+            range (non-finite texels, a negative intensity), naming it.
+    """
 
     def __init__(
         self,
@@ -111,8 +125,10 @@ class Environment:
     def from_file(
         cls, path: str | Path, intensity: float = 1.0, rotation_degrees: float = 0.0, visible: bool = True
     ) -> Environment:
-        """An equirectangular map read from an OpenEXR (.exr) or Radiance (.hdr, .pic) file; its
-        texel values times `intensity` are radiance (Mitsuba's `envmap` with scale = intensity)."""
+        """An equirectangular map read from the OpenEXR (.exr) or Radiance (.hdr, .pic; the hdr
+        extra) file at `path`; its texel values times `intensity` are radiance (Mitsuba's `envmap`
+        with scale = intensity), `rotation_degrees` and `visible` as Environment takes them.
+        SceneError naming the file where it cannot be read."""
         try:
             texels = load_environment_map(path)
         except ValueError as error:

@@ -1,0 +1,18 @@
+"""
+The Principled material
+=======================
+
+Mitsuba 3's ``principled`` BSDF, the material glTF files load as, over its parameters.
+"""
+
+import wgputrace as wt
+
+SETTINGS = {"spp": 16, "width": 128, "height": 96, "seed": 1}
+
+# %%
+# ``principled_spheres``: metallic 0 to 1 and roughness 0.1 to 1.
+wt.save_image("principled_spheres.png", wt.render(wt.load_scene("principled_spheres"), **SETTINGS))
+
+# %%
+# ``principled_transmission``: spheres that transmit (``spec_trans`` 0.5 and 1), rough and smooth.
+wt.save_image("principled_transmission.png", wt.render(wt.load_scene("principled_transmission"), **SETTINGS))
