@@ -16,7 +16,8 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-FENCE = re.compile(r"^(?P<fence>`{3,}|~{3,})(?P<language>[\w+-]*)\s*$")
+# A fence and its info string: a language ("python"), or a MyST directive ("{toctree}").
+FENCE = re.compile(r"^(?P<fence>`{3,}|~{3,})(?P<language>\S*)\s*$")
 TEST_COMMENT = re.compile(r"^%\s*test:\s*(?P<word>\w+)\s*(?P<rest>.*?)\s*$")
 RUNNABLE = ("python", "sh")
 NOTEBOOK_FORMAT = (4, 5)
@@ -48,6 +49,13 @@ def parts(path: Path) -> list[Block | Prose]:
     """The page at `path` in order: its prose and its code blocks."""
     result: list[Block | Prose] = []
     prose: list[str] = []
+
+    def end_prose() -> None:
+        text = "\n".join(prose).strip("\n")
+        if text.strip():
+            result.append(Prose(text))
+        prose.clear()
+
     comment: re.Match | None = None
     lines = path.read_text().splitlines()
     number = 0
@@ -68,14 +76,11 @@ def parts(path: Path) -> list[Block | Prose]:
         if number == len(lines):
             raise ValueError(f"{path}:{start}: the code block opened here is not closed")
         number += 1
-        if "\n".join(prose).strip():
-            result.append(Prose("\n".join(prose).strip("\n")))
-        prose = []
+        end_prose()
         test, argument = (comment["word"], comment["rest"]) if comment else ("", "")
         result.append(Block(fence["language"], "\n".join(code) + "\n", start + 1, test, argument))
         comment = None
-    if "\n".join(prose).strip():
-        result.append(Prose("\n".join(prose).strip("\n")))
+    end_prose()
     return result
 
 
