@@ -1,4 +1,4 @@
-"""The pictures of docs/cameras_and_tonemapping.md, made again from the built-in scenes:
+"""The pictures of docs/guide/cameras_and_tonemapping.md, made again from the built-in scenes:
 
     PYTHONPATH=. python scripts/make_camera_pictures.py            # all three, into docs/images/
     PYTHONPATH=. python scripts/make_camera_pictures.py --spp 16   # a quick look

@@ -28,9 +28,6 @@ logger = logging.getLogger(__name__)
 FAMILIES = {"material": material_classes, "light": light_classes}
 # parameters a docstring need not name: the receiver, and catch-alls that the text names as a group
 UNNAMED_PARAMETERS = {"self", "cls", "args", "kwargs", "options"}
-# Docstrings whose parameters are not checked (yet): the camera is being reworked on another
-# branch, whose docstrings name its parameters; the entry goes when that lands.
-UNCHECKED = {"wgputrace.Camera"}
 
 
 def _kinds() -> set[type]:
@@ -110,7 +107,7 @@ def process_docstring(app: Sphinx, what: str, name: str, obj: object, options: o
         # napoleon reads a property docstring's first "x: y" as a type and a description; ours are prose
         lines[:] = (inspect.getdoc(obj) or "").splitlines()
     lines[:] = tables_as_rest(lines)
-    if what not in ("function", "method", "class") or not name.startswith("wgputrace.") or name in UNCHECKED:
+    if what not in ("function", "method", "class") or not name.startswith("wgputrace."):
         return
     text = "\n".join(lines)
     unnamed = [p for p in _parameters(obj, what) if not re.search(rf"(?<![\w]){re.escape(p)}(?![\w])", text)]

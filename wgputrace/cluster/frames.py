@@ -85,7 +85,7 @@ def render_frames(
     {frame}), skipping frames whose file exists; every frame from `seed`, as `wgputrace render` of
     that frame would. `spp`, `width`, `height`, `max_depth`, `address`, `workers`, `progress` and
     the Renderer's `options` are as render_batches takes them; `tonemap` and `exposure` (EV, or
-    "auto" per frame) as save_image takes them.
+    "auto" per frame) as save_image takes them."""
     path = Path(scene_file)
     source = read_source(path)
     report = FramesReport()

@@ -107,6 +107,10 @@ class Renderer:
             (`guides()`; or set `guides_enabled` later); without, no guide code or buffer.
         sampler: one of SAMPLERS, "sobol" (Owen-scrambled Sobol points) or "independent"; each
             pixel's sequence is taken in order across `render` calls either way.
+        samples_per_dispatch: the most samples of a pixel one dispatch takes (path regeneration:
+            a path that ends starts the pixel's next one in the same pass); None lets the
+            integrator choose for the adapter (more on a CPU adapter, 1 on a GPU). The image is
+            the same bit for bit whatever it is.
 
     Raises:
         ValueError: a size, depth, acceleration, integrator, sampler or override out of range, naming it.

@@ -29,6 +29,9 @@ from .sensor import CameraWarning, Sensor
 
 @dataclass
 class EquirectangularCamera(Sensor):
+    """Every direction around `position` in one 2:1 image, `forward` at its centre and `up` at its
+    top row."""
+
     kind = 4
     shader = "camera/equirectangular.wgsl"
 

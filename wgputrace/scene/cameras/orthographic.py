@@ -25,6 +25,9 @@ FRAMING_STANDOFF = 2.0
 
 @dataclass
 class OrthographicCamera(Sensor):
+    """Parallel rays along `forward` from a rectangle centred on `position`, `view_height` high
+    (its width follows the image's aspect), `up` the image's up."""
+
     view_height: float = field(kw_only=True)
 
     kind = 3
@@ -35,6 +38,8 @@ class OrthographicCamera(Sensor):
 
     @classmethod
     def looking_at(cls, position, target, up=(0.0, 1.0, 0.0), *, view_height: float) -> OrthographicCamera:
+        """The camera at `position` looking at `target`, `up` the image's up, its rectangle
+        `view_height` high."""
         return cls(position, np.subtract(target, position), up, view_height=view_height)
 
     def half_extents(self, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:

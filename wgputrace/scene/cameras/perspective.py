@@ -24,6 +24,9 @@ from .sensor import Sensor
 
 @dataclass
 class Camera(Sensor):
+    """The pinhole camera at `position` looking along `forward`, `up` the image's up, seeing
+    `vfov_degrees` from the image's bottom to its top (the module's table gives the ranges)."""
+
     vfov_degrees: float = 60.0
 
     kind = 1
@@ -42,7 +45,8 @@ class Camera(Sensor):
 
     @classmethod
     def looking_at(cls, position, target, up=(0.0, 1.0, 0.0), vfov_degrees: float = 60.0, **lens) -> Camera:
-        """The camera at `position` looking at `target`; `lens`: the kind's further parameters."""
+        """The camera at `position` looking at `target`, `up` the image's up and `vfov_degrees` its
+        vertical field of view; `lens`: the kind's further parameters."""
         return cls(position, np.subtract(target, position), up, vfov_degrees, **lens)
 
     def image_plane(self, width: int, height: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -59,7 +59,8 @@ camera_class = CAMERA_KINDS.lookup
 
 @dataclass
 class Sensor(Kind):
-    """Where a camera stands and which way it looks; each kind adds how it projects."""
+    """Where a camera stands (`position`) and which way it looks (`forward`, normalised when set;
+    `up` the image's up); each kind adds how it projects."""
 
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)
     forward: tuple[float, float, float] = (0.0, 0.0, 1.0)

@@ -26,6 +26,10 @@ from .perspective import Camera
 
 @dataclass
 class ThinLensCamera(Camera):
+    """A camera at `position` looking along `forward` (`up` the image's up, `vfov_degrees` its
+    vertical field of view) through a lens of `aperture_radius`, sharp at `focus_distance` along
+    `forward` (the module's table gives the ranges)."""
+
     aperture_radius: float = field(kw_only=True)
     focus_distance: float = field(kw_only=True)
 
@@ -49,8 +53,9 @@ class ThinLensCamera(Camera):
         aperture_radius: float,
         focus_distance: float | None = None,
     ) -> ThinLensCamera:
-        """The camera at `position` looking at `target`, in focus at the target's distance unless
-        `focus_distance` says otherwise."""
+        """The camera at `position` looking at `target` (`up` the image's up, `vfov_degrees` its
+        vertical field of view) through a lens of `aperture_radius`, in focus at the target's
+        distance unless `focus_distance` says otherwise."""
         if focus_distance is None:
             focus_distance = float(np.linalg.norm(np.subtract(target, position)))
         return super().looking_at(
