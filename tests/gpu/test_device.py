@@ -85,7 +85,7 @@ def test_flat_list_beyond_llvmpipe_loop_budget_per_path_is_refused(gpu_context):
 
     limit = gpu_context.loop_iteration_limit
     if limit is None:
-        pytest.skip("this adapter has no loop iteration limit (only llvmpipe does)")
+        pytest.skip("this adapter has no loop iteration limit (Mesa 22's llvmpipe has one, Mesa 25's none)")
     max_depth = 3
     allowed = limit // (2 * max_depth)
     corners = np.random.default_rng(1).uniform(-1, 1, (allowed + 1, 3, 3)).astype(np.float32)
