@@ -65,7 +65,11 @@ def with_lights(document: dict, lights: list[dict], nodes: list[dict]) -> dict:
 # A perspective camera in front of the origin and an orthographic one above it looking down, every
 # field glTF defines set, and the nodes placing them.
 CAMERAS = [
-    {"name": "front", "type": "perspective", "perspective": {"yfov": 0.7, "aspectRatio": 1.5, "znear": 0.1, "zfar": 99}},
+    {
+        "name": "front",
+        "type": "perspective",
+        "perspective": {"yfov": 0.7, "aspectRatio": 1.5, "znear": 0.1, "zfar": 99},
+    },
     {"name": "top", "type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.5, "znear": 0.0, "zfar": 50}},
 ]
 CAMERA_NODES = [
