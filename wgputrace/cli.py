@@ -1,6 +1,6 @@
 """Command line: `wgputrace render` (headless, to PNG/EXR/NPY; on a Ray cluster with --ray),
-`wgputrace render-frames` (an animation's frames on a Ray cluster), `wgputrace info [FILE]` and
-`wgputrace view` (the window). The benchmarks live in the checkout: `python -m bench`.
+`wgputrace render-frames` (an animation's frames on a Ray cluster), `wgputrace info [FILE]` (the
+adapter; an image's provenance; a scene file's cameras) and `wgputrace view` (the window). The benchmarks live in the checkout: `python -m bench`.
 
 Every error is one line on stderr (`--debug` adds its traceback). Exit status: 0 done; 2 bad use
 (arguments, scene, more than the device allows); 1 a failure while rendering or writing; 130 or
