@@ -44,7 +44,7 @@ def test_every_camera_is_listed_and_the_first_is_the_scene_camera(tmp_path):
     np.testing.assert_allclose(top.forward, [0, -1, 0], atol=1e-12)
 
 
-@pytest.mark.parametrize("choice", ["top", 1, "1"])
+@pytest.mark.parametrize("choice", ["top", 1, "1", np.int64(1)])
 def test_a_camera_is_chosen_by_name_or_index(tmp_path, choice):
     scene = load_scene(box_with_cameras(tmp_path / "box.glb"), camera=choice)
     assert scene.camera is scene.cameras[1][1]

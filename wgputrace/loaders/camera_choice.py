@@ -5,6 +5,7 @@ of digits that names no camera is an index."""
 
 from __future__ import annotations
 
+from numbers import Integral
 from pathlib import Path
 
 from ..scene import Sensor
@@ -14,7 +15,7 @@ from .errors import SceneLoadError
 LISTED_IN_ERRORS = 12
 
 
-def chosen_camera(cameras: list[tuple[str, Sensor]], choice: str | int, path: Path | None) -> Sensor:
+def chosen_camera(cameras: list[tuple[str, Sensor]], choice: str | Integral, path: Path | None) -> Sensor:
     """The camera of `cameras` called `choice`, or at index `choice`; a SceneLoadError naming
     `path` and the cameras there are for one that is not there, or a name that several share."""
     if isinstance(choice, str):
@@ -26,8 +27,8 @@ def chosen_camera(cameras: list[tuple[str, Sensor]], choice: str | int, path: Pa
         if named:
             return cameras[named[0]][1]
     index = int(choice) if isinstance(choice, str) and choice.isascii() and choice.isdigit() else choice
-    if isinstance(index, int) and not isinstance(index, bool) and 0 <= index < len(cameras):
-        return cameras[index][1]
+    if isinstance(index, Integral) and not isinstance(index, bool) and 0 <= index < len(cameras):
+        return cameras[int(index)][1]
     raise SceneLoadError(path, f"no camera {choice!r:.40}; {_listed(cameras)}")
 
 

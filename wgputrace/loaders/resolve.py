@@ -9,6 +9,7 @@ built-in scenes, and a mistyped name lists them.
 from __future__ import annotations
 
 import os
+from numbers import Integral
 from pathlib import Path
 
 from ..scene import Scene, Sensor
@@ -55,7 +56,7 @@ def load_scene(spec: str | Path, *, camera: Sensor | str | int | None = None) ->
         if not path.is_file():
             raise SceneLoadError(path, "no such file")
         scene = read_python_scene(path) if suffix == ".py" else _read_mesh_file(path, suffix, frame=camera is None)
-    if isinstance(camera, str | int):
+    if isinstance(camera, str | Integral):  # numpy's integers too
         camera = chosen_camera(scene.cameras, camera, path)
     if camera is not None:
         scene.camera = camera
