@@ -1,5 +1,5 @@
 """glTF 2.0 (.gltf with its buffers, or binary .glb): triangles, node transforms, materials
-(`GltfMaterials`), camera and punctual lights; errors name the file and the JSON path.
+(`GltfMaterials`), cameras (`node_camera`) and punctual lights; errors name the file and the JSON path.
 
 Not trimesh's glTF reader: its PBRMaterial drops keys it does not know (KHR_materials_transmission,
 KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each mesh instance in
@@ -24,11 +24,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ..scene import (
-    Camera,
     DirectionalLight,
     Light,
     LightError,
-    OrthographicCamera,
     PointLight,
     SceneError,
     Sensor,
@@ -36,6 +34,7 @@ from ..scene import (
     SpotLight,
 )
 from .errors import SceneLoadError, SceneLoadWarning
+from .gltf_cameras import node_camera
 from .gltf_compression import (
     DRACO_EXTENSION,
     DRACO_INSTALL_HINT,
@@ -366,10 +365,10 @@ def _unread_extension(name: str, detail: bool = False) -> str:
 
 
 class GltfContents(NamedTuple):
-    """What a glTF file holds for a Scene: its shapes, its first perspective camera, its lights."""
+    """What a glTF file holds for a Scene: its shapes, its cameras (`node_camera`), its lights."""
 
     shapes: list[Shape]
-    camera: Sensor | None
+    cameras: list[tuple[str, Sensor]]
     lights: list[Light]
 
 
@@ -387,7 +386,7 @@ def read_gltf(path: Path) -> GltfContents:
     materials = GltfMaterials(reader)
     shapes: list[Shape] = []
     lights: list[Light] = []
-    camera = None
+    cameras: list[tuple[str, Sensor]] = []
     stack = [(root, np.eye(4), "scene") for root in reversed(roots)]
     visited: set[int] = set()
     while stack:
@@ -400,14 +399,15 @@ def read_gltf(path: Path) -> GltfContents:
         world = parent @ _local_matrix(reader, node, where)
         if "mesh" in node:
             shapes += _mesh_shapes(reader, node["mesh"], world, materials, where)
-        if "camera" in node and camera is None:
-            camera = _camera(reader, node["camera"], world, where)
+        placed = node_camera(reader, node, world, where) if "camera" in node else None
+        if placed is not None:
+            cameras.append(placed)
         light = _node_light(reader, node, where)
         if light is not None:
             lights.append(_light(reader, light, world, where))
         children = reader.get(node, "children", list, where, [])
         stack += [(child, world, where) for child in reversed(children)]
-    return GltfContents(shapes, camera, lights)
+    return GltfContents(shapes, cameras, lights)
 
 
 def _local_matrix(reader: _Reader, node: dict, where: str) -> np.ndarray:
@@ -516,40 +516,6 @@ def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
         odd = k % 2
         return np.stack([indices[k], indices[k + 1 + odd], indices[k + 2 - odd]], axis=1)
     return np.stack([indices[k + 1], indices[k + 2], np.broadcast_to(indices[:1], k.shape)], axis=1)
-
-
-def _camera(reader: _Reader, index, world: np.ndarray, where: str) -> Sensor | None:
-    """Camera `index` placed by a node of world matrix `world`, looking along its -z with its +y up:
-
-    | glTF camera                           | wgputrace camera                                       |
-    |---------------------------------------|--------------------------------------------------------|
-    | `perspective`: yfov (radians)          | Camera: vfov_degrees                                   |
-    | `orthographic`: ymag (half the height) | OrthographicCamera: view_height = 2 ymag x the node's y scale |
-    | ignored: aspectRatio, xmag (the image's own aspect sets the width), znear, zfar (nothing is clipped) | |
-
-    Another type warns and is left out (None)."""
-    entry = reader.item("cameras", index, f"{where}.camera")
-    camera_where = f"cameras[{index}]"
-    kind = reader.get(entry, "type", str, camera_where, "perspective")
-    if kind not in ("perspective", "orthographic"):
-        warnings.warn(
-            f"{reader.path}: {camera_where} is of type {kind!r}, neither perspective nor orthographic: "
-            "framing the scene instead",
-            SceneLoadWarning,
-            stacklevel=4,
-        )
-        return None
-    projection = reader.get(entry, kind, dict, camera_where)
-    linear = world[:3, :3]
-    pose = (tuple(world[:3, 3]), tuple(linear @ [0.0, 0.0, -1.0]), tuple(linear @ [0.0, 1.0, 0.0]))
-    try:
-        if kind == "orthographic":
-            ymag = reader.get(projection, "ymag", float, f"{camera_where}.orthographic")
-            return OrthographicCamera(*pose, view_height=2.0 * abs(ymag) * float(np.linalg.norm(linear[:, 1])))
-        yfov = reader.get(projection, "yfov", float, f"{camera_where}.perspective")
-        return Camera(*pose, np.degrees(yfov))
-    except ValueError as error:
-        raise reader.fail(f"{camera_where} at {where}", str(error)) from None
 
 
 def _node_light(reader: _Reader, node: dict, where: str) -> int | None:
