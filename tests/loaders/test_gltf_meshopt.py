@@ -211,6 +211,12 @@ def test_a_truncated_stream_names_its_view(tmp_path):
         (lambda b: b.pop("mode"), 0, "", "'mode' is missing"),
         (lambda b: b.update(buffer=1), 0, "", "reads buffers[1], a EXT_meshopt_compression fallback without a uri"),
         (lambda b: b.update(byteOffset=10**6), 0, "", "lie beyond the buffer"),
+        (
+            lambda b: b.update(count=3 * 2**60, byteLength=1),
+            1,
+            "",
+            "1 compressed bytes cannot hold 13835058055282163712",
+        ),
     ],
 )
 def test_a_broken_extension_block_names_its_field(tmp_path, change, view, where, said):

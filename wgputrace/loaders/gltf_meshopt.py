@@ -26,6 +26,9 @@ EXTENSION_FILTERS = {
 }
 INDEX_STRIDES = (2, 4)
 MAX_ATTRIBUTE_STRIDE = 256  # the attribute codec's limit, in bytes of one element
+# Bytes out per compressed byte beyond which a block is refused before anything is allocated: the
+# codecs reach 1024 at most (the attribute codec's version 1 on constant 4-byte elements).
+MAX_EXPANSION = 2048
 
 
 class MeshoptMissing(ImportError):
@@ -127,6 +130,11 @@ def _check_layout(reader, layout: CompressedView, view: dict, view_where: str) -
             raise reader.fail(f"{where}.filter", f"must be NONE in mode {mode}, got {filter_!r:.40}")
         if mode == "TRIANGLES" and layout.count % 3:
             raise reader.fail(f"{where}.count", f"must be a multiple of 3 in mode TRIANGLES, got {layout.count}")
+    size = stride * layout.count
+    if size > MAX_EXPANSION * layout.byte_length:
+        raise reader.fail(
+            where, f"{layout.byte_length} compressed bytes cannot hold {size} (more than {MAX_EXPANSION} times as many)"
+        )
     length = reader.get(view, "byteLength", int, view_where)
     if length != stride * layout.count:
         raise reader.fail(

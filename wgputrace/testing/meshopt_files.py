@@ -18,20 +18,24 @@ EXT = "EXT_meshopt_compression"
 KHR = "KHR_meshopt_compression"
 
 
-def meshopt_glb(
-    path: Path,
+def meshopt_glb(path: Path, document: dict, blob: bytes, *args, **kwargs) -> Path:
+    """`meshopt_compressed(document, blob, ...)` written to `path` as a GLB."""
+    return write_glb(path, *meshopt_compressed(document, blob, *args, **kwargs))
+
+
+def meshopt_compressed(
     document: dict,
     blob: bytes,
     extension: str = EXT,
     filtered: dict[int, tuple[str, np.ndarray]] | None = None,
     index_mode: str = "TRIANGLES",
     fallback_data: bool = False,
-) -> Path:
-    """`document` (its data in `blob`, buffer 0) written to `path` with each bufferView an accessor
-    reads compressed by `extension`: a primitive's indices in `index_mode`, the rest as ATTRIBUTES,
+) -> tuple[dict, bytes]:
+    """`document` (its data in `blob`, buffer 0) with each bufferView an accessor reads compressed by `extension`: a primitive's indices in `index_mode`, the rest as ATTRIBUTES,
     `filtered[view]` = (filter, the filter's encoded rows from meshopt.encode_filter_*) for a view
     whose data is filtered; other views (images) stay uncompressed in buffer 0. The fallback buffer holds the decoded data as a data URI where
-    `fallback_data`, else nothing (no uri) and the extension is required."""
+    `fallback_data`, else nothing (no uri) and the extension is required. Returns the new document
+    and its GLB binary chunk."""
     import meshopt
 
     document = json.loads(json.dumps(document))
@@ -77,7 +81,7 @@ def meshopt_glb(
     document["extensionsUsed"] = [*document.get("extensionsUsed", []), extension]
     if not fallback_data:
         document["extensionsRequired"] = [*document.get("extensionsRequired", []), extension]
-    return write_glb(path, document, compressed)
+    return document, compressed
 
 
 COMPONENT_SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
