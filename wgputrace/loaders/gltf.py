@@ -5,7 +5,8 @@ Not trimesh's glTF reader: its PBRMaterial drops keys it does not know (KHR_mate
 KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each mesh instance in
 the default scene's node tree becomes one Shape per triangle primitive, the node's world matrix its
 `transform`, NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
-material's textures need them (else MikkTSpace's tangents). Sparse accessors, skins, morph targets
+material's textures need them (else MikkTSpace's tangents), integer ones (KHR_mesh_quantization)
+dequantised by `vertex_attribute`. Sparse accessors, skins, morph targets
 and TEXCOORD_1 and above are not read. A required extension outside READ_EXTENSIONS (and Draco's
 where DracoPy imports; meshopt's where the meshopt package does, `gltf_meshopt`) is refused by name;
 one that is only used is ignored with a warning.
@@ -57,6 +58,7 @@ from .gltf_meshopt import (
     meshopt_available,
     meshopt_extension,
 )
+from .gltf_quantization import QUANTIZATION_EXTENSION, vertex_attribute
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -66,12 +68,6 @@ COMPONENT_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u
 INDEX_TYPES = (5121, 5123, 5125)
 ELEMENT_SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 MODE_TRIANGLES, MODE_STRIP, MODE_FAN = 4, 5, 6
-# the per-vertex attributes read beside POSITION: their componentTypes and element type
-VERTEX_ATTRIBUTES = {
-    "NORMAL": ((5126,), "VEC3"),
-    "TEXCOORD_0": ((5126, 5121, 5123), "VEC2"),
-    "TANGENT": ((5126,), "VEC4"),
-}
 LIGHTS_EXTENSION = "KHR_lights_punctual"
 LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
 # KHR_lights_punctual's defaults and limit for a spot's cones (radians)
@@ -83,6 +79,7 @@ READ_EXTENSIONS = {
     "KHR_materials_transmission",
     "KHR_materials_ior",
     TRANSFORM_EXTENSION,
+    QUANTIZATION_EXTENSION,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
 UNREAD_EXTENSIONS = {
@@ -491,11 +488,11 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
             )
             continue
         attributes = reader.get(primitive, "attributes", dict, primitive_where)
-        positions = reader.accessor(
+        positions = vertex_attribute(
+            reader,
             reader.get(attributes, "POSITION", int, f"{primitive_where}.attributes"),
             f"{primitive_where}.attributes.POSITION",
-            (5126,),
-            ("VEC3",),
+            "POSITION",
         )
         if "indices" in primitive:
             indices = reader.accessor(primitive["indices"], f"{primitive_where}.indices", INDEX_TYPES, ("SCALAR",))
@@ -533,17 +530,14 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
 def _corner_attribute(
     reader: _Reader, attributes: dict, semantic: str, faces: np.ndarray, vertex_count: int, where: str
 ) -> np.ndarray:
-    """(n, 3, k) float values of per-vertex attribute `semantic` at the corners of `faces`;
-    normalized integers (which glTF allows for TEXCOORD_n) scaled to [0, 1]."""
-    types, shape = VERTEX_ATTRIBUTES[semantic]
+    """(n, 3, k) float values of per-vertex attribute `semantic` at the corners of `faces`
+    (`vertex_attribute`'s, integers dequantised)."""
     index = reader.get(attributes, semantic, int, f"{where}.attributes")
     where = f"{where}.attributes.{semantic}"
-    values = reader.accessor(index, where, types, (shape,))
+    values = vertex_attribute(reader, index, where, semantic)
     if len(values) != vertex_count:
         raise reader.fail(where, f"has {len(values)} values for {vertex_count} positions")
-    if values.dtype.kind == "u":
-        values = values / np.float32(np.iinfo(values.dtype).max)
-    return values[faces].astype(np.float32)
+    return values[faces]
 
 
 def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
