@@ -6,8 +6,8 @@ KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each
 the default scene's node tree becomes one Shape per triangle primitive, the node's world matrix its
 `transform`, NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
 material's textures need them (else MikkTSpace's tangents), integer ones (KHR_mesh_quantization)
-dequantised by `vertex_attribute`. Sparse accessors, skins, morph targets
-and TEXCOORD_1 and above are not read. A required extension outside READ_EXTENSIONS (and Draco's
+dequantised by `vertex_attribute`. Sparse accessors, skins, morph targets and TEXCOORD_1 and above
+are not read. A required extension outside READ_EXTENSIONS (and Draco's
 where DracoPy imports; meshopt's where the meshopt package does, `gltf_meshopt`) is refused by name;
 one that is only used is ignored with a warning.
 """

@@ -1,8 +1,7 @@
 """meshoptimizer-compressed glTF bufferViews (EXT_meshopt_compression and its ratified successor
 KHR_meshopt_compression), decoded through the `meshopt` package (an independent binding of
-meshoptimizer 1.3's codecs), an 80 KB wheel and a core
-dependency on Python 3.11 and later (it has no wheel for 3.10); imported on first use, so that
-the loader says how to get it where it is missing.
+meshoptimizer 1.3's codecs), an 80 KB wheel and a core dependency on Python 3.11 and later (it has
+no wheel for 3.10); imported on first use, so that the loader says how to get it where it is missing.
 
 A compressed bufferView keeps its own buffer, byteOffset and byteLength as the place of the
 uncompressed data (often a fallback buffer without a uri, which holds none); its extension names
