@@ -1,7 +1,8 @@
 """Property-based fuzzing of the loaders: random and mutated OBJ/MTL text (texture maps and `vt`
 included), truncated and garbled GLB (an embedded PNG texture included), PLY and STL files, and
 glTF JSON (materials, textures, samplers, images, nodes, perspective and orthographic cameras,
-KHR_lights_punctual lights and the extension lists) with random values in random places. Every
+KHR_lights_punctual lights and the extension lists) with random values in random places, and
+meshopt-compressed GLB (its bufferView and buffer JSON randomised, its compressed bytes garbled). Every
 input must end in a Scene or a SceneLoadError, within a time limit: no other exception, no hang, no
 NaN or infinity in a shape, a light or a camera. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
 
@@ -35,6 +36,7 @@ from wgputrace.testing.gltf_files import (
     with_lights,
     write_glb,
 )
+from wgputrace.testing.meshopt_files import KHR, meshopt_compressed
 
 # Examples per test, chosen so the whole file stays within ~20 s on a 2-core CI machine (JSON
 # mutations are cheapest to check and reach the most code paths per example).
@@ -43,6 +45,7 @@ BINARY_EXAMPLES = 200
 JSON_EXAMPLES = 500
 TEXTURED_JSON_EXAMPLES = 200
 CAMERA_JSON_EXAMPLES = 100
+MESHOPT_EXAMPLES = 200
 RENDER_SIZE = 4
 
 numbers = st.one_of(
@@ -290,3 +293,34 @@ def test_gltf_cameras_with_random_values_in_random_places(workdir, data, choice)
                 assert str(error).startswith(f"{path}: "), error
             else:
                 assert chosen in [camera.description() for _, camera in scene.cameras]
+
+
+# the parts of a meshopt-compressed document the meshopt fuzz test mutates
+MESHOPT_KEYS = {"bufferViews", "buffers", "accessors"}
+
+
+@pytest.fixture(scope="module")
+def meshopt_boxes() -> tuple[dict, bytes]:
+    """The lit boxes with every view compressed by KHR_meshopt_compression: the document and its binary chunk."""
+    pytest.importorskip("meshopt")
+    return meshopt_compressed(*lit_boxes(), KHR)
+
+
+@fuzz_settings(MESHOPT_EXAMPLES)
+@given(data=st.data())
+def test_meshopt_gltf_json_with_random_values_in_random_places(workdir, meshopt_boxes, data):
+    document, blob = json.loads(json.dumps(meshopt_boxes[0])), meshopt_boxes[1]
+    paths = [path for path in list(json_paths(document))[1:] if path[0] in MESHOPT_KEYS]
+    for _ in range(data.draw(st.integers(1, 3))):
+        replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
+    outcome(write_glb(workdir / "mutated_meshopt.glb", document, blob))
+
+
+@fuzz_settings(MESHOPT_EXAMPLES)
+@given(flips=st.lists(st.tuples(st.floats(0.0, 1.0, exclude_max=True), st.integers(0, 255)), min_size=1, max_size=6))
+def test_garbled_meshopt_streams(workdir, meshopt_boxes, flips):
+    document, blob = meshopt_boxes
+    data = bytearray(blob)
+    for where, value in flips:
+        data[int(where * len(data))] = value
+    outcome(write_glb(workdir / "garbled_meshopt.glb", document, bytes(data)))
