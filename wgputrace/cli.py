@@ -1,6 +1,6 @@
 """Command line: `wgputrace render` (headless, to PNG/EXR/NPY; on a Ray cluster with --ray),
-`wgputrace render-frames` (an animation's frames on a Ray cluster), `wgputrace info [FILE]` and
-`wgputrace view` (the window). The benchmarks live in the checkout: `python -m bench`.
+`wgputrace render-frames` (an animation's frames on a Ray cluster), `wgputrace info [FILE]` (the
+adapter; an image's provenance; a scene file's cameras) and `wgputrace view` (the window). The benchmarks live in the checkout: `python -m bench`.
 
 Every error is one line on stderr (`--debug` adds its traceback). Exit status: 0 done; 2 bad use
 (arguments, scene, more than the device allows); 1 a failure while rendering or writing; 130 or
@@ -37,7 +37,9 @@ from .cli_arguments import (
     positive_int,
 )
 from .image_io import FORMATS, exposure_ev, save_image
+from .loaders import FORMATS as SCENE_FORMATS
 from .loaders import load_scene
+from .loaders.camera_choice import camera_lines
 from .render.interrupts import Aborted, Interrupted, deferred_signals, exit_status, signal_name, signals_abort
 
 if TYPE_CHECKING:
@@ -103,8 +105,16 @@ def argument_parser() -> argparse.ArgumentParser:
     )
     add_frames_arguments(frames, default_spp=DEFAULT_SPP)
 
-    info = commands.add_parser("info", help="print the adapter, backend and limits; or how an image file was made")
-    info.add_argument("file", nargs="?", type=Path, help="an image wgputrace wrote: print its metadata")
+    info = commands.add_parser(
+        "info", help="print the adapter, backend and limits; how an image file was made; or a scene file's cameras"
+    )
+    info.add_argument(
+        "file",
+        nargs="?",
+        type=Path,
+        help=f"an image wgputrace wrote: print its metadata; a scene file ({' '.join(SCENE_FORMATS)}): "
+        "list its cameras (the names and indices --camera takes)",
+    )
     view = commands.add_parser("view", help="open the interactive viewer (a window; see README)")
     add_view_arguments(view)
     for command in (render, frames, info, view):
@@ -178,7 +188,7 @@ def _renderer_options(args: argparse.Namespace) -> dict[str, object]:
 def _render_on_cluster(args: argparse.Namespace) -> int:
     from .cluster.command_line import render_on_cluster
 
-    scene = load_scene(args.scene)
+    scene = load_scene(args.scene, camera=args.camera)
     lighting = apply_lighting(scene, args)
     if lighting is not None:
         print(f"lighting         {lighting}")
@@ -212,7 +222,7 @@ def _render(args: argparse.Namespace) -> int:
         return _render_on_cluster(args)
     denoiser_device = _denoiser_device() if args.denoise else None
     load_start = time.perf_counter()
-    scene = load_scene(args.scene)
+    scene = load_scene(args.scene, camera=args.camera)
     lighting = apply_lighting(scene, args)
     load_seconds = time.perf_counter() - load_start
     if lighting is not None:
@@ -318,11 +328,24 @@ def _info(args: argparse.Namespace) -> int:
         from .gpu.device import describe
 
         print(json.dumps(describe(), indent=2))
+    elif args.file.suffix.lower() in SCENE_FORMATS:
+        _print_cameras(args.file)
     else:
         from .provenance import format_metadata, read_metadata
 
         print(format_metadata(read_metadata(args.file)))
     return 0
+
+
+def _print_cameras(path: Path) -> None:
+    """The cameras scene file `path` brings, one line each, as --camera chooses them."""
+    scene = load_scene(path)
+    count = len(scene.cameras)
+    print(f"{path}: {scene.triangle_count:,} triangles, {count} camera{'' if count == 1 else 's'}")
+    if scene.cameras:
+        print("\n".join(camera_lines(scene.cameras)))
+    else:
+        print(f"  no camera of its own: framed automatically ({scene.camera.description()})")
 
 
 def _run(args: argparse.Namespace) -> int:

@@ -191,7 +191,7 @@ def method_options(args: argparse.Namespace) -> dict[str, str]:
 
 
 def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int], scene_note: str = "") -> None:
-    """SCENE (as wgputrace.load_scene reads it), --size, --max-depth, --seed, --exposure and the
+    """SCENE (as wgputrace.load_scene reads it), --camera, --size, --max-depth, --seed, --exposure and the
     lighting options (`apply_lighting` applies them)."""
     parser.add_argument(
         "scene",
@@ -199,6 +199,12 @@ def add_scene_arguments(parser: argparse.ArgumentParser, *, size: tuple[int, int
         default=DEFAULT_SCENE,
         help=f"a built-in scene ({', '.join(BUILTIN_SCENES)}) or a scene file ({' '.join(SCENE_FORMATS)}; "
         f"a .py file defines scene()){scene_note}",
+    )
+    parser.add_argument(
+        "--camera",
+        metavar="NAME|INDEX",
+        help="one of the scene file's own cameras, by name or index (wgputrace info FILE lists them; default: "
+        "the first, or for a file without one a camera framing the whole scene)",
     )
     add_image_arguments(parser, size=size)
     parser.add_argument(

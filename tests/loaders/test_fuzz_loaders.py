@@ -1,9 +1,10 @@
 """Property-based fuzzing of the loaders: random and mutated OBJ/MTL text (texture maps and `vt`
 included), truncated and garbled GLB (an embedded PNG texture included), PLY and STL files, and
-glTF JSON (materials, textures, samplers, images, nodes, vertex colours, KHR_lights_punctual lights
-and the extension lists) with random values in random places. Every input must end in a Scene or a
-SceneLoadError, within a time limit: no other exception, no hang, no NaN or infinity in a shape or
-a light. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
+glTF JSON (materials, textures, samplers, images, nodes, vertex colours, perspective and orthographic
+cameras, KHR_lights_punctual lights and the extension lists) with random values in random places, and
+meshopt-compressed GLB (its bufferView and buffer JSON randomised, its compressed bytes garbled). Every
+input must end in a Scene or a SceneLoadError, within a time limit: no other exception, no hang, no
+NaN or infinity in a shape, a light or a camera. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
 
 from __future__ import annotations
 
@@ -22,6 +23,8 @@ from wgputrace.testing.fuzzing import fuzz_settings, time_limit
 from wgputrace.testing.gltf_files import (
     BOX,
     BOX_INDICES,
+    CAMERA_NODES,
+    CAMERAS,
     LIGHTS,
     MATERIALS,
     gltf_document,
@@ -29,10 +32,12 @@ from wgputrace.testing.gltf_files import (
     marked_pixels,
     png_bytes,
     textured_square,
+    with_cameras,
     with_lights,
     with_vertex_attribute,
     write_glb,
 )
+from wgputrace.testing.meshopt_files import KHR, meshopt_compressed
 
 # Examples per test, chosen so the whole file stays within ~20 s on a 2-core CI machine (JSON
 # mutations are cheapest to check and reach the most code paths per example).
@@ -40,6 +45,8 @@ TEXT_EXAMPLES = 200
 BINARY_EXAMPLES = 200
 JSON_EXAMPLES = 500
 TEXTURED_JSON_EXAMPLES = 200
+CAMERA_JSON_EXAMPLES = 100
+MESHOPT_EXAMPLES = 200
 RENDER_SIZE = 4
 
 numbers = st.one_of(
@@ -88,9 +95,9 @@ def outcome(path) -> Scene | SceneLoadError:
     for shape in scene.shapes:
         assert np.all(np.isfinite(shape.world_vertices))
         assert shape.uvs is None or np.all(np.isfinite(shape.uvs))
-    for light in scene.lights:
-        values = [getattr(light, name) for name in light.parameter_names()]
-        assert all(np.all(np.isfinite(value)) for value in values if value is not None), light
+    for item in [*scene.lights, *(camera for _, camera in scene.cameras)]:
+        values = [getattr(item, name) for name in item.parameter_names()]
+        assert all(np.all(np.isfinite(value)) for value in values if value is not None), item
     return scene
 
 
@@ -100,15 +107,16 @@ def workdir(tmp_path_factory):
 
 
 def lit_boxes() -> tuple[dict, bytes]:
-    """Two boxes (a red diffuse one with vertex colours and a gold glossy one) and one light of each
-    type, the spot turned by its node, the lights' extension required, as a JSON document and its
-    buffer."""
+    """Two boxes (a red diffuse one with vertex colours and a gold glossy one), one light of each
+    type, the spot turned by its node, the lights' extension required, and a perspective and an
+    orthographic camera, as a JSON document and its buffer."""
     document, blob = gltf_document(
         [(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 3)], materials=MATERIALS, extensionsRequired=["KHR_lights_punctual"]
     )
     blob = with_vertex_attribute(document, blob, 0, "COLOR_0", np.linspace(0, 1, 4 * len(BOX)).reshape(-1, 4))
     nodes = [light_node(0, translation=[0, 3, 0]), light_node(1, rotation=[0.5, 0.5, 0.5, 0.5]), light_node(2)]
-    return with_lights(json.loads(json.dumps(document)), json.loads(json.dumps(LIGHTS)), nodes), blob
+    document = with_lights(json.loads(json.dumps(document)), json.loads(json.dumps(LIGHTS)), nodes)
+    return with_cameras(document, *json.loads(json.dumps([CAMERAS, CAMERA_NODES]))), blob
 
 
 @pytest.fixture(scope="module")
@@ -260,3 +268,61 @@ def test_textured_gltf_json_with_random_values_in_random_places(workdir, data, h
     for _ in range(data.draw(st.integers(1, 3))):
         replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
     outcome(write_glb(workdir / "mutated_textured.glb", document, blob))
+
+
+@fuzz_settings(CAMERA_JSON_EXAMPLES)
+@given(data=st.data(), choice=st.none() | st.integers(-1, 3) | st.sampled_from(["front", "top", "1", ""]))
+def test_gltf_cameras_with_random_values_in_random_places(workdir, data, choice):
+    """The cameras and the nodes placing them mutated; one of them chosen by name or index is one of
+    the scene's cameras, or a SceneLoadError naming the file."""
+    document, blob = lit_boxes()
+    placing = {index for index, node in enumerate(document["nodes"]) if "camera" in node}
+    paths = [
+        path
+        for path in list(json_paths(document))[1:]
+        if path[0] == "cameras" or path[0] == "nodes" and len(path) > 1 and path[1] in placing
+    ]
+    for _ in range(data.draw(st.integers(1, 3))):
+        replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
+    path = write_glb(workdir / "mutated_cameras.glb", document, blob)
+    scene = outcome(path)
+    if isinstance(scene, Scene) and choice is not None:
+        with time_limit(), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                chosen = load_scene(path, camera=choice).camera.description()
+            except SceneLoadError as error:
+                assert str(error).startswith(f"{path}: "), error
+            else:
+                assert chosen in [camera.description() for _, camera in scene.cameras]
+
+
+# the parts of a meshopt-compressed document the meshopt fuzz test mutates
+MESHOPT_KEYS = {"bufferViews", "buffers", "accessors"}
+
+
+@pytest.fixture(scope="module")
+def meshopt_boxes() -> tuple[dict, bytes]:
+    """The lit boxes with every view compressed by KHR_meshopt_compression: the document and its binary chunk."""
+    pytest.importorskip("meshopt")
+    return meshopt_compressed(*lit_boxes(), KHR)
+
+
+@fuzz_settings(MESHOPT_EXAMPLES)
+@given(data=st.data())
+def test_meshopt_gltf_json_with_random_values_in_random_places(workdir, meshopt_boxes, data):
+    document, blob = json.loads(json.dumps(meshopt_boxes[0])), meshopt_boxes[1]
+    paths = [path for path in list(json_paths(document))[1:] if path[0] in MESHOPT_KEYS]
+    for _ in range(data.draw(st.integers(1, 3))):
+        replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
+    outcome(write_glb(workdir / "mutated_meshopt.glb", document, blob))
+
+
+@fuzz_settings(MESHOPT_EXAMPLES)
+@given(flips=st.lists(st.tuples(st.floats(0.0, 1.0, exclude_max=True), st.integers(0, 255)), min_size=1, max_size=6))
+def test_garbled_meshopt_streams(workdir, meshopt_boxes, flips):
+    document, blob = meshopt_boxes
+    data = bytearray(blob)
+    for where, value in flips:
+        data[int(where * len(data))] = value
+    outcome(write_glb(workdir / "garbled_meshopt.glb", document, bytes(data)))

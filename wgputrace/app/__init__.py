@@ -23,6 +23,7 @@ from .options import ViewerOptions
 def options_from(args: argparse.Namespace) -> ViewerOptions:
     return ViewerOptions(
         scene=args.scene,
+        camera=args.camera,
         size=args.size,
         max_depth=args.max_depth,
         seed=args.seed,

@@ -23,7 +23,7 @@ VIEW_KEYS = {"1": View.RADIANCE, "2": View.NORMAL, "3": View.ALBEDO, "4": View.D
 HELP = (
     "WASDQE move, drag look, wheel speed, R reset, F frame the scene, click focus, , . aperture",
     "1-5 views, N filter, Shift+D denoiser, B boxes, [ ] box level, P screenshot, Space pause, Tab info",
-    "+/- exposure, X auto-exposure, T tone curve",
+    "+/- exposure, X auto-exposure, T tone curve, C the scene file's next camera",
 )
 EVENT_TYPES = ("key_down", "key_up", "pointer_down", "pointer_up", "pointer_move", "wheel")
 
@@ -117,6 +117,9 @@ class ViewerInput:
             viewer.screenshot()
         elif controller is not None and key == "r":
             controller.reset()
+            viewer.pacing.camera_turned()
+        elif controller is not None and key == "c":
+            viewer.overlay.show_status(viewer.shown.next_camera())
             viewer.pacing.camera_turned()
         elif controller is not None and key == "f":
             width, height = viewer.canvas.get_physical_size()

@@ -13,6 +13,7 @@ from .pacing import TARGET_FPS
 @dataclass
 class ViewerOptions:
     scene: str = DEFAULT_SCENE
+    camera: str | None = None  # --camera: one of the scene file's own cameras, by name or index
     size: tuple[int, int] = (640, 480)
     max_depth: int = 9
     seed: int = 1

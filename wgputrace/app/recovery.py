@@ -72,6 +72,8 @@ class ShownScene:
         self.incoming = None
         self.view: SceneView | None = None
         self.controller: FlyCamera | None = None
+        # which of the scene's own cameras (Scene.cameras) is shown; -1: none of them
+        self.camera_index = -1
         self.errors: list[str] = []
         # a window size at which the device refused `scene`'s view: not tried again until it changes
         self._refused_size: tuple[int, int] | None = None
@@ -89,7 +91,7 @@ class ShownScene:
         """Read the scene file (or built-in scene); the first scene is shown at once, a reload once
         the device has taken its view."""
         try:
-            scene = load_scene(self.options.scene)
+            scene = load_scene(self.options.scene, camera=self.options.camera)
             note = apply_lighting(scene, self.options)
         except ValueError as error:  # SceneLoadError, or a bad --env map (SceneError)
             self._report(f"scene not loaded: {error}")
@@ -106,8 +108,20 @@ class ShownScene:
         self.errors = []
         self.scene, self.incoming = scene, None
         self.controller = FlyCamera(scene.camera, scene.bounds())
+        self.camera_index = next((i for i, (_, camera) in enumerate(scene.cameras) if camera is scene.camera), -1)
         self.view, self._refused_size = None, None
         self._redraw()
+
+    def next_camera(self) -> str:
+        """Show the scene from the next of its own cameras (Scene.cameras, key C), from the first
+        after the last; the overlay's status line saying which."""
+        cameras = self.scene.cameras
+        if not cameras:
+            return "the scene brings no cameras of its own"
+        self.camera_index = (self.camera_index + 1) % len(cameras)
+        name, camera = cameras[self.camera_index]
+        self.controller = FlyCamera(camera, self.scene.bounds())
+        return f"camera {self.camera_index} of {len(cameras)}: {name}"
 
     def poll(self, now: float) -> None:
         """Reload the scene file if it changed (checked every SCENE_POLL_SECONDS)."""

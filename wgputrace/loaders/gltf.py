@@ -1,14 +1,15 @@
 """glTF 2.0 (.gltf with its buffers, or binary .glb): triangles, node transforms, materials
-(`GltfMaterials`), camera and punctual lights; errors name the file and the JSON path.
+(`GltfMaterials`), cameras (`node_camera`) and punctual lights; errors name the file and the JSON path.
 
 Not trimesh's glTF reader: its PBRMaterial drops keys it does not know (KHR_materials_transmission,
 KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each mesh instance in
 the default scene's node tree becomes one Shape per triangle primitive, the node's world matrix its
 `transform`, NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
-material's textures need them (else MikkTSpace's tangents), COLOR_0 its vertex colours
-(`vertex_colors`). Sparse accessors, skins, morph targets, TEXCOORD_1 and COLOR_1 and above are not
-read. A required extension outside READ_EXTENSIONS (and Draco's
-where DracoPy imports) is refused by name; one that is only used is ignored with a warning.
+material's textures need them (else MikkTSpace's tangents), integer ones (KHR_mesh_quantization)
+dequantised by `vertex_attribute`, COLOR_0 its vertex colours (`vertex_colors`). Sparse accessors,
+skins, morph targets, TEXCOORD_1 and COLOR_1 and above are not read. A required extension outside
+READ_EXTENSIONS (and Draco's where DracoPy imports; meshopt's where the meshopt package does,
+`gltf_meshopt`) is refused by name; one that is only used is ignored with a warning.
 """
 
 from __future__ import annotations
@@ -25,11 +26,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ..scene import (
-    Camera,
     DirectionalLight,
     Light,
     LightError,
-    OrthographicCamera,
     PointLight,
     SceneError,
     Sensor,
@@ -37,6 +36,7 @@ from ..scene import (
     SpotLight,
 )
 from .errors import SceneLoadError, SceneLoadWarning
+from .gltf_cameras import node_camera
 from .gltf_colors import vertex_colors, warn_unread_colors
 from .gltf_compression import (
     DRACO_EXTENSION,
@@ -48,6 +48,18 @@ from .gltf_compression import (
     draco_available,
 )
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
+from .gltf_meshopt import (
+    MESHOPT_EXTENSIONS,
+    MESHOPT_INSTALL_HINT,
+    MeshoptDecodeError,
+    MeshoptMissing,
+    compressed_view,
+    decode_view,
+    is_fallback,
+    meshopt_available,
+    meshopt_extension,
+)
+from .gltf_quantization import QUANTIZATION_EXTENSION, vertex_attribute
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -57,31 +69,26 @@ COMPONENT_TYPES = {5120: "<i1", 5121: "<u1", 5122: "<i2", 5123: "<u2", 5125: "<u
 INDEX_TYPES = (5121, 5123, 5125)
 ELEMENT_SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 MODE_TRIANGLES, MODE_STRIP, MODE_FAN = 4, 5, 6
-# the per-vertex attributes read beside POSITION: their componentTypes and element type
-VERTEX_ATTRIBUTES = {
-    "NORMAL": ((5126,), "VEC3"),
-    "TEXCOORD_0": ((5126, 5121, 5123), "VEC2"),
-    "TANGENT": ((5126,), "VEC4"),
-}
 LIGHTS_EXTENSION = "KHR_lights_punctual"
 LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
 # KHR_lights_punctual's defaults and limit for a spot's cones (radians)
 DEFAULT_INNER_CONE, DEFAULT_OUTER_CONE, MAX_OUTER_CONE = 0.0, math.pi / 4, math.pi / 2
-# The extensions whose data this module reads (Draco's only while its decoder imports).
+# The extensions whose data this module reads (Draco's and meshopt's only while their decoders import).
 READ_EXTENSIONS = {
     LIGHTS_EXTENSION,
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
     TRANSFORM_EXTENSION,
+    QUANTIZATION_EXTENSION,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
 UNREAD_EXTENSIONS = {
     DRACO_EXTENSION: ("Draco-compressed meshes", f"needs DracoPy: {DRACO_INSTALL_HINT}"),
-    "EXT_meshopt_compression": (
-        "meshoptimizer-compressed buffers",
-        "no decoder here: save the file without meshopt compression",
-    ),
+    **{
+        name: ("meshoptimizer-compressed buffers", f"needs meshopt: {MESHOPT_INSTALL_HINT}")
+        for name in MESHOPT_EXTENSIONS
+    },
     "KHR_texture_basisu": ("KTX2 textures", "not decoded here: save the file with PNG or JPEG textures"),
 }
 
@@ -97,6 +104,7 @@ class _Reader:
         self._check_extensions()
         self._draco_accessors = self._draco_sources()
         self._draco_meshes: dict[int, DracoMesh] = {}
+        self._decoded_views: dict[int, bytes] = {}
 
     def fail(self, where: str, problem: str) -> SceneLoadError:
         return SceneLoadError(self.path, f"{where}: {problem}")
@@ -148,7 +156,11 @@ class _Reader:
         """Refuse a file requiring an extension we do not read, and warn of those it only uses."""
         required = self._extension_names("extensionsRequired")
         used = self._extension_names("extensionsUsed")
-        readable = READ_EXTENSIONS | ({DRACO_EXTENSION} if draco_available() else set())
+        readable = (
+            READ_EXTENSIONS
+            | ({DRACO_EXTENSION} if draco_available() else set())
+            | (set(MESHOPT_EXTENSIONS) if meshopt_available() else set())
+        )
         unread = [name for name in required if name not in readable]
         if unread:
             raise self.fail(
@@ -241,6 +253,14 @@ class _Reader:
         if index not in self._buffers:
             entry = self.item("buffers", index, where)
             uri = entry.get("uri")
+            if uri is None and is_fallback(entry) and not (index == 0 and self.binary_chunk is not None):
+                # meshopt's placeholder for uncompressed data the file does not carry
+                hint = "" if meshopt_available() else f"; decoding the compressed views needs {MESHOPT_INSTALL_HINT}"
+                raise self.fail(
+                    where,
+                    f"reads buffers[{index}], a {meshopt_extension(entry)} fallback without a uri: it holds no data"
+                    + hint,
+                )
             if uri is None:
                 if self.binary_chunk is None:
                     raise self.fail(f"buffers[{index}]", "has no uri and the file has no GLB binary chunk")
@@ -305,18 +325,32 @@ class _Reader:
         return np.ascontiguousarray(rows).view(dtype).reshape(count, width)
 
     def view(self, index, where: str) -> tuple[memoryview, int | None]:
-        """The bytes of bufferView `index`, bounds-checked, and its byteStride (None if unset)."""
+        """The bytes of bufferView `index`, bounds-checked (decoded, for a meshopt-compressed view
+        where the meshopt package imports), and its byteStride (None if unset)."""
         view = self.item("bufferViews", index, where)
         view_where = f"bufferViews[{index}]"
-        data = self.buffer(self.get(view, "buffer", int, view_where), view_where)
+        stride = self.get(view, "byteStride", int, view_where) if "byteStride" in view else None
+        layout = compressed_view(self, view, index) if meshopt_available() else None
+        if layout is not None:
+            if index not in self._decoded_views:
+                data = self._bytes(layout.buffer, layout.byte_offset, layout.byte_length, layout.where)
+                try:
+                    self._decoded_views[index] = decode_view(layout, data)
+                except (MeshoptMissing, MeshoptDecodeError) as error:
+                    raise self.fail(layout.where, str(error)) from None
+            return memoryview(self._decoded_views[index]), stride
         offset = self.get(view, "byteOffset", int, view_where, 0)
         length = self.get(view, "byteLength", int, view_where)
-        stride = self.get(view, "byteStride", int, view_where) if "byteStride" in view else None
+        return self._bytes(self.get(view, "buffer", int, view_where), offset, length, view_where), stride
+
+    def _bytes(self, buffer: int, offset: int, length: int, where: str) -> memoryview:
+        """`length` bytes at `offset` of buffer `buffer`, for the entry at JSON path `where`."""
+        data = self.buffer(buffer, where)
         if min(offset, length) < 0:
-            raise self.fail(view_where, f"negative byteOffset {offset} or byteLength {length}")
+            raise self.fail(where, f"negative byteOffset {offset} or byteLength {length}")
         if offset + length > len(data):
-            raise self.fail(view_where, f"bytes {offset}..{offset + length} lie beyond the buffer ({len(data)} bytes)")
-        return memoryview(data)[offset : offset + length], stride
+            raise self.fail(where, f"bytes {offset}..{offset + length} lie beyond the buffer ({len(data)} bytes)")
+        return memoryview(data)[offset : offset + length]
 
     def _decoded_accessor(self, index: int, dtype: np.dtype, width: int, where: str) -> np.ndarray:
         """Accessor `index`'s data decoded from its Draco primitive, as `accessor` returns it."""
@@ -368,10 +402,10 @@ def _unread_extension(name: str, detail: bool = False) -> str:
 
 
 class GltfContents(NamedTuple):
-    """What a glTF file holds for a Scene: its shapes, its first perspective camera, its lights."""
+    """What a glTF file holds for a Scene: its shapes, its cameras (`node_camera`), its lights."""
 
     shapes: list[Shape]
-    camera: Sensor | None
+    cameras: list[tuple[str, Sensor]]
     lights: list[Light]
 
 
@@ -390,7 +424,7 @@ def read_gltf(path: Path) -> GltfContents:
     warn_unread_colors(reader)
     shapes: list[Shape] = []
     lights: list[Light] = []
-    camera = None
+    cameras: list[tuple[str, Sensor]] = []
     stack = [(root, np.eye(4), "scene") for root in reversed(roots)]
     visited: set[int] = set()
     while stack:
@@ -403,14 +437,15 @@ def read_gltf(path: Path) -> GltfContents:
         world = parent @ _local_matrix(reader, node, where)
         if "mesh" in node:
             shapes += _mesh_shapes(reader, node["mesh"], world, materials, where)
-        if "camera" in node and camera is None:
-            camera = _camera(reader, node["camera"], world, where)
+        placed = node_camera(reader, node, world, where) if "camera" in node else None
+        if placed is not None:
+            cameras.append(placed)
         light = _node_light(reader, node, where)
         if light is not None:
             lights.append(_light(reader, light, world, where))
         children = reader.get(node, "children", list, where, [])
         stack += [(child, world, where) for child in reversed(children)]
-    return GltfContents(shapes, camera, lights)
+    return GltfContents(shapes, cameras, lights)
 
 
 def _local_matrix(reader: _Reader, node: dict, where: str) -> np.ndarray:
@@ -455,11 +490,11 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
             )
             continue
         attributes = reader.get(primitive, "attributes", dict, primitive_where)
-        positions = reader.accessor(
+        positions = vertex_attribute(
+            reader,
             reader.get(attributes, "POSITION", int, f"{primitive_where}.attributes"),
             f"{primitive_where}.attributes.POSITION",
-            (5126,),
-            ("VEC3",),
+            "POSITION",
         )
         if "indices" in primitive:
             indices = reader.accessor(primitive["indices"], f"{primitive_where}.indices", INDEX_TYPES, ("SCALAR",))
@@ -498,17 +533,14 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
 def _corner_attribute(
     reader: _Reader, attributes: dict, semantic: str, faces: np.ndarray, vertex_count: int, where: str
 ) -> np.ndarray:
-    """(n, 3, k) float values of per-vertex attribute `semantic` at the corners of `faces`;
-    normalized integers (which glTF allows for TEXCOORD_n) scaled to [0, 1]."""
-    types, shape = VERTEX_ATTRIBUTES[semantic]
+    """(n, 3, k) float values of per-vertex attribute `semantic` at the corners of `faces`
+    (`vertex_attribute`'s, integers dequantised)."""
     index = reader.get(attributes, semantic, int, f"{where}.attributes")
     where = f"{where}.attributes.{semantic}"
-    values = reader.accessor(index, where, types, (shape,))
+    values = vertex_attribute(reader, index, where, semantic)
     if len(values) != vertex_count:
         raise reader.fail(where, f"has {len(values)} values for {vertex_count} positions")
-    if values.dtype.kind == "u":
-        values = values / np.float32(np.iinfo(values.dtype).max)
-    return values[faces].astype(np.float32)
+    return values[faces]
 
 
 def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
@@ -520,40 +552,6 @@ def _triangles(indices: np.ndarray, mode: int) -> np.ndarray:
         odd = k % 2
         return np.stack([indices[k], indices[k + 1 + odd], indices[k + 2 - odd]], axis=1)
     return np.stack([indices[k + 1], indices[k + 2], np.broadcast_to(indices[:1], k.shape)], axis=1)
-
-
-def _camera(reader: _Reader, index, world: np.ndarray, where: str) -> Sensor | None:
-    """Camera `index` placed by a node of world matrix `world`, looking along its -z with its +y up:
-
-    | glTF camera                           | wgputrace camera                                       |
-    |---------------------------------------|--------------------------------------------------------|
-    | `perspective`: yfov (radians)          | Camera: vfov_degrees                                   |
-    | `orthographic`: ymag (half the height) | OrthographicCamera: view_height = 2 ymag x the node's y scale |
-    | ignored: aspectRatio, xmag (the image's own aspect sets the width), znear, zfar (nothing is clipped) | |
-
-    Another type warns and is left out (None)."""
-    entry = reader.item("cameras", index, f"{where}.camera")
-    camera_where = f"cameras[{index}]"
-    kind = reader.get(entry, "type", str, camera_where, "perspective")
-    if kind not in ("perspective", "orthographic"):
-        warnings.warn(
-            f"{reader.path}: {camera_where} is of type {kind!r}, neither perspective nor orthographic: "
-            "framing the scene instead",
-            SceneLoadWarning,
-            stacklevel=4,
-        )
-        return None
-    projection = reader.get(entry, kind, dict, camera_where)
-    linear = world[:3, :3]
-    pose = (tuple(world[:3, 3]), tuple(linear @ [0.0, 0.0, -1.0]), tuple(linear @ [0.0, 1.0, 0.0]))
-    try:
-        if kind == "orthographic":
-            ymag = reader.get(projection, "ymag", float, f"{camera_where}.orthographic")
-            return OrthographicCamera(*pose, view_height=2.0 * abs(ymag) * float(np.linalg.norm(linear[:, 1])))
-        yfov = reader.get(projection, "yfov", float, f"{camera_where}.perspective")
-        return Camera(*pose, np.degrees(yfov))
-    except ValueError as error:
-        raise reader.fail(f"{camera_where} at {where}", str(error)) from None
 
 
 def _node_light(reader: _Reader, node: dict, where: str) -> int | None:

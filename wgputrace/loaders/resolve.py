@@ -9,11 +9,13 @@ built-in scenes, and a mistyped name lists them.
 from __future__ import annotations
 
 import os
+from numbers import Integral
 from pathlib import Path
 
 from ..scene import Scene, Sensor
 from ..scene.scene import zero_area
 from ..scenes import BUILTIN_SCENES, scene_by_name
+from .camera_choice import chosen_camera
 from .errors import SceneLoadError
 from .framing import LOOK_ALONG_MINUS_Z, LOOK_ALONG_PLUS_Z, framing_camera
 from .gltf import read_gltf
@@ -35,9 +37,10 @@ def scene_file(spec: str | Path) -> Path | None:
     return Path(spec)
 
 
-def load_scene(spec: str | Path, *, camera: Sensor | None = None) -> Scene:
+def load_scene(spec: str | Path, *, camera: Sensor | str | int | None = None) -> Scene:
     """The built-in scene called `spec`, the scene in the file `spec`, or the one a .py file's
-    scene() returns; `camera` replaces the scene's camera (for a file without one, its framing).
+    scene() returns; `camera` replaces the scene's camera (for a file without one, its framing): a
+    camera, or the name or index of one the file brings (`Scene.cameras`, `chosen_camera`).
     Every failure is a SceneLoadError."""
     path = scene_file(spec)
     if path is None:
@@ -53,32 +56,34 @@ def load_scene(spec: str | Path, *, camera: Sensor | None = None) -> Scene:
         if not path.is_file():
             raise SceneLoadError(path, "no such file")
         scene = read_python_scene(path) if suffix == ".py" else _read_mesh_file(path, suffix, frame=camera is None)
+    if isinstance(camera, str | Integral):  # numpy's integers too
+        camera = chosen_camera(scene.cameras, camera, path)
     if camera is not None:
         scene.camera = camera
     return scene
 
 
 def _read_mesh_file(path: Path, suffix: str, *, frame: bool) -> Scene:
-    """The scene in a mesh file with the file's lights and camera; for a file without a camera (if
-    `frame`), one framing it all."""
-    file_camera, lights, forward = None, [], LOOK_ALONG_PLUS_Z
+    """The scene in a mesh file with the file's lights and cameras, seen from the first of them; for
+    a file without a camera (if `frame`), from one framing it all."""
+    cameras, lights, forward = [], [], LOOK_ALONG_PLUS_Z
     if suffix == ".obj":
         shapes = read_obj(path)
     elif suffix in (".gltf", ".glb"):
-        shapes, file_camera, lights = read_gltf(path)
+        shapes, cameras, lights = read_gltf(path)
         forward = LOOK_ALONG_MINUS_Z
     else:
         shapes = read_mesh_file(path)
-    scene = Scene([shape for shape in shapes if shape.triangle_count]).add_light(*lights)
+    scene = Scene([shape for shape in shapes if shape.triangle_count], cameras=cameras).add_light(*lights)
     if not scene.shapes:
         raise SceneLoadError(path, "holds no triangles")
     if all(zero_area(shape.world_vertices).all() for shape in scene.shapes):
         raise SceneLoadError(path, f"all {scene.triangle_count:,} triangles have zero area")
-    if frame and file_camera is None:
+    if cameras:
+        scene.camera = cameras[0][1]
+    elif frame:
         try:
-            file_camera = framing_camera(scene, forward)
+            scene.camera = framing_camera(scene, forward)
         except ValueError as error:
             raise SceneLoadError(path, f"cannot frame the scene automatically: {error}") from None
-    if file_camera is not None:
-        scene.camera = file_camera
     return scene

@@ -60,6 +60,9 @@ class Scene:
         shapes: the Shapes; `shape(name)` finds one by its name.
         camera: where the picture is taken from.
         environment: the light arriving from infinitely far away (`Environment`); None: none.
+        cameras: the cameras the scene's file brings, (name, camera) in the file's order, which
+            `load_scene(..., camera=NAME_OR_INDEX)` chooses from and the viewer's C key steps
+            through; `camera` need not be one of them.
 
     Assigning `shapes`, `camera` or `environment` checks the value: a SceneError (a ValueError)
     names what is wrong and leaves the scene as it was.
@@ -69,6 +72,7 @@ class Scene:
     camera: Sensor = field(default_factory=Camera)
     # the light arriving from infinitely far in every direction (`Environment`); None: black
     environment: Environment | None = None
+    cameras: list[tuple[str, Sensor]] = field(default_factory=list)
     _lights: list[Light] = field(default_factory=list, init=False, repr=False)
 
     def __setattr__(self, key: str, value) -> None:

@@ -59,6 +59,39 @@ def with_lights(document: dict, lights: list[dict], nodes: list[dict]) -> dict:
     """`document` declaring KHR_lights_punctual's `lights`, with `nodes` added as roots of its scene."""
     document.setdefault("extensionsUsed", []).append("KHR_lights_punctual")
     document.setdefault("extensions", {})["KHR_lights_punctual"] = {"lights": lights}
+    return with_roots(document, nodes)
+
+
+# A perspective camera in front of the origin and an orthographic one above it looking down, every
+# field glTF defines set, and the nodes placing them.
+CAMERAS = [
+    {
+        "name": "front",
+        "type": "perspective",
+        "perspective": {"yfov": 0.7, "aspectRatio": 1.5, "znear": 0.1, "zfar": 99},
+    },
+    {"name": "top", "type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.5, "znear": 0.0, "zfar": 50}},
+]
+CAMERA_NODES = [
+    {"camera": 0, "translation": [0, 0.5, 6]},
+    {"camera": 1, "translation": [0, 5, 0], "rotation": [-(0.5**0.5), 0, 0, 0.5**0.5]},
+]
+
+
+def with_cameras(document: dict, cameras: list[dict], nodes: list[dict]) -> dict:
+    """`document` with `cameras`, and `nodes` (placing them) added as roots of its scene."""
+    document["cameras"] = cameras
+    return with_roots(document, nodes)
+
+
+def box_with_cameras(path: Path) -> Path:
+    """A GLB of a red box seen by CAMERAS (placed by CAMERA_NODES), written at `path`."""
+    document, blob = gltf_document([(BOX, BOX_INDICES, 0)], materials=json.loads(json.dumps(MATERIALS[:1])))
+    return write_glb(path, with_cameras(document, *json.loads(json.dumps([CAMERAS, CAMERA_NODES]))), blob)
+
+
+def with_roots(document: dict, nodes: list[dict]) -> dict:
+    """`document` with `nodes` added as roots of its scene."""
     first = len(document["nodes"])
     document["nodes"] += nodes
     document["scenes"][document.get("scene", 0)]["nodes"] += list(range(first, first + len(nodes)))

@@ -32,12 +32,13 @@ def scene():
 """
 
 
-def offscreen_viewer(scene: str, screenshot_dir: Path) -> Viewer:
-    """A viewer of `scene` (a built-in name or a file) drawing SIZE pixels offscreen."""
+def offscreen_viewer(scene: str, screenshot_dir: Path, **options) -> Viewer:
+    """A viewer of `scene` (a built-in name or a file) drawing SIZE pixels offscreen; `options`
+    as ViewerOptions."""
     from wgputrace.app.window import create_canvas
 
     canvas = create_canvas(SIZE, "test", offscreen=True)
-    return Viewer(canvas, ViewerOptions(scene=scene, size=SIZE, screenshot_dir=screenshot_dir))
+    return Viewer(canvas, ViewerOptions(scene=scene, size=SIZE, screenshot_dir=screenshot_dir, **options))
 
 
 def frames(viewer: Viewer, count: int) -> np.ndarray:
