@@ -21,6 +21,8 @@
 // resolve_material and mapped_normal: the material and the shading normal as they are unless the
 // scene has textures (textures_hook)
 //! include "generated/textures.wgsl"
+// vertex_colored: the material as it is unless the scene has vertex colours (vertex_colors_hook)
+//! include "generated/vertex_colors.wgsl"
 // bdpt_distant_disk_area and BDPT_LIGHT_VERTICES (bdpt_hook)
 //! include "generated/bdpt.wgsl"
 //! include "generated/bindings/pixels.wgsl"

@@ -19,6 +19,8 @@
 // resolve_material and mapped_normal: the material and the shading normal as they are unless the
 // scene has textures (textures_hook)
 //! include "generated/textures.wgsl"
+// vertex_colored: the material as it is unless the scene has vertex colours (vertex_colors_hook)
+//! include "generated/vertex_colors.wgsl"
 // samples_this_dispatch: 1, or this dispatch's count where paths regenerate (regeneration_hook)
 //! include "generated/regeneration.wgsl"
 //! include "generated/bindings/pixels.wgsl"
@@ -174,7 +176,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     let triangle = scene_triangle(hit.triangle);
     let normal = triangle_normal(triangle);
     let p = ray.origin + hit.t * ray.direction;
-    let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
+    let material = vertex_colored(resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p), hit.triangle, triangle, p);
     let towards_viewer = -ray.direction;
     let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
     let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);

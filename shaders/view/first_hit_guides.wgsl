@@ -6,6 +6,8 @@
 // the path tracer sees them at its first hit (the renderer's SceneVariant)
 //! include "generated/shading_normals.wgsl"
 //! include "generated/textures.wgsl"
+// vertex_colored: the material as it is unless the scene has vertex colours (vertex_colors_hook)
+//! include "generated/vertex_colors.wgsl"
 //! include "generated/bindings/guides.wgsl"
 //! include "generated/workgroup.wgsl"
 
@@ -29,7 +31,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let triangle = scene_triangle(hit.triangle);
         let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
         let p = ray.origin + hit.t * ray.direction;
-        let material = resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p);
+        let material = vertex_colored(resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p), hit.triangle, triangle, p);
         let towards_viewer = -ray.direction;
         let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
         let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);

@@ -1,7 +1,7 @@
 """Property-based fuzzing of the loaders: random and mutated OBJ/MTL text (texture maps and `vt`
 included), truncated and garbled GLB (an embedded PNG texture included), PLY and STL files, and
-glTF JSON (materials, textures, samplers, images, nodes, perspective and orthographic cameras,
-KHR_lights_punctual lights and the extension lists) with random values in random places, and
+glTF JSON (materials, textures, samplers, images, nodes, vertex colours, perspective and orthographic
+cameras, KHR_lights_punctual lights and the extension lists) with random values in random places, and
 meshopt-compressed GLB (its bufferView and buffer JSON randomised, its compressed bytes garbled). Every
 input must end in a Scene or a SceneLoadError, within a time limit: no other exception, no hang, no
 NaN or infinity in a shape, a light or a camera. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
@@ -34,6 +34,7 @@ from wgputrace.testing.gltf_files import (
     textured_square,
     with_cameras,
     with_lights,
+    with_vertex_attribute,
     write_glb,
 )
 from wgputrace.testing.meshopt_files import KHR, meshopt_compressed
@@ -58,7 +59,7 @@ face_reference = st.tuples(st.integers(-12, 12), st.sampled_from(["", "/1", "//1
     lambda t: f"{t[0]}{t[1]}"
 )
 obj_line = st.one_of(
-    st.lists(numbers, min_size=0, max_size=5).map(lambda n: " ".join(["v", *n])),
+    st.lists(numbers, min_size=0, max_size=7).map(lambda n: " ".join(["v", *n])),  # with colours: 6
     st.lists(face_reference, min_size=0, max_size=6).map(lambda r: " ".join(["f", *r])),
     names.map(lambda n: f"o {n}"),
     names.map(lambda n: f"g {n}"),
@@ -106,12 +107,13 @@ def workdir(tmp_path_factory):
 
 
 def lit_boxes() -> tuple[dict, bytes]:
-    """Two boxes (a red diffuse one and a gold glossy one), one light of each type, the spot
-    turned by its node, the lights' extension required, and a perspective and an orthographic
-    camera, as a JSON document and its buffer."""
+    """Two boxes (a red diffuse one with vertex colours and a gold glossy one), one light of each
+    type, the spot turned by its node, the lights' extension required, and a perspective and an
+    orthographic camera, as a JSON document and its buffer."""
     document, blob = gltf_document(
         [(BOX, BOX_INDICES, 0), (BOX, BOX_INDICES, 3)], materials=MATERIALS, extensionsRequired=["KHR_lights_punctual"]
     )
+    blob = with_vertex_attribute(document, blob, 0, "COLOR_0", np.linspace(0, 1, 4 * len(BOX)).reshape(-1, 4))
     nodes = [light_node(0, translation=[0, 3, 0]), light_node(1, rotation=[0.5, 0.5, 0.5, 0.5]), light_node(2)]
     document = with_lights(json.loads(json.dumps(document)), json.loads(json.dumps(LIGHTS)), nodes)
     return with_cameras(document, *json.loads(json.dumps([CAMERAS, CAMERA_NODES]))), blob

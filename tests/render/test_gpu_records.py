@@ -18,7 +18,7 @@ EVERY_GROUP = (
     scene_group("bvh"),
     scene_group("flat"),
     lights_group(LightFeatures((PointLight.kind,), ENVIRONMENT_MAP)),
-    shading_group(smooth=True, textured=True),
+    shading_group(smooth=True, textured=True, vertex_colors=True),
 )
 
 

@@ -205,6 +205,14 @@ CORNER_TANGENTS = GpuStruct(
     (("tangent0", "vec4<f32>"), ("tangent1", "vec4<f32>"), ("tangent2", "vec4<f32>")),
     "A triangle's corner tangents: xyz along dP/du, w the bitangent's sign (glTF's TANGENT).",
 )
+# A triangle's vertex colours (glTF's COLOR_0, OBJ's `v x y z r g b`) at its corners, in BVH order
+# like CORNER_UVS; bound only in scenes where some shape has them (`vertex_colors_hook`).
+CORNER_COLORS = GpuStruct(
+    "CornerColors",
+    (("color0", "vec4<f32>"), ("color1", "vec4<f32>"), ("color2", "vec4<f32>")),
+    "A triangle's linear RGBA vertex colours, which multiply its material's colour and alpha; white "
+    "where its shape has none.",
+)
 # One texture's rectangle in the texture atlas (`pack_atlas`) and how it is looked up.
 TEXTURE = GpuStruct(
     "Texture",

@@ -24,6 +24,7 @@ from ..gpu.layout import (
     ACCUMULATED_PIXEL,
     BVH_NODE,
     CORNER_ATTRIBUTES,
+    CORNER_COLORS,
     CORNER_TANGENTS,
     CORNER_UVS,
     FRAME,
@@ -140,11 +141,18 @@ _TEXTURE_BINDINGS = (
     Binding("triangle_light_densities", STORAGE_READ, "f32"),
 )
 
+# What scenes with vertex colours add: the corner colours.
+_VERTEX_COLOR_BINDINGS = (Binding("corner_colors", STORAGE_READ, CORNER_COLORS),)
 
-def shading_group(smooth: bool, textured: bool) -> BindGroup:
-    """The shading group of a scene with per-vertex normals (`smooth`), textures (`textured`) or
-    both; its file is SHADING_GROUP.file in every variant."""
-    if not (smooth or textured):
-        raise ValueError("a flat, untextured scene binds no shading group")
-    bindings = (SHADING_GROUP.bindings if smooth else ()) + (_TEXTURE_BINDINGS if textured else ())
+
+def shading_group(smooth: bool, textured: bool, vertex_colors: bool = False) -> BindGroup:
+    """The shading group of a scene with per-vertex normals (`smooth`), textures (`textured`),
+    vertex colours (`vertex_colors`) or several; its file is SHADING_GROUP.file in every variant."""
+    if not (smooth or textured or vertex_colors):
+        raise ValueError("a flat, untextured scene without vertex colours binds no shading group")
+    bindings = (
+        (SHADING_GROUP.bindings if smooth else ())
+        + (_TEXTURE_BINDINGS if textured else ())
+        + (_VERTEX_COLOR_BINDINGS if vertex_colors else ())
+    )
     return replace(SHADING_GROUP, bindings=bindings)

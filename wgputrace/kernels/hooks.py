@@ -21,6 +21,7 @@ from .shading_normals import GENERATED_SHADING_NORMALS, shading_normals_hook
 from .structs import GENERATED_STRUCTS, structs_hook
 from .textures import GENERATED_TEXTURES, textures_hook
 from .traversal import GENERATED_ACCELERATION, GENERATED_TRAVERSAL_STACK, acceleration_hook, traversal_stack_hook
+from .vertex_colors import GENERATED_VERTEX_COLORS, vertex_colors_hook
 
 if TYPE_CHECKING:
     from .variant import KernelVariant
@@ -41,6 +42,7 @@ HOOKS: dict[str, Callable[[KernelVariant], str]] = {
     GENERATED_ESCAPED_LIGHT: escaped_light_hook,
     GENERATED_SHADING_NORMALS: shading_normals_hook,
     GENERATED_TEXTURES: textures_hook,
+    GENERATED_VERTEX_COLORS: vertex_colors_hook,
     GENERATED_ALPHA: alpha_hook,
     GENERATED_EMISSION: emission_hook,
     GENERATED_PATH_GUIDES: path_guides_hook,

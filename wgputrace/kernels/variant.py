@@ -73,6 +73,8 @@ class SceneFeatures:
     see_through: bool = flag("see-through")
     # materials that emit through their texture record
     emissive_surfaces: bool = flag("emissive surfaces")
+    # per-vertex colours multiplying the materials' colours (vertex_colors_hook)
+    vertex_colors: bool = flag("vertex colours")
 
     def __post_init__(self) -> None:
         scene_group(self.acceleration)  # refuses an unknown acceleration
@@ -87,7 +89,8 @@ class SceneFeatures:
         """The bind groups a kernel tracing this scene declares besides its own: the scene group,
         the lights group and the shading group where used."""
         lights = (lights_group(self.lights),) if self.lights.any else ()
-        shading = (shading_group(self.smooth, self.textured),) if self.smooth or self.textured else ()
+        shaded = self.smooth or self.textured or self.vertex_colors
+        shading = (shading_group(self.smooth, self.textured, self.vertex_colors),) if shaded else ()
         return (scene_group(self.acceleration), *lights, *shading)
 
 

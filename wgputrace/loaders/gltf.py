@@ -6,10 +6,10 @@ KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each
 the default scene's node tree becomes one Shape per triangle primitive, the node's world matrix its
 `transform`, NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
 material's textures need them (else MikkTSpace's tangents), integer ones (KHR_mesh_quantization)
-dequantised by `vertex_attribute`. Sparse accessors, skins, morph targets and TEXCOORD_1 and above
-are not read. A required extension outside READ_EXTENSIONS (and Draco's
-where DracoPy imports; meshopt's where the meshopt package does, `gltf_meshopt`) is refused by name;
-one that is only used is ignored with a warning.
+dequantised by `vertex_attribute`, COLOR_0 its vertex colours (`vertex_colors`). Sparse accessors,
+skins, morph targets, TEXCOORD_1 and COLOR_1 and above are not read. A required extension outside
+READ_EXTENSIONS (and Draco's where DracoPy imports; meshopt's where the meshopt package does,
+`gltf_meshopt`) is refused by name; one that is only used is ignored with a warning.
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ from ..scene import (
 )
 from .errors import SceneLoadError, SceneLoadWarning
 from .gltf_cameras import node_camera
+from .gltf_colors import vertex_colors, warn_unread_colors
 from .gltf_compression import (
     DRACO_EXTENSION,
     DRACO_INSTALL_HINT,
@@ -420,6 +421,7 @@ def read_gltf(path: Path) -> GltfContents:
         children = {c for n in nodes if isinstance(n, dict) for c in n.get("children", []) if isinstance(c, int)}
         roots = [i for i in range(len(nodes)) if i not in children]
     materials = GltfMaterials(reader)
+    warn_unread_colors(reader)
     shapes: list[Shape] = []
     lights: list[Light] = []
     cameras: list[tuple[str, Sensor]] = []
@@ -519,6 +521,7 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
             )
             if wanted and semantic in attributes
         }
+        corner["colors"] = vertex_colors(reader, attributes, faces, len(positions), primitive_where)
         label = name if len(primitives) == 1 else f"{name}.{number}"
         try:
             shapes.append(Shape(label, positions[faces], material, transform=world, **corner))

@@ -3,7 +3,9 @@
 Not trimesh's OBJ reader: it renamed and reordered the Cornell box file's objects, skips lines it
 cannot parse without saying which, and keeps MTL keys it does not know only as strings. `o`, `g`
 and `usemtl` each start a shape; a polygon becomes a fan (right for convex ones); `vn` and `vt`
-referenced by faces become corner normals and, where the material has a map, corner uvs; closed
+referenced by faces become corner normals and, where the material has a map, corner uvs; vertex
+colours (`v x y z r g b`, sRGB-encoded in [0, 1] as Blender writes and reads them and MeshLab
+writes bytes / 255) become linear corner colours, white at a file's vertices without; closed
 shapes are wound outwards (`wind_outwards`), which Glass needs. Smoothing groups, lines, points
 and free-form geometry are ignored. Materials come from `mtllib` files beside the OBJ (`_mapping`).
 """
@@ -18,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..scene import Diffuse, Emitter, Glass, Glossy, Material, MaterialError, Principled, SceneError, Shape
+from ..scene.texture import srgb_to_linear
 from .errors import SceneLoadError, SceneLoadWarning
 from .mtl_maps import MAP_KEYS, PRINCIPLED_MAPS, MapImages, TextureMap, parse_map
 from .orientation import wind_outwards
@@ -51,6 +54,8 @@ def read_obj(path: Path) -> list[Shape]:
     vertices: list[tuple[float, float, float]] = []
     normals: list[tuple[float, float, float]] = []
     texcoords: list[tuple[float, float]] = []
+    # the sRGB colour of each `v x y z r g b` line, by 0-based vertex index
+    vertex_colors: dict[int, tuple[float, float, float]] = {}
     runs: list[tuple[str, Material, list[int], list[int], list[int]]] = []
     # normal_refs, uv_refs: a normal and a texture coordinate index (0-based) per corner of
     # `faces`, NO_REF where the face names none
@@ -67,6 +72,8 @@ def read_obj(path: Path) -> list[Shape]:
             continue
         key = tokens[0]
         if key == "v":
+            if len(tokens) > 4:
+                _vertex_extras(path, number, tokens, len(vertices), vertex_colors)
             vertices.append(_vertex(path, number, tokens))
         elif key == "f":
             # the common case first, "f a b c" with 1-based indices in range; anything else
@@ -125,16 +132,50 @@ def read_obj(path: Path) -> list[Shape]:
             vertex_lines[bad[0]],
         )
     texcoord_table = np.array(texcoords, dtype=np.float32).reshape(-1, 2)
-    return _shapes(path, corners, np.array(normals, dtype=np.float64).reshape(-1, 3), texcoord_table, runs)
+    color_table = _color_table(vertex_colors, len(corners))
+    normal_table = np.array(normals, dtype=np.float64).reshape(-1, 3)
+    return _shapes(path, corners, normal_table, texcoord_table, color_table, runs)
 
 
-def _shapes(path: Path, corners: np.ndarray, normals: np.ndarray, texcoords: np.ndarray, runs) -> list[Shape]:
+def _vertex_extras(path: Path, number: int, tokens: list[str], index: int, colors: dict) -> None:
+    """Check what a `v` line has beyond x y z: a weight w (ignored) or a colour r g b in [0, 1],
+    kept in `colors` at vertex `index`; SceneLoadError for any other count."""
+    extras = len(tokens) - 4
+    if extras == 1:
+        return
+    if extras != 3:
+        raise SceneLoadError(
+            path, f"a vertex is x y z, x y z w or x y z r g b, got {extras + 3} numbers: {' '.join(tokens)!r}", number
+        )
+    color = _numbers(path, number, tokens[4:], "vertex colours")
+    if not all(0.0 <= value <= 1.0 for value in color):
+        raise SceneLoadError(path, f"vertex colours must be in [0, 1], got {' '.join(tokens[4:])!r}", number)
+    colors[index] = color
+
+
+def _color_table(colors: dict[int, tuple[float, float, float]], vertex_count: int) -> np.ndarray | None:
+    """(vertex_count, 4) linear RGBA float32 of the `v x y z r g b` colours (decoded from sRGB),
+    white at vertices without; None where no vertex has a colour."""
+    if not colors:
+        return None
+    table = np.ones((vertex_count, 4), np.float32)
+    indices = np.fromiter(colors, np.int64, len(colors))
+    table[indices, :3] = srgb_to_linear(np.array(list(colors.values()), np.float64))
+    return table
+
+
+def _shapes(
+    path: Path, corners: np.ndarray, normals: np.ndarray, texcoords: np.ndarray, colors: np.ndarray | None, runs
+) -> list[Shape]:
     shapes, seen = [], {}
     for name, material, faces, normal_refs, uv_refs in runs:
         seen[name] = seen.get(name, 0) + 1
-        triangles = corners[np.asarray(faces, np.int64).reshape(-1, 3)]
+        vertex_ids = np.asarray(faces, np.int64).reshape(-1, 3)
+        triangles = corners[vertex_ids]
         refs = np.asarray(normal_refs, np.int64).reshape(-1, 3)
         corner = {}
+        if colors is not None:
+            corner["colors"] = colors[vertex_ids]
         if (refs != NO_REF).any():
             corner["normals"] = _corner_normals(triangles, normals, refs)
         uv_ids = np.asarray(uv_refs, np.int64).reshape(-1, 3)

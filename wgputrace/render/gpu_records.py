@@ -25,6 +25,7 @@ from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from .scene_mirror import (
     CORNER_ATTRIBUTES,
+    CORNER_COLORS,
     CORNER_TANGENTS,
     CORNER_UVS,
     ENVIRONMENT_TABLES,
@@ -72,6 +73,7 @@ RECORD_ARRAYS = (
     RecordArray(CORNER_ATTRIBUTES, "shading", "corner_attributes"),
     RecordArray(CORNER_UVS, "shading", "corner_uvs"),
     RecordArray(CORNER_TANGENTS, "shading", "corner_tangents"),
+    RecordArray(CORNER_COLORS, "shading", "corner_colors"),
     RecordArray(TEXTURE_ATLAS, "shading", "texture_atlas"),
     RecordArray(TEXTURES, "shading", "textures"),
     RecordArray(MATERIAL_TEXTURES, "shading", "material_textures"),

@@ -21,6 +21,7 @@ from ..gpu.layout import (
     ACCUMULATED_PIXEL,
     BVH_NODE,
     CORNER_ATTRIBUTES,
+    CORNER_COLORS,
     LIGHT,
     LIGHT_SOURCE,
     MATERIAL,
@@ -222,6 +223,8 @@ class SceneCounts:
     environment_map: tuple[int, int] = (0, 0)
     # triangles of shapes with per-vertex normals (their corner attributes: `shading_normals_hook`)
     smooth_triangles: int = 0
+    # triangles of shapes with vertex colours (their corner colours: `vertex_colors_hook`)
+    colored_triangles: int = 0
 
     @property
     def light_table_entries(self) -> int:
@@ -241,6 +244,7 @@ def scene_counts(scene: Scene) -> SceneCounts:
         environment=environment is not None,
         environment_map=(0, 0) if texels is None else (texels.shape[1], texels.shape[0]),
         smooth_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.normals is not None),
+        colored_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.colors is not None),
     )
 
 
@@ -281,12 +285,16 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
             "max-bind-groups", LIGHTS_GROUP_INDEX + 1, f"the lights group (bind group {LIGHTS_GROUP_INDEX})"
         )
     require_records(context, "light sources", counts.light_sources, LIGHT_SOURCE.size, storage)
-    if counts.smooth_triangles:
+    if counts.smooth_triangles or counts.colored_triangles:
         context.require(
             "max-bind-groups", SHADING_GROUP_INDEX + 1, f"the shading group (bind group {SHADING_GROUP_INDEX})"
         )
+    if counts.smooth_triangles:
         # every triangle has a record once one shape is smooth (a flat one, zeros: its face normal)
         require_records(context, "corner attributes", counts.triangles, CORNER_ATTRIBUTES.size, storage)
+    if counts.colored_triangles:
+        # likewise once one shape has vertex colours (a shape without, white)
+        require_records(context, "corner colors", counts.triangles, CORNER_COLORS.size, storage)
     width, height = counts.environment_map
     if width:
         require_float_texture(context, "environment map", width, height)

@@ -19,7 +19,7 @@ from ..kernels.traversal import BVH_STACK_SIZE, traversal_stack_size
 from ..kernels.variant import SceneFeatures
 from ..scene import Scene, Shape
 from ..scene.scene import zero_area
-from ..scene.shapes import corner_normals, corner_uvs
+from ..scene.shapes import corner_colors, corner_normals, corner_uvs
 from ..scene.tangents import corner_tangents
 from .emission_footprints import footprint_means
 from .environment_records import environment_state, environment_table_words, environment_texels
@@ -28,6 +28,7 @@ from .scene_records import (
     SceneRecords,
     build_acceleration,
     corner_attribute_records,
+    corner_color_records,
     corner_tangent_records,
     corner_uv_records,
     gpu_node_records,
@@ -48,6 +49,7 @@ TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "bvh nodes", "materials", "li
 CORNER_ATTRIBUTES = "corner attributes"
 CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
 CORNER_TANGENTS = "corner tangents"
+CORNER_COLORS = "corner colors"
 TRIANGLE_LIGHT_DENSITIES = "triangle light densities"
 # WebGPU's default max-texture-dimension-2d: the atlas side where no device says otherwise
 DEFAULT_TEXTURE_SIDE = 8192
@@ -84,6 +86,8 @@ class SceneMirror:
         # record (the binding exists in every textured scene)
         self.corner_tangents: np.ndarray | None = None
         self._normal_mapped = False
+        # CORNER_COLORS records in BVH order, None for a scene without vertex colours
+        self.corner_colors: np.ndarray | None = None
         self._textures: list = []
         # float32 in BVH order: each triangle's light table weight per unit area from what it emits
         # through a texture record (`footprint_means`); one zero where none emits so
@@ -124,6 +128,7 @@ class SceneMirror:
             CORNER_ATTRIBUTES: self.corner_attributes,
             CORNER_UVS: self.corner_uvs,
             CORNER_TANGENTS: self.corner_tangents,
+            CORNER_COLORS: self.corner_colors,
             TEXTURE_ATLAS: self.atlas_texels,
             TEXTURES: self.texture_records,
             MATERIAL_TEXTURES: self.material_textures,
@@ -143,6 +148,7 @@ class SceneMirror:
             textured=self.textured,
             see_through=self.see_through,
             emissive_surfaces=self.emissive_surfaces,
+            vertex_colors=self.corner_colors is not None,
         )
 
     @property
@@ -228,6 +234,8 @@ class SceneMirror:
         ):
             changes.update(self._update_lights())
         changes.update(self._update_textures(geometry_moved=bool(moved)))
+        if moved:  # a mirroring transform reorders corners
+            changes.update(self._update_corner_colors())
         self._snapshot()
         return {name: rows for name, rows in changes.items() if rows.size}
 
@@ -296,6 +304,22 @@ class SceneMirror:
         old = self.corner_uvs
         self.corner_uvs = records
         return np.arange(len(records)) if old is None else changed_rows(old, records)
+
+    def _update_corner_colors(self) -> dict[str, np.ndarray]:
+        """The corner vertex colours in BVH order from the shapes as they are (None where no shape
+        has any); their changed rows."""
+        shapes = self.scene.shapes
+        shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
+        colors = corner_colors(shapes, shape_index, self._local_index)
+        if colors is None:
+            self.corner_colors = None
+            return {}
+        ordered = np.empty_like(colors)
+        ordered[self._position] = colors
+        records = corner_color_records(ordered)
+        old = self.corner_colors
+        self.corner_colors = records
+        return {CORNER_COLORS: np.arange(len(records)) if old is None else changed_rows(old, records)}
 
     def _update_corner_tangents(self, normal_mapped: bool) -> np.ndarray:
         """The corner tangents in BVH order from the shapes as they are (one zero record where no
@@ -417,6 +441,8 @@ class SceneMirror:
         changes.update(self._update_lights())
         self.corner_uvs = self.corner_tangents = None  # new triangles: every row is new
         changes.update(self._update_textures(geometry_moved=True))
+        self.corner_colors = None  # new triangles: every row is new
+        changes.update(self._update_corner_colors())
         self.rebuilds += 1
         self._needs_rebuild = False
         self._snapshot()

@@ -13,7 +13,16 @@ import numpy as np
 
 from ..bvh import BVH, build_bvh, build_flat
 from ..bvh.wide import BUILD_MAX_DEPTH, WideBVH, collapse
-from ..gpu.layout import BVH_NODE, CORNER_ATTRIBUTES, CORNER_TANGENTS, CORNER_UVS, MATERIAL, TRIANGLE, WIDE_BVH_NODE
+from ..gpu.layout import (
+    BVH_NODE,
+    CORNER_ATTRIBUTES,
+    CORNER_COLORS,
+    CORNER_TANGENTS,
+    CORNER_UVS,
+    MATERIAL,
+    TRIANGLE,
+    WIDE_BVH_NODE,
+)
 from ..scene import Material, TriangleArrays
 
 ACCELERATIONS = ("bvh", "flat")
@@ -107,4 +116,11 @@ def corner_tangent_records(tangents: np.ndarray) -> np.ndarray:
     """CORNER_TANGENTS records of (n, 3, 4) corner tangents, in the given order."""
     records = CORNER_TANGENTS.zeros(len(tangents))
     records["tangent0"], records["tangent1"], records["tangent2"] = tangents[:, 0], tangents[:, 1], tangents[:, 2]
+    return records
+
+
+def corner_color_records(colors: np.ndarray) -> np.ndarray:
+    """CORNER_COLORS records of (n, 3, 4) corner vertex colours, in the given order."""
+    records = CORNER_COLORS.zeros(len(colors))
+    records["color0"], records["color1"], records["color2"] = colors[:, 0], colors[:, 1], colors[:, 2]
     return records

@@ -2,7 +2,7 @@
 
 A shape may carry per-corner attributes beside its corners, each an array (n, 3, k) in the
 triangles' order: `normals` (k = 3) for smooth shading, `uvs` (k = 2) texture coordinates,
-`tangents` (k = 4) for normal maps.
+`tangents` (k = 4) for normal maps, `colors` (k = 4) linear RGBA vertex colours.
 
 Every generator places a unit shape with model = translate(position) . rotate(orientation) .
 scale(size). `orientation` holds Euler angles in radians, applied about x, then y, then z
@@ -121,6 +121,11 @@ def _unit_normals(normals: np.ndarray) -> np.ndarray:
     return (normals / lengths).astype(np.float32)
 
 
+def _unit_interval_triangles(values: np.ndarray) -> np.ndarray:
+    """Which triangles' corner values all lie in [0, 1] (NaN does not)."""
+    return ((values >= 0.0) & (values <= 1.0)).all(axis=(1, 2))
+
+
 def _signed_tangents(tangents: np.ndarray) -> np.ndarray:
     """Tangents with w its sign, the bitangent's handedness."""
     tangents[..., 3] = np.where(tangents[..., 3] < 0, -1.0, 1.0)
@@ -176,8 +181,8 @@ class Shape:
     renderer ignores it). `vertices` (n, 3, 3) float32 are local (triangle, corner, xyz); the world sees `world_vertices`,
     the transform applied in float64 (a mirroring one swaps two corners so normals keep their side;
     `world_normals`, `world_uvs` and `world_tangents` follow). Optional per-corner attributes:
-    `normals` (smooth shading), `uvs` (glTF's convention, as `Texture` reads them) and `tangents` (a
-    file's; else MikkTSpace's). Assigning `vertices` or an attribute, `transform` or `material` checks
+    `normals` (smooth shading), `uvs` (glTF's convention, as `Texture` reads them), `tangents` (a
+    file's; else MikkTSpace's) and `colors` (vertex colours, multiplying the material's colour). Assigning `vertices` or an attribute, `transform` or `material` checks
     the value (SceneError, the shape unchanged) and bumps `geometry_version`, `transform_version` or
     `material_version`, which a Renderer compares with what it uploaded: a new transform is a refit,
     new vertices a rebuild. The arrays are read-only, so an in-place edit cannot slip past them.
@@ -195,6 +200,13 @@ class Shape:
     uvs = CornerAttribute(2, "triangle {index} has a NaN or infinite texture coordinate {values}")
     # a file's tangents at the corners, (n, 3, 4) float32 local, or None (MikkTSpace's apply)
     tangents = CornerAttribute(4, "tangents of triangle {index} are not finite: {values}", stored=_signed_tangents)
+    # linear RGBA vertex colours at the corners, (n, 3, 4) float32 in [0, 1], or None (white): they
+    # multiply the material's colour and alpha (glTF's COLOR_0), as reflectances they cannot exceed 1
+    colors = CornerAttribute(
+        4,
+        "triangle {index} has a vertex colour that is not a number in [0, 1]: {values}",
+        valid=_unit_interval_triangles,
+    )
 
     def __init__(
         self,
@@ -206,6 +218,7 @@ class Shape:
         normals=None,
         uvs=None,
         tangents=None,
+        colors=None,
     ) -> None:
         self.name = name
         self.tags = dict(tags or {})
@@ -214,6 +227,7 @@ class Shape:
         self._normals = Shape.normals.checked(name, normals, len(checked))
         self._uvs = Shape.uvs.checked(name, uvs, len(checked))
         self._tangents = Shape.tangents.checked(name, tangents, len(checked))
+        self._colors = Shape.colors.checked(name, colors, len(checked))
         self._place(checked, _IDENTITY if transform is None else checked_transform(name, transform))
         self.material = material
 
@@ -227,7 +241,13 @@ class Shape:
     @vertices.setter
     def vertices(self, value) -> None:
         vertices = _checked_vertices(self.name, value)
-        for attribute, values in (("normals", self._normals), ("uvs", self._uvs), ("tangents", self._tangents)):
+        attributes = (
+            ("normals", self._normals),
+            ("uvs", self._uvs),
+            ("tangents", self._tangents),
+            ("colors", self._colors),
+        )
+        for attribute, values in attributes:
             if values is not None and len(vertices) != len(values):
                 raise SceneError(
                     f"shape {self.name!r}: {len(vertices)} triangles of vertices but {len(values)} of {attribute} "
@@ -239,9 +259,12 @@ class Shape:
     @property
     def world_uvs(self) -> np.ndarray | None:
         """The texture coordinates at the corners of `world_vertices` (a mirror swaps two corners)."""
-        if self._uvs is None or np.linalg.det(self._transform[:3, :3]) >= 0:
-            return self._uvs
-        return self._uvs[:, [0, 2, 1], :]
+        return _corners_following(self._uvs, self._transform)
+
+    @property
+    def world_colors(self) -> np.ndarray | None:
+        """The vertex colours at the corners of `world_vertices` (a mirror swaps two corners)."""
+        return _corners_following(self._colors, self._transform)
 
     @property
     def world_tangents(self) -> np.ndarray | None:
@@ -289,13 +312,14 @@ class Shape:
         """This shape's world triangles under an affine 4x4 or linear 3x3 matrix, baked into new
         local vertices; a mirror keeps normals facing out."""
         normals = None if self._world_normals is None else transform_normals(self._world_normals, matrix)
-        uvs = self.world_uvs
-        if uvs is not None and np.linalg.det(np.asarray(matrix, np.float64)[:3, :3]) < 0:
-            uvs = uvs[:, [0, 2, 1], :]
+        uvs = _corners_following(self.world_uvs, matrix)
+        colors = _corners_following(self.world_colors, matrix)
         tangents = self.world_tangents
         tangents = None if tangents is None else transform_tangents(tangents, matrix)
         world = transform_points(self._world, matrix)
-        return Shape(self.name, world, self.material, dict(self.tags), normals=normals, uvs=uvs, tangents=tangents)
+        return Shape(
+            self.name, world, self.material, dict(self.tags), normals=normals, uvs=uvs, tangents=tangents, colors=colors
+        )
 
     def _edit_corners(self) -> None:
         # a CornerAttribute assigned: the world normals follow the normals
@@ -322,6 +346,14 @@ class Shape:
 
 _IDENTITY = np.eye(4)
 _IDENTITY.flags.writeable = False
+
+
+def _corners_following(values: np.ndarray | None, matrix) -> np.ndarray | None:
+    """Corner values (n, 3, k) reordered as `matrix` (4x4 or 3x3) reorders the corners: a mirror
+    swaps the last two, so that normals keep their side."""
+    if values is None or np.linalg.det(np.asarray(matrix, np.float64)[:3, :3]) >= 0:
+        return values
+    return values[:, [0, 2, 1], :]
 
 
 def _checked_vertices(name: str, value) -> np.ndarray:
@@ -443,15 +475,22 @@ def corner_uvs(shapes: list[Shape], shape_index: np.ndarray, local_index: np.nda
     return _gathered([shape.world_uvs for shape in shapes], shape_index, local_index)
 
 
+def corner_colors(shapes: list[Shape], shape_index: np.ndarray, local_index: np.ndarray) -> np.ndarray | None:
+    """The world corner vertex colours (n, 3, 4) float32 of the triangles that `shape_index` and
+    `local_index` pick, as corner_normals picks them, white for shapes without (a colour of 1 leaves
+    the material's alone); None where no shape has any."""
+    return _gathered([shape.world_colors for shape in shapes], shape_index, local_index, missing=1.0)
+
+
 def _gathered(
-    per_shape: list[np.ndarray | None], shape_index: np.ndarray, local_index: np.ndarray
+    per_shape: list[np.ndarray | None], shape_index: np.ndarray, local_index: np.ndarray, missing: float = 0.0
 ) -> np.ndarray | None:
     """Each shape's world corner values (m, 3, k), or None, at the triangles that `shape_index` and
-    `local_index` pick, zero for a shape's None; None where every shape's is."""
+    `local_index` pick, `missing` for a shape's None; None where every shape's is."""
     present = [values for values in per_shape if values is not None]
     if not present:
         return None
-    gathered = np.zeros((len(shape_index), 3, present[0].shape[-1]), np.float32)
+    gathered = np.full((len(shape_index), 3, present[0].shape[-1]), missing, np.float32)
     starts = np.searchsorted(shape_index, np.arange(len(per_shape) + 1))
     for index, values in enumerate(per_shape):
         if values is not None:

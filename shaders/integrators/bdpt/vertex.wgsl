@@ -30,7 +30,7 @@ fn surface_vertex(ray: Ray, hit: Hit, triangle: Triangle, adjoint: bool) -> Surf
 // The vertex at `p` on triangle `triangle_index` reached from `towards` (unit).
 fn vertex_at(p: vec3<f32>, triangle_index: u32, triangle: Triangle, towards: vec3<f32>, adjoint: bool) -> SurfaceVertex {
     let normal = triangle_normal(triangle);
-    let material = resolve_material(materials[triangle.material], triangle.material, triangle_index, triangle, p);
+    let material = vertex_colored(resolve_material(materials[triangle.material], triangle.material, triangle_index, triangle, p), triangle_index, triangle, p);
     let interpolated = shading_normal(triangle_index, triangle, p, normal, towards);
     let shading = mapped_normal(interpolated, material, triangle.material, triangle_index, triangle, p, normal, towards);
     return SurfaceVertex(p, normal, shading, towards, material, triangle_index, adjoint);

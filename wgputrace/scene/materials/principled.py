@@ -3,7 +3,7 @@ need (transmission included).
 
 | parameter  | type          | default | meaning                                                          |
 |------------|---------------|---------|------------------------------------------------------------------|
-| base_color | RGB in [0, 1] | 0.5     | diffuse albedo, and the metallic Fresnel reflectance at normal incidence |
+| base_color | RGB in [0, 1] | 0.5     | diffuse albedo, and the metallic Fresnel reflectance at normal incidence (x the shape's vertex colours) |
 | metallic   | float [0, 1]  | 0       | blends a dielectric (0) into a Schlick conductor tinted by base_color (1) |
 | roughness  | float [0, 1]  | 0.5     | GGX alpha = roughness^2 (at least 0.001); also drives retro-reflection |
 | eta        | float > 0     | 1.5     | index of refraction of the specular layer (Mitsuba's `specular` s is eta_from_specular(s)) |
@@ -12,7 +12,7 @@ need (transmission included).
 | metallic_roughness_texture | Texture (linear) or None | None | G x roughness, B x metallic (glTF metallicRoughnessTexture) |
 | normal_texture | Texture (linear) or None | None | tangent-space normal map (glTF normalTexture; `mapped_normal`) |
 | normal_scale | float [-100, 100] | 1 | x and y of the normal map's vectors x this (glTF normalTexture.scale) |
-| alpha      | float [0, 1]  | 1       | coverage x the base colour texture's alpha (alpha_mode: cut-outs, blending) |
+| alpha      | float [0, 1]  | 1       | coverage x the base colour texture's alpha x the shape's vertex alpha (alpha_mode: cut-outs, blending) |
 | alpha_mode | "OPAQUE", "MASK", "BLEND" | "OPAQUE" | glTF's: alpha ignored; texels of alpha < alpha_cutoff cut out; stochastic transparency |
 | alpha_cutoff | float [0, 1] | 0.5    | MASK's threshold                                                  |
 | double_sided | bool       | True    | False: the surface is invisible from behind (its back face culled, as glTF viewers do) |
