@@ -24,11 +24,12 @@ if [ "${1:-}" = --here ]; then
   python=${PYTHON:-.venv/bin/python} preset=quick variant=llvm_ad_rgb
   convergence=(--max-spp 16) throughput=(--size 128x128 --spp 2 --repeats 2)
 else
+  site=$(mktemp -d)
   for deb in .gl/*.deb; do dpkg -x "$deb" /; done
   ldconfig
-  python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl \
+  python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target "$site" .whl/*.whl \
     || { echo "the carried wheels did not install" >&2; exit 1; }
-  export PYTHONPATH=/tmp/site
+  export PYTHONPATH=$site
   nvidia=/usr/local/nvidia/share
   if [ -f "$nvidia/vulkan/icd.d/nvidia_icd.json" ]; then
     export VK_DRIVER_FILES="$nvidia/vulkan/icd.d/nvidia_icd.json"
