@@ -1,6 +1,6 @@
 """KTX2 images with a Basis Universal payload (glTF's KHR_texture_basisu, gltfpack's `-tc`), both of
 its codecs (ETC1S and UASTC), transcoded to RGBA8 through opengl-basisu, the `ktx2` extra: an
-alpha-quality binding of Binomial's basis_universal transcoder in a 850 KB wheel (no Linux aarch64
+alpha-quality binding of Binomial's basis_universal transcoder in an 850 KB wheel (no Linux aarch64
 wheel). Imported on first use, so that the loaders work without it and say how to get it.
 
 Level 0 of the file's one image is read; the transfer function its header declares is not used:
