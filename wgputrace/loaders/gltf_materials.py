@@ -3,9 +3,11 @@ tables: `GltfMaterials._mapped`), their textures decoded (images in a .glb's buf
 data URIs, or files beside the .gltf).
 
 A texture's `sampler` gives its wrap modes (WRAP_MODES, default repeat; its filters are ignored:
-textures are sampled bilinearly), `KHR_texture_transform` its offset, rotation and scale. Images
-with only a KTX2 or WebP source are refused by name; one that is missing, unreadable, corrupt, or
-0 or over 65,536 pixels a side is a SceneLoadError naming the file, the JSON path and the problem.
+textures are sampled bilinearly), `KHR_texture_transform` its offset, rotation and scale. A texture
+whose only source is KHR_texture_basisu's reads that KTX2 image where opengl-basisu imports
+(`ktx2_images`); one with only a WebP or DDS source, or a KTX2 one without it, is refused by name,
+saying how to get it. An image that is missing, unreadable, corrupt, or 0 or over 65,536 pixels a
+side is a SceneLoadError naming the file, the JSON path and the problem.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principle
 from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
+from .ktx2_images import BASISU_EXTENSION, KTX2_INSTALL_HINT, ktx2_available
 from .textures import ImageError, decode_image
 
 DEFAULT_DIFFUSE = 0.8
@@ -29,7 +32,7 @@ DEFAULT_ALPHA_CUTOFF = 0.5
 WRAP_MODES = {10497: "repeat", 33071: "clamp", 33648: "mirror"}
 TRANSFORM_EXTENSION = "KHR_texture_transform"
 # Texture sources in extensions we cannot decode, and what they are
-IMAGE_EXTENSIONS = {"KHR_texture_basisu": "KTX2/BasisU", "EXT_texture_webp": "WebP", "MSFT_texture_dds": "DDS"}
+IMAGE_EXTENSIONS = {BASISU_EXTENSION: "KTX2/BasisU", "EXT_texture_webp": "WebP", "MSFT_texture_dds": "DDS"}
 # the texture slots of a material: (JSON path below the material, Principled parameter, sRGB colour)
 TEXTURE_SLOTS = (
     ("pbrMetallicRoughness.baseColorTexture", "base_color_texture", True),
@@ -179,14 +182,14 @@ class GltfMaterials:
             if code not in WRAP_MODES:
                 raise reader.fail(f"samplers[{entry['sampler']}].{axis}", f"must be 10497, 33071 or 33648, got {code}")
             wraps.append(WRAP_MODES[code])
-        source = self._source(entry, texture_where)
+        source, source_where = self._source(entry, texture_where)
         key = (source, srgb, *wraps, transform)
         if key not in self._textures:
-            image_name = reader.item("images", source, f"{texture_where}.source").get("name")
+            image_name = reader.item("images", source, source_where).get("name")
             name = image_name if isinstance(image_name, str) else f"image{source}"
             try:
                 self._textures[key] = Texture(
-                    self._image(source, f"{texture_where}.source"),
+                    self._image(source, source_where),
                     srgb=srgb,
                     wrap_s=wraps[0],
                     wrap_t=wraps[1],
@@ -216,15 +219,23 @@ class GltfMaterials:
             scale=tuple(reader.numbers(block, "scale", 2, where, [1.0, 1.0]).tolist()),
         )
 
-    def _source(self, texture: dict, where: str) -> int:
-        """The image index of a texture, or the refusal of a source only an extension we lack gives."""
+    def _source(self, texture: dict, where: str) -> tuple[int, str]:
+        """The image index of a texture and the JSON path that gives it (its own `source`, a PNG or
+        JPEG fallback where it has one, else KHR_texture_basisu's), or the refusal of a source
+        only an extension we cannot decode gives."""
+        reader = self.reader
         if "source" in texture:
-            return self.reader.get(texture, "source", int, where)
-        extensions = self.reader.get(texture, "extensions", dict, where, {})
+            return reader.get(texture, "source", int, where), f"{where}.source"
+        extensions = reader.get(texture, "extensions", dict, where, {})
+        if BASISU_EXTENSION in extensions and ktx2_available():
+            block = reader.get(extensions, BASISU_EXTENSION, dict, f"{where}.extensions")
+            block_where = f"{where}.extensions.{BASISU_EXTENSION}"
+            return reader.get(block, "source", int, block_where), f"{block_where}.source"
         named = [f"{name} ({IMAGE_EXTENSIONS[name]})" for name in extensions if name in IMAGE_EXTENSIONS]
         if named:
-            raise self.reader.fail(where, f"its image is only given as {', '.join(named)}, which is not decoded here")
-        raise self.reader.fail(where, "'source' is missing")
+            hint = f" (KTX2 needs opengl-basisu: {KTX2_INSTALL_HINT})" if BASISU_EXTENSION in extensions else ""
+            raise reader.fail(where, f"its image is only given as {', '.join(named)}, which is not decoded here{hint}")
+        raise reader.fail(where, "'source' is missing")
 
     def _image(self, index: int, where: str):
         """Image `index`'s pixels, decoded once however many textures use it."""

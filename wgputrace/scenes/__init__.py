@@ -26,6 +26,7 @@ from .smooth_sphere import smooth_sphere
 from .sunlit import sunlit_spheres
 from .textured import textured_quads
 from .textured_asset import textured_asset
+from .vertex_colored import vertex_colored_triangles
 
 BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "cornell": cornell,
@@ -55,6 +56,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "depth_of_field": depth_of_field,
     "orthographic_boxes": orthographic_boxes,
     "sunlit_spheres": sunlit_spheres,
+    # vertex colours (issue 25)
+    "vertex_colored_triangles": vertex_colored_triangles,
 }
 DEFAULT_SCENE = "cornell"
 

@@ -65,6 +65,8 @@ REFERENCES: dict[str, ReferenceSettings] = {
     # the camera kinds (issue 28): Mitsuba's thinlens and orthographic
     "depth_of_field": ReferenceSettings(max_depth=6),
     "orthographic_boxes": ReferenceSettings(max_depth=6),
+    # vertex colours (issue 25): Mitsuba's `mesh_attribute` texture
+    "vertex_colored_triangles": ReferenceSettings(max_depth=6),
 }
 
 
@@ -258,8 +260,24 @@ CAMERA_CASES = (
     _cameras_bdpt("orthographic_boxes", seed=20261304),
 )
 
+# --- Vertex colours ----------------------------------------------------------------------------
+# Issue 25's glTF COLOR_0 (Shape.colors) multiplying a diffuse and a glossy colour, interpolated per
+# vertex and per corner (wgputrace.scenes.vertex_colored says what each shape catches), against
+# Mitsuba's `mesh_attribute` texture (`mitsuba_scene.vertex_colored`). A family of its own, so that
+# the other families' bounds stay as they were; 8 batches of 16 spp, the price of CI time: the
+# colours differ between shapes and corners by far more than these blocks' noise.
+VERTEX_COLOR_CASES = (
+    ReferenceCase("vertex_colored_triangles", family="vertex_colors", size=64, batches=8, spp=16, seed=20261401),
+)
+
 CASES: tuple[ReferenceCase, ...] = (
-    PATH_TRACER_CASES + LIGHT_CASES + MATERIAL_CASES + SHADING_NORMAL_CASES + BDPT_CASES + CAMERA_CASES
+    PATH_TRACER_CASES
+    + LIGHT_CASES
+    + MATERIAL_CASES
+    + SHADING_NORMAL_CASES
+    + BDPT_CASES
+    + CAMERA_CASES
+    + VERTEX_COLOR_CASES
 )
 
 

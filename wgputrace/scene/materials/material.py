@@ -89,6 +89,9 @@ class Material(Kind):
     two_sided_wgsl: ClassVar[str | None] = None
     # WGSL vec3<f32> over `material`: the radiance it emits; None: it emits nothing
     emission_wgsl: ClassVar[str | None] = None
+    # the parameter of `mitsuba_bsdf()` that its colour (the record's `color`, which vertex colours
+    # multiply) fills, for the export of vertex-coloured triangles; None: not exported with them
+    mitsuba_color: ClassVar[str | None] = None
 
     @property
     def label(self) -> str:
