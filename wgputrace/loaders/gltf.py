@@ -60,6 +60,7 @@ from .gltf_meshopt import (
     meshopt_extension,
 )
 from .gltf_quantization import QUANTIZATION_EXTENSION, vertex_attribute
+from .gltf_volume import VOLUME_EXTENSION
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -79,6 +80,7 @@ READ_EXTENSIONS = {
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    VOLUME_EXTENSION,
     TRANSFORM_EXTENSION,
     QUANTIZATION_EXTENSION,
 }

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from functools import partial
 
 from ..scene import Scene
+from .absorbing_glass import absorbing_glass
 from .alpha_cutout import alpha_blend, alpha_cutout
 from .axis_aligned import axis_boxes
 from .camera_views import depth_of_field, orthographic_boxes
@@ -55,6 +56,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "depth_of_field": depth_of_field,
     "orthographic_boxes": orthographic_boxes,
     "sunlit_spheres": sunlit_spheres,
+    # KHR_materials_volume (issue 25)
+    "absorbing_glass": absorbing_glass,
 }
 DEFAULT_SCENE = "cornell"
 
