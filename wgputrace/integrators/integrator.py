@@ -83,7 +83,7 @@ class Integrator:
             if is_absorbing(material):
                 others = ", ".join(repr(m.name) for m in _registry.values() if m.absorbs)
                 raise ValueError(
-                    f"{material.label} absorbs the light inside it (its attenuation_distance), which the "
+                    f"{material.label} absorbs the light inside it (attenuation_color, attenuation_distance), which the "
                     f"{self.name} integrator does not trace; use {others}"
                 )
 
