@@ -12,7 +12,13 @@ the absorption coefficient is sigma_a = -ln(attenuation_color) / attenuation_dis
 (a rasteriser's guess of it) is not needed. A path segment is inside a material when it ends on the
 material's back face (the side its normal points away from): a closed mesh with nothing inside it.
 Objects or lights inside an absorbing mesh, and meshes nested in one another, are not supported
-(the medium of a segment is the material of the surface it ends on, seen from behind).
+(the medium of a segment is the material of the surface it ends on, seen from behind); nor are
+open meshes, whose back may be seen from outside.
+
+Next-event estimation needs nothing more: shadow rays stop at every surface, dielectrics included,
+so one that reaches its light never ran inside a closed mesh with no light in it. The path
+tracers (`segment_transmittance` in their kernels) trace absorption; bdpt refuses an absorbing
+material by name (`Integrator.check_materials`).
 """
 
 from __future__ import annotations
