@@ -4,7 +4,7 @@ Principled's attenuation parameters.
 | KHR_materials_volume field          | read as                                                        |
 |-------------------------------------|----------------------------------------------------------------|
 | `attenuationColor` (default 1, 1, 1) | attenuation_color, each in [0, 1]                             |
-| `attenuationDistance` (default infinite) | attenuation_distance, > 0                                 |
+| `attenuationDistance` (default infinite) | attenuation_distance, > 0, in world units (as glTF gives it) |
 | `thicknessFactor` (default 0)       | 0: thin-walled, nothing absorbed; > 0: the mesh is a volume, its value not needed |
 | `thicknessTexture`                  | ignored: a path tracer traces the real distance inside         |
 
