@@ -21,6 +21,8 @@
 //! include "generated/textures.wgsl"
 // vertex_colored: the material as it is unless the scene has vertex colours (vertex_colors_hook)
 //! include "generated/vertex_colors.wgsl"
+// segment_transmittance: 1 unless the scene has an absorbing material (absorption_hook)
+//! include "generated/absorption.wgsl"
 // samples_this_dispatch: 1, or this dispatch's count where paths regenerate (regeneration_hook)
 //! include "generated/regeneration.wgsl"
 //! include "generated/bindings/pixels.wgsl"
@@ -181,6 +183,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
     let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
     guide_vertex(material, shading, ray.direction);
+    (*path).throughput *= segment_transmittance(material, normal, ray.direction, hit.t);
     // emission shines from both sides (a single-sided surface's from its front only)
     let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, p, ray.direction);
     if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {

@@ -109,9 +109,11 @@ MATERIAL = GpuStruct(
         ("ior", "f32"),
         ("metallic", "f32"),
         ("spec_trans", "f32"),
+        ("absorption", "vec3<f32>"),
     ),
     "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans: "
-    "Principled's transmission.",
+    "Principled's transmission; absorption: sigma_a inside (`Material.absorption`), read only in "
+    "kernels for scenes with an absorbing material.",
 )
 FRAME = GpuStruct(
     "Frame",

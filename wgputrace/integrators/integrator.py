@@ -12,6 +12,7 @@ descriptor, registered by name, that they ask instead of naming it.
 | the deepest path it can trace               | `max_depth`      | `check_depth`                               |
 | several samples per dispatch (regeneration) | `regenerates`    | `KernelVariant` (`check_regeneration`)      |
 | how many, by adapter type (measured)        | `dispatch_samples` | the Renderer (`samples_per_dispatch`)     |
+| absorption inside materials (`volume`)      | `absorbs`        | the Renderer (`check_materials`)            |
 
 A new integrator is one module in this package that registers an instance (`register`), plus its
 WGSL entry file: the renderer, the CLI's choices and the limits follow from the descriptor.
@@ -23,6 +24,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..gpu.bindings import Binding
+from ..scene.materials.volume import is_absorbing
 
 if TYPE_CHECKING:
     from ..kernels.variant import KernelVariant
@@ -56,6 +58,8 @@ class Integrator:
     # how many it takes by adapter type ("CPU", "DiscreteGPU", ...), as measured by
     # `python -m bench.regeneration`; 1 on the others
     dispatch_samples: tuple[tuple[str, int], ...] = ()
+    # whether its kernel multiplies its segments by their absorption (`segment_transmittance`)
+    absorbs: bool = False
 
     def files(self, variant: KernelVariant) -> dict[str, str]:
         """Generated files of its own, for `variant`: none here."""
@@ -69,6 +73,19 @@ class Integrator:
     def samples_per_dispatch(self, adapter_type: str) -> int:
         """Samples of each pixel a dispatch of its kernel takes on an adapter of `adapter_type`."""
         return dict(self.dispatch_samples).get(adapter_type, 1)
+
+    def check_materials(self, materials) -> None:
+        """ValueError naming the first of `materials` it cannot render (one that absorbs light,
+        where its kernel does not trace absorption)."""
+        if self.absorbs:
+            return
+        for material in materials:
+            if is_absorbing(material):
+                others = ", ".join(repr(m.name) for m in _registry.values() if m.absorbs)
+                raise ValueError(
+                    f"{material.label} absorbs the light inside it (attenuation_color, attenuation_distance), which the "
+                    f"{self.name} integrator does not trace; use {others}"
+                )
 
     def check_regeneration(self) -> None:
         """ValueError unless its kernel can take several samples of a pixel per dispatch."""

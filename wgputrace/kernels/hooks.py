@@ -8,6 +8,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ..gpu.texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
+from .absorption import GENERATED_ABSORPTION, absorption_hook
 from .alpha import GENERATED_ALPHA, alpha_hook
 from .camera import GENERATED_CAMERA, camera_hook
 from .emission import GENERATED_EMISSION, emission_hook
@@ -44,6 +45,7 @@ HOOKS: dict[str, Callable[[KernelVariant], str]] = {
     GENERATED_TEXTURES: textures_hook,
     GENERATED_VERTEX_COLORS: vertex_colors_hook,
     GENERATED_ALPHA: alpha_hook,
+    GENERATED_ABSORPTION: absorption_hook,
     GENERATED_EMISSION: emission_hook,
     GENERATED_PATH_GUIDES: path_guides_hook,
     GENERATED_RAY_COUNT: ray_count_hook,

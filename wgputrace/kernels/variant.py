@@ -75,6 +75,8 @@ class SceneFeatures:
     emissive_surfaces: bool = flag("emissive surfaces")
     # per-vertex colours multiplying the materials' colours (vertex_colors_hook)
     vertex_colors: bool = flag("vertex colours")
+    # materials that absorb the light inside them (absorption_hook)
+    absorbing: bool = flag("absorbing")
 
     def __post_init__(self) -> None:
         scene_group(self.acceleration)  # refuses an unknown acceleration

@@ -61,6 +61,7 @@ from .gltf_meshopt import (
     meshopt_extension,
 )
 from .gltf_quantization import QUANTIZATION_EXTENSION, vertex_attribute
+from .gltf_volume import VOLUME_EXTENSION
 from .ktx2_images import BASISU_EXTENSION, KTX2_INSTALL_HINT, ktx2_available
 
 GLB_MAGIC = 0x46546C67  # "glTF"
@@ -81,6 +82,7 @@ READ_EXTENSIONS = {
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    VOLUME_EXTENSION,
     TRANSFORM_EXTENSION,
     QUANTIZATION_EXTENSION,
 }

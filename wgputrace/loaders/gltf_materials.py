@@ -21,6 +21,7 @@ from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principle
 from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
+from .gltf_volume import volume_parameters
 from .ktx2_images import BASISU_EXTENSION, KTX2_INSTALL_HINT, ktx2_available
 from .textures import ImageError, decode_image
 
@@ -76,6 +77,7 @@ class GltfMaterials:
         | `KHR_materials_emissive_strength.emissiveStrength`            | emission_strength |
         | `KHR_materials_ior.ior` (default 1.5)                         | eta |
         | `KHR_materials_transmission.transmissionFactor` (default 0)   | spec_trans (rough dielectric transmission, glTF's roughness) |
+        | `KHR_materials_volume` `attenuationColor`, `attenuationDistance` (with transmission) | attenuation_color, attenuation_distance (`volume_parameters`) |
         | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
 
         Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
@@ -124,6 +126,8 @@ class GltfMaterials:
             if slots or alpha_mode != "OPAQUE" or transmission > 0:
                 parameters = {parameter: self._texture(entry, path, srgb, where) for path, parameter, srgb in slots}
                 parameters |= self._set_values(entry, where, emissive, strength, alpha_mode)
+                if transmission > 0:
+                    parameters |= volume_parameters(reader, extensions, where)
                 return Principled(
                     name,
                     base_color=tuple(base[:3]),

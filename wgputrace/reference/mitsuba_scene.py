@@ -7,10 +7,12 @@ test references (`python scripts/make_references.py`) and `python -m bench.versu
     image = mi.render(scene, spp=64, seed=1)
 
 Each material becomes one mesh (`mitsuba_mesh`) with the BSDF and emitter its class maps it to
-(`bsdf_dict`, `emitter_dict`), flat unless its shapes have corner normals, its colour read from
-the vertex colours where its triangles have any (`vertex_colored`); each light brings its
-own `mitsuba_emitter()`, the environment is a `constant` or an `envmap` (`environment_dict`). The
-integrator is `path` at our max depth, the pixel filter a box. `llvm_ad_rgb` is much faster than
+(`bsdf_dict`, `emitter_dict`) and, where it absorbs, an interior `homogeneous` medium
+(`mitsuba_medium`), flat unless its shapes have corner normals, its colour read from the vertex
+colours where its triangles have any (`vertex_colored`); each light brings its own
+`mitsuba_emitter()`, the environment is a `constant` or an `envmap` (`environment_dict`). The
+integrator is `path` at our max depth (`volpath` where a material absorbs, which traces the
+media; otherwise the same), the pixel filter a box. `llvm_ad_rgb` is much faster than
 `scalar_rgb` but needs LLVM 16 or newer (`libllvm_path`).
 """
 
@@ -24,6 +26,7 @@ import numpy as np
 
 from wgputrace.scene import Light, Material, Scene, Sensor
 from wgputrace.scene.lights.environment import Environment
+from wgputrace.scene.materials.volume import mitsuba_medium
 from wgputrace.scene.registry import mitsuba_rgb
 from wgputrace.scene.shapes import corner_colors, corner_normals, corner_uvs
 from wgputrace.scene.tangents import corner_tangents
@@ -233,12 +236,16 @@ def mitsuba_mesh(
     normals: np.ndarray | None = None,
     uvs: np.ndarray | None = None,
     colors: np.ndarray | None = None,
+    interior: dict | None = None,
 ):
     """A Mitsuba mesh of (n, 3, 3) float32 triangles, corners not shared: flat shaded, or smooth
     with (n, 3, 3) corner `normals`; (n, 3, 2) corner `uvs` become its texture coordinates,
-    (n, 3, 3) corner `colors` its VERTEX_COLOR_ATTRIBUTE."""
+    (n, 3, 3) corner `colors` its VERTEX_COLOR_ATTRIBUTE, and `interior` its interior medium (the
+    side its normals point away from)."""
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(with_mitsuba_objects(mi, bsdf))
+    if interior is not None:
+        props["interior"] = mi.load_dict(interior)
     if emitter is not None:
         props["emitter"] = mi.load_dict(with_mitsuba_objects(mi, emitter))
     smooth = normals is not None
@@ -287,7 +294,8 @@ def rewound(corners: np.ndarray | None) -> np.ndarray | None:
 
 
 def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_depth: int):
-    """`scene` as a loaded Mitsuba scene: `path` integrator at `max_depth`, box-filtered width x height film."""
+    """`scene` as a loaded Mitsuba scene: `path` integrator (`volpath` with media) at `max_depth`,
+    box-filtered width x height film."""
     arrays = scene.arrays()
     corners = arrays.vertices.reshape(-1, 3).astype(np.float64)
     extent = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
@@ -297,7 +305,7 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
     all_tangents = corner_tangents(scene.shapes, arrays.shape_index, arrays.local_index)
     all_colors = corner_colors(scene.shapes, arrays.shape_index, arrays.local_index)
     shapes = {}
-    emitting = False
+    emitting = absorbing = False
     for index, material in enumerate(arrays.materials):
         mine = arrays.material_index == index
         triangles = arrays.vertices[mine]
@@ -308,6 +316,12 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
         colors = None if all_colors is None else vertex_colored(material, all_colors[mine])
         bsdf = bsdf_dict(material, all_tangents[mine], colored=colors is not None)
         emitter = emitter_dict(material)
+        interior = mitsuba_medium(material.absorption())
+        absorbing = absorbing or interior is not None
+        if emitter is not None and interior is not None:
+            raise ValueError(
+                f"material {material.name!r} both emits and absorbs: its export has two meshes, one medium"
+            )
         if emitter is not None:
             emitting = True
             front = mitsuba_mesh(mi, f"{material.name}_front", triangles, bsdf, emitter, normals, uvs, colors)
@@ -318,7 +332,7 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
                 mi, f"{material.name}_back", back, bsdf, emitter, back_normals, rewound(uvs), rewound(colors)
             )
         else:
-            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs, colors)
+            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs, colors, interior)
     lights, hide_emitters = emitters(mi, scene, emitting)
     sensor = {
         **sensor_dict(mi, scene.camera, width, height),
@@ -334,5 +348,5 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
         },
         "sampler": {"type": "independent"},
     }
-    integrator = {"type": "path", "max_depth": max_depth, "hide_emitters": hide_emitters}
+    integrator = {"type": "volpath" if absorbing else "path", "max_depth": max_depth, "hide_emitters": hide_emitters}
     return mi.load_dict({"type": "scene", "integrator": integrator, "sensor": sensor, **shapes, **lights})

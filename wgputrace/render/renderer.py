@@ -142,6 +142,7 @@ class Renderer:
                 f"max_depth must be from 1 to {_UNLIMITED_DEPTH_GPU - 1:,} (or -1 for no limit), got {max_depth}"
             )
         method.check_depth(max_depth)
+        method.check_materials(scene.materials)
         # the variant without its scene: checks the sampler and the overrides before anything is allocated
         variant = KernelVariant(
             integrator=method,
@@ -278,6 +279,7 @@ class Renderer:
         rebuild the BVH, switch to the kernel variant for the scene's features, and restart
         accumulation if anything the GPU reads changed. Returns `upload_stats`."""
         self._frame.uploads = UploadCount()
+        self.variant.require_integrator().check_materials(self.scene.materials)
         fit_environment(self.context, self.scene)
         changes = self._mirror.update()
         variant = self.variant.with_scene(self._mirror.features)

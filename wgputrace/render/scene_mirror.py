@@ -18,6 +18,7 @@ from ..kernels.light_dispatch import LightFeatures
 from ..kernels.traversal import BVH_STACK_SIZE, traversal_stack_size
 from ..kernels.variant import SceneFeatures
 from ..scene import Scene, Shape
+from ..scene.materials.volume import is_absorbing
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_colors, corner_normals, corner_uvs
 from ..scene.tangents import corner_tangents
@@ -149,6 +150,7 @@ class SceneMirror:
             see_through=self.see_through,
             emissive_surfaces=self.emissive_surfaces,
             vertex_colors=self.corner_colors is not None,
+            absorbing=any(is_absorbing(material) for material in self.scene.materials),
         )
 
     @property

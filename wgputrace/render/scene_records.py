@@ -40,10 +40,10 @@ class SceneRecords:
 
 
 def material_records(materials: list[Material]) -> np.ndarray:
-    """MATERIAL records: each material's kind, and the fields its class fills."""
+    """MATERIAL records: each material's kind and absorption, and the fields its class fills."""
     records = MATERIAL.zeros(len(materials))
     for record, material in zip(records, materials, strict=True):
-        record["kind"] = material.kind
+        record["kind"], record["absorption"] = material.kind, material.absorption()
         material.fill_record(record)
     return records
 

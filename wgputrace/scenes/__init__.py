@@ -8,6 +8,7 @@ from collections.abc import Callable
 from functools import partial
 
 from ..scene import Scene
+from .absorbing_glass import absorbing_glass
 from .alpha_cutout import alpha_blend, alpha_cutout
 from .axis_aligned import axis_boxes
 from .camera_views import depth_of_field, orthographic_boxes
@@ -58,6 +59,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "sunlit_spheres": sunlit_spheres,
     # vertex colours (issue 25)
     "vertex_colored_triangles": vertex_colored_triangles,
+    # KHR_materials_volume (issue 25)
+    "absorbing_glass": absorbing_glass,
 }
 DEFAULT_SCENE = "cornell"
 

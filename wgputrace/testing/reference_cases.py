@@ -67,6 +67,8 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "orthographic_boxes": ReferenceSettings(max_depth=6),
     # vertex colours (issue 25): Mitsuba's `mesh_attribute` texture
     "vertex_colored_triangles": ReferenceSettings(max_depth=6),
+    # absorption inside glass and rough transmission (issue 25's KHR_materials_volume): Mitsuba's volpath
+    "absorbing_glass": ReferenceSettings(max_depth=10),
 }
 
 
@@ -193,6 +195,8 @@ MATERIAL_CASES = (
     _materials("textured_asset", seed=20261204),
     _materials("principled_transmission", seed=20261209),
     _materials("alpha_blend", seed=20261206),
+    # absorbing glass and rough transmission (`volume`): Mitsuba's interior `homogeneous` media under `volpath`
+    _materials("absorbing_glass", seed=20261210),
 )
 
 # --- Shading normals without our terms -------------------------------------------------------

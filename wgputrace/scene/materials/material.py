@@ -14,6 +14,7 @@ pbrt-v4's `BxDF::Flags()` it answers what the integrator asks.
 | can a light sample land in its lobe?    | `samples_lights` (WGSL)          | `material_samples_lights`: next-event estimation |
 | the same BSDF seen from both sides?     | `two_sided`                      | `material_is_two_sided`; the Mitsuba `twosided` wrapper |
 | the radiance it emits                   | `emission_wgsl`, `record_radiance` | `material_emitted`, `light_table`             |
+| absorption of the light inside it       | `absorption`                     | its record's absorption, `segment_transmittance` |
 | its Mitsuba 3 equivalent                | `mitsuba_bsdf`, `mitsuba_emitter` | `mitsuba_scene`                                |
 
 A class registers itself as a kind when its body sets `kind`; subclassing a kind without setting
@@ -147,6 +148,10 @@ class Material(Kind):
     def emits(self) -> bool:
         """Whether it sends any light, through its kind's emission or its texture record."""
         return max(self.surface_emission()) > 0
+
+    def absorption(self) -> tuple[float, float, float]:
+        """sigma_a per channel (1 / scene units) of the light travelling inside it (`volume`): none here."""
+        return (0.0, 0.0, 0.0)
 
     def fill_texture_record(self, record: np.void) -> None:
         """Write the parameters of its MATERIAL_TEXTURES record (the texture slots are the caller's):

@@ -19,6 +19,8 @@ need (transmission included).
 | emission   | RGB >= 0      | 0       | emitted radiance (glTF emissiveFactor), on both sides unless single-sided |
 | emission_texture | Texture (sRGB) or None | None | RGB x emission (glTF emissiveTexture) |
 | emission_strength | float >= 0 | 1    | x emission (KHR_materials_emissive_strength)                     |
+| attenuation_color | RGB in [0, 1] | 1  | with spec_trans > 0, Beer-Lambert absorption inside: white light has this colour ... |
+| attenuation_distance | float > 0 | inf | ... after this distance inside (KHR_materials_volume; `volume`)  |
 
 A Disney diffuse lobe with retro-reflection, weighted by (1 - metallic)(1 - spec_trans), plus GGX
 reflection whose Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic
@@ -27,12 +29,13 @@ tinted sqrt(base_color). Sampling picks the diffuse lobe with probability (1 - m
 spec_trans) / (2 - metallic - (1 - metallic) spec_trans), else a visible GGX normal that reflects
 or refracts as its Fresnel and the weights say. Without transmission the material is the same on
 both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
-GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans. Textures, alpha
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans, absorption
+(sigma_a, 0 without transmission: nothing goes inside). Textures, alpha
 and normal_scale are in its MATERIAL_TEXTURES record, applied at the hit (`resolve_material`) so
 the BSDF code sees constants; alpha modes and sidedness act in the traversal's triangle test
 (`surface_blocks`), compiled only for scenes with such a material. WGSL: `principled_sample`,
 `principled_eval`, `principled_pdf`. Mitsuba 3: `principled` with the same values, in `twosided`
-without transmission.
+without transmission; an interior `homogeneous` medium where it absorbs (`mitsuba_medium`).
 """
 
 from __future__ import annotations
@@ -47,6 +50,7 @@ from ..texture import Texture
 from .emitter import RADIANCE_MAX
 from .glass import IOR_MAX
 from .material import ALPHA_MODES, Material, MaterialError, MaterialShader
+from .volume import absorption_coefficients, checked_attenuation
 
 # the texture parameters, `<slot>_texture` for each MATERIAL_TEXTURES slot Principled reads
 _TEXTURE_SLOTS = ("base_color", "metallic_roughness", "normal", "emission")
@@ -78,6 +82,8 @@ class Principled(Material):
     emission: tuple[float, float, float] = (0.0, 0.0, 0.0)
     emission_texture: Texture | None = None
     emission_strength: float = 1.0
+    attenuation_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    attenuation_distance: float = math.inf
 
     kind = 5
     shader = MaterialShader(
@@ -125,12 +131,18 @@ class Principled(Material):
             "normal_scale": self.check_number(
                 "normal_scale", self.normal_scale, low=-NORMAL_SCALE_MAX, high=NORMAL_SCALE_MAX
             ),
+            **checked_attenuation(self, self.attenuation_color, self.attenuation_distance),
         }
 
     def fill_record(self, record) -> None:
         record["color"], record["alpha"] = self.base_color, self.roughness
         record["ior"], record["metallic"] = self.eta, self.metallic
         record["spec_trans"] = self.spec_trans
+
+    def absorption(self) -> tuple[float, float, float]:
+        if self.spec_trans == 0.0:
+            return super().absorption()
+        return absorption_coefficients(self.attenuation_color, self.attenuation_distance)
 
     def textures(self) -> dict[str, Texture]:
         slots = {slot: getattr(self, f"{slot}_texture") for slot in _TEXTURE_SLOTS}
