@@ -109,9 +109,13 @@ MATERIAL = GpuStruct(
         ("ior", "f32"),
         ("metallic", "f32"),
         ("spec_trans", "f32"),
+        ("clearcoat", "f32"),
+        ("clearcoat_gloss", "f32"),
+        ("sheen", "f32"),
+        ("sheen_tint", "f32"),
     ),
-    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans: "
-    "Principled's transmission.",
+    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans, clearcoat, "
+    "clearcoat_gloss, sheen, sheen_tint: Principled's.",
 )
 FRAME = GpuStruct(
     "Frame",
