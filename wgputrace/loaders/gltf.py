@@ -47,6 +47,7 @@ from .gltf_compression import (
     decode_draco,
     draco_available,
 )
+from .gltf_material_lobes import LOBE_EXTENSIONS
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
 from .gltf_meshopt import (
     MESHOPT_EXTENSIONS,
@@ -81,6 +82,7 @@ READ_EXTENSIONS = {
     "KHR_materials_ior",
     TRANSFORM_EXTENSION,
     QUANTIZATION_EXTENSION,
+    *LOBE_EXTENSIONS,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
 UNREAD_EXTENSIONS = {

@@ -19,6 +19,7 @@ from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principle
 from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
+from .gltf_material_lobes import lobe_parameters
 from .textures import ImageError, decode_image
 
 DEFAULT_DIFFUSE = 0.8
@@ -74,6 +75,7 @@ class GltfMaterials:
         | `KHR_materials_ior.ior` (default 1.5)                         | eta |
         | `KHR_materials_transmission.transmissionFactor` (default 0)   | spec_trans (rough dielectric transmission, glTF's roughness) |
         | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
+        | `KHR_materials_clearcoat`, `KHR_materials_sheen` (a factor above 0 makes a Principled) | clearcoat, clearcoat_gloss, sheen (`gltf_material_lobes`) |
 
         Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
         `transmissionTexture` (both with a warning). Any other material (the first rule that applies):
@@ -117,8 +119,9 @@ class GltfMaterials:
         if alpha_mode not in ALPHA_MODES:
             raise reader.fail(f"{where}.alphaMode", f"must be one of {ALPHA_MODES}, got {alpha_mode!r:.40}")
         slots = [(path, parameter, srgb) for path, parameter, srgb in TEXTURE_SLOTS if _info(entry, path) is not None]
+        lobes = lobe_parameters(reader, extensions, f"{where}.extensions")
         try:
-            if slots or alpha_mode != "OPAQUE" or transmission > 0:
+            if slots or alpha_mode != "OPAQUE" or transmission > 0 or max(lobes.values(), default=0.0) > 0:
                 parameters = {parameter: self._texture(entry, path, srgb, where) for path, parameter, srgb in slots}
                 parameters |= self._set_values(entry, where, emissive, strength, alpha_mode)
                 return Principled(
@@ -130,6 +133,7 @@ class GltfMaterials:
                     eta=ior,
                     spec_trans=transmission,
                     **parameters,
+                    **lobes,
                 )
             if emissive.max() * strength > 0:
                 return Emitter(name, color=emissive.tolist(), emittance=strength)
