@@ -61,6 +61,7 @@ from .gltf_meshopt import (
     meshopt_extension,
 )
 from .gltf_quantization import QUANTIZATION_EXTENSION, vertex_attribute
+from .gltf_specular_glossiness import SPECULAR_GLOSSINESS
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -83,6 +84,7 @@ READ_EXTENSIONS = {
     TRANSFORM_EXTENSION,
     QUANTIZATION_EXTENSION,
     *LOBE_EXTENSIONS,
+    SPECULAR_GLOSSINESS,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
 UNREAD_EXTENSIONS = {

@@ -20,6 +20,7 @@ from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
 from .gltf_material_lobes import lobe_parameters
+from .gltf_specular_glossiness import SPECULAR_GLOSSINESS, converted_material
 from .textures import ImageError, decode_image
 
 DEFAULT_DIFFUSE = 0.8
@@ -49,6 +50,8 @@ class GltfMaterials:
         self._materials: dict[int | None, Material] = {}
         self._textures: dict[tuple, Texture] = {}
         self._pixels: dict[int, object] = {}
+        # whether a material was converted from specular-glossiness (and the file warned of it)
+        self._converted = False
 
     def material(self, index, where: str) -> Material:
         """The material a primitive at `where` names by `index` (None: it names none)."""
@@ -77,7 +80,8 @@ class GltfMaterials:
         | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
         | `KHR_materials_clearcoat`, `KHR_materials_sheen` (a factor above 0 makes a Principled) | clearcoat, clearcoat_gloss, sheen (`gltf_material_lobes`) |
 
-        Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
+        A material with `KHR_materials_pbrSpecularGlossiness` is converted to metallic-roughness first
+        (`gltf_specular_glossiness`). Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
         `transmissionTexture` (both with a warning). Any other material (the first rule that applies):
 
         | glTF material                                                          | wgputrace material |
@@ -92,6 +96,9 @@ class GltfMaterials:
             return Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
         entry = reader.item("materials", index, f"{where}.material")
         where = f"materials[{index}]"
+        if SPECULAR_GLOSSINESS in reader.get(entry, "extensions", dict, where, {}):
+            entry = converted_material(reader, entry, where, self._converted)
+            self._converted = True
         name = entry.get("name") if isinstance(entry.get("name"), str) else f"material{index}"
         pbr = reader.get(entry, "pbrMetallicRoughness", dict, where, {})
         pbr_where = f"{where}.pbrMetallicRoughness"

@@ -45,6 +45,8 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "glossy_spheres": ReferenceSettings(max_depth=6),
     "principled_spheres": ReferenceSettings(max_depth=6),
     "principled_transmission": ReferenceSettings(max_depth=10),
+    "principled_clearcoat": ReferenceSettings(max_depth=6),
+    "principled_sheen": ReferenceSettings(max_depth=6),
     "textured_quads": ReferenceSettings(max_depth=6),
     "textured_asset": ReferenceSettings(max_depth=6),
     "alpha_cutout": ReferenceSettings(max_depth=6),
@@ -191,6 +193,8 @@ MATERIAL_CASES = (
     _materials("textured_asset", seed=20261204),
     _materials("principled_transmission", seed=20261209),
     _materials("alpha_blend", seed=20261206),
+    _materials("principled_clearcoat", seed=20261401),
+    _materials("principled_sheen", seed=20261402),
 )
 
 # --- Shading normals without our terms -------------------------------------------------------
