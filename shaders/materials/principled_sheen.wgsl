@@ -1,8 +1,10 @@
 // Principled's sheen: Mitsuba 3's transcription of Burley's sheen, a grazing-angle lobe for cloth.
 //
 // f cos_o = sheen (1 - metallic) (1 - cos_d)^5 c cos_o, cos_d between the half vector and wo, c
-// blended by sheen_tint from white to base_color over its luminance. Part of the diffuse lobe (only
-// where its weight (1 - metallic)(1 - spec_trans) is above 0, as Mitsuba's), which samples it.
+// blended by sheen_tint from white to base_color over its luminance. Mitsuba adds it in its diffuse
+// block, masked by metallic < 1 but not by the diffuse weight (its JIT variants, which render the
+// references, enter the block whatever that weight): with spec_trans 1 it shines too. The diffuse
+// lobe's samples, where there are any, and the specular ones cover it.
 // Compiled only into kernels of scenes that use it (generated/principled_lobes.wgsl).
 //! include "materials/principled_parameters.wgsl"
 
@@ -11,7 +13,7 @@ const SHEEN_LUMINANCE_WEIGHTS: vec3<f32> = vec3<f32>(0.212671, 0.715160, 0.07216
 
 // f cos_o for wi and wo above the surface, h their half vector
 fn principled_sheen(p: Principled, wo: vec3<f32>, h: vec3<f32>) -> vec3<f32> {
-    if p.sheen <= 0.0 || principled_brdf_weight(p) <= 0.0 {
+    if p.sheen <= 0.0 || p.metallic >= 1.0 {
         return vec3<f32>(0.0);
     }
     let luminance = dot(SHEEN_LUMINANCE_WEIGHTS, p.base_color);

@@ -226,20 +226,34 @@ def test_white_furnace_keeps_the_integral_of_eval(gpu_context, case):
 @pytest.mark.slow
 def test_white_furnace_is_mitsubas(gpu_context):
     """Mean sample weight (eval / pdf) of a white surface for light from outside, against Mitsuba's
-    on its grid: equal within both estimators' errors everywhere, and at most 1 wherever Mitsuba's is."""
+    on its grid (with and without a clearcoat or a sheen): equal within both estimators' errors
+    everywhere, and at most 1 wherever Mitsuba's is."""
     fixture = np.load(MITSUBA_FURNACE)
     axes = [fixture[name] for name in ("roughness", "metallic", "spec_trans", "cos_theta")]
+    # the last axis: no optional lobe, then each row of the fixture's lobe parameters
+    lobes = [{}] + [
+        dict(zip(names.tolist(), values.tolist(), strict=True))
+        for names, values in zip(fixture["lobe_names"], fixture["lobes"], strict=True)
+    ]
     grid = [
-        (index, tuple(float(axis[i]) for axis, i in zip(axes, index, strict=True)))
+        (index, (*(float(axis[i]) for axis, i in zip(axes, index, strict=False)), lobes[index[-1]]))
         for index in np.ndindex(fixture["mean"].shape)
     ]
     rng = np.random.default_rng((SEED, 1))
     materials = [
-        Principled(f"white r{r:g} m{m:g} t{t:g}", (1, 1, 1), m, r, float(fixture["eta"]), spec_trans=t)
-        for _, (r, m, t, _) in grid
+        Principled(
+            f"white r{r:g} m{m:g} t{t:g}" + "".join(f" {k} {v:g}" for k, v in extra.items()),
+            (1, 1, 1),
+            m,
+            r,
+            float(fixture["eta"]),
+            spec_trans=t,
+            **extra,
+        )
+        for _, (r, m, t, _, extra) in grid
     ]
     records = material_records(materials)
-    wi = incident_directions(rng, np.array([c for _, (*_, c) in grid]))
+    wi = incident_directions(rng, np.array([c for _, (*_, c, _) in grid]))
     samples = sample_bsdf(gpu_context, records, wi, rng.random((len(grid), FURNACE_SAMPLES, 3), dtype=np.float32))
     valid = samples[..., 3] > 0.0
     case = np.nonzero(valid)[0]
