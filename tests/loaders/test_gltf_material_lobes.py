@@ -90,5 +90,6 @@ def test_unread_material_extensions_are_named_in_one_warning_per_file(tmp_path):
     with pytest.warns(SceneLoadWarning) as caught:
         material_of(square_file(tmp_path, extensions, used))
     (warning,) = caught
-    assert "KHR_materials_specular" in str(warning.message) and "KHR_materials_anisotropy" in str(warning.message)
+    assert "KHR_materials_specular (specular strength and colour: Mitsuba's spec_tint" in str(warning.message)
+    assert "KHR_materials_anisotropy (anisotropic roughness" in str(warning.message)
     assert "KHR_materials_clearcoat" not in str(warning.message)

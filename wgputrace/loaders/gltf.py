@@ -47,7 +47,7 @@ from .gltf_compression import (
     decode_draco,
     draco_available,
 )
-from .gltf_material_lobes import LOBE_EXTENSIONS
+from .gltf_material_lobes import LOBE_EXTENSIONS, UNMAPPED_MATERIAL_EXTENSIONS
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
 from .gltf_meshopt import (
     MESHOPT_EXTENSIONS,
@@ -94,6 +94,7 @@ UNREAD_EXTENSIONS = {
         for name in MESHOPT_EXTENSIONS
     },
     "KHR_texture_basisu": ("KTX2 textures", "not decoded here: save the file with PNG or JPEG textures"),
+    **UNMAPPED_MATERIAL_EXTENSIONS,
 }
 
 

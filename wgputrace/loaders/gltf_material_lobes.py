@@ -31,6 +31,18 @@ SHEEN = "KHR_materials_sheen"
 LOBE_EXTENSIONS = (CLEARCOAT, SHEEN)
 # Mitsuba's clearcoat GTR1 alpha at clearcoat_gloss 0 and 1
 _ROUGHEST_COAT, _GLOSSIEST_COAT = 0.1, 0.001
+# Material extensions without a Principled (Mitsuba principled) parameter that means the same, and
+# why: what the ignoring warning and a refusal say of them (gltf.UNREAD_EXTENSIONS)
+UNMAPPED_MATERIAL_EXTENSIONS = {
+    "KHR_materials_specular": (
+        "specular strength and colour: Mitsuba's spec_tint tints towards the base colour only",
+        "no parameter of Mitsuba's principled means the same",
+    ),
+    "KHR_materials_anisotropy": (
+        "anisotropic roughness along the tangents: not mapped to Mitsuba's anisotropic yet",
+        "not read here",
+    ),
+}
 # the fields of each extension that Principled has no parameter for
 _IGNORED = {
     CLEARCOAT: ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
