@@ -88,8 +88,8 @@ def lobe_parameters(reader, extensions: dict, where: str) -> dict[str, float]:
         ignored = [key for key in _IGNORED[name] if key in block]
         if ignored:
             warnings.warn(
-                f"{reader.path}: {where}.{name}: {', '.join(ignored)} ignored (Principled's {name[14:]} "
-                "takes no texture; Mitsuba's clearcoat has no normal of its own)",
+                f"{reader.path}: {where}.{name}: {', '.join(ignored)} ignored (Principled's clearcoat and sheen "
+                "take no textures; Mitsuba's clearcoat has no normal of its own): the factors alone are read",
                 SceneLoadWarning,
                 stacklevel=7,
             )
