@@ -27,12 +27,12 @@ need (transmission included).
 A Disney diffuse lobe with retro-reflection, weighted by (1 - metallic)(1 - spec_trans), plus GGX
 reflection whose Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic
 Schlick(base_color), plus rough dielectric transmission weighted by (1 - metallic) spec_trans and
-tinted sqrt(base_color), plus from outside Mitsuba's clearcoat (0.25 clearcoat F D G cos_o: no 1 /
-(4 cos_i cos_o), as Mitsuba's has none) and sheen (sampled by the other lobes). Sampling
-picks the diffuse lobe, the clearcoat (a GTR1 normal) and the GGX lobes at the rates (1 - metallic)
-(1 - spec_trans), 0.25 clearcoat and 1 (the GGX one split into reflection and refraction by its
-Fresnel and spec_trans), a visible GGX normal reflecting or refracting. Without transmission the material is the same on
-both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
+tinted sqrt(base_color), plus from outside Mitsuba's clearcoat (0.25 clearcoat F D G cos_o: no
+1 / (4 cos_i cos_o), as Mitsuba's has none) and sheen (sampled by the other lobes). Sampling picks
+the diffuse lobe, the clearcoat (a GTR1 normal) and the GGX lobes at the rates (1 - metallic)(1 -
+spec_trans), 0.25 clearcoat and 1 (the GGX one split into reflection and refraction by its Fresnel
+and spec_trans: a visible GGX normal reflects or refracts). Without transmission the material is
+the same on both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
 GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans, clearcoat,
 clearcoat_gloss, sheen, sheen_tint; the clearcoat and sheen code is compiled only into kernels of
 scenes with a material that uses it (`lobes`, `principled_lobes_hook`). Textures, alpha
