@@ -110,10 +110,14 @@ MATERIAL = GpuStruct(
         ("metallic", "f32"),
         ("spec_trans", "f32"),
         ("absorption", "vec3<f32>"),
+        ("clearcoat", "f32"),
+        ("clearcoat_gloss", "f32"),
+        ("sheen", "f32"),
+        ("sheen_tint", "f32"),
     ),
-    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans: "
-    "Principled's transmission; absorption: sigma_a inside (`Material.absorption`), read only in "
-    "kernels for scenes with an absorbing material.",
+    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans, clearcoat, "
+    "clearcoat_gloss, sheen, sheen_tint: Principled's; absorption: sigma_a inside (`Material.absorption`), "
+    "read only in kernels for scenes with an absorbing material.",
 )
 FRAME = GpuStruct(
     "Frame",

@@ -26,6 +26,7 @@ from .bind_groups import (
 from .camera import DEFAULT_CAMERA, camera_label
 from .hooks import HOOKS
 from .light_dispatch import NO_LIGHTS, LightFeatures
+from .principled_lobes import LOBE_SHADERS, check_lobes
 from .sampler import DEFAULT_SAMPLER, check_sampler
 from .traversal import BVH_STACK_SIZE
 
@@ -61,6 +62,8 @@ class SceneFeatures:
     stack_size: int = BVH_STACK_SIZE
     # the material kinds whose BSDF code is compiled in
     material_kinds: tuple[int, ...] = ALL_KINDS
+    # the optional lobes of material kinds whose code is compiled in (`Material.lobes`)
+    lobes: tuple[str, ...] = tuple(LOBE_SHADERS)
     # the lights besides emissive triangles
     lights: LightFeatures = NO_LIGHTS
     # the camera kind (a registered kind's id): how camera rays are made and bdpt connects to the camera
@@ -82,10 +85,12 @@ class SceneFeatures:
         scene_group(self.acceleration)  # refuses an unknown acceleration
         camera_label(self.camera)  # refuses an unregistered camera kind
         object.__setattr__(self, "material_kinds", shaded_kinds(self.material_kinds))
+        object.__setattr__(self, "lobes", check_lobes(self.lobes))
 
     @property
     def labels(self) -> list[str]:
-        return ([self.lights.description] if self.lights.any else []) + _flag_labels(self) + camera_label(self.camera)
+        lights = [self.lights.description] if self.lights.any else []
+        return lights + [f"{lobe} lobe" for lobe in self.lobes] + _flag_labels(self) + camera_label(self.camera)
 
     def groups(self) -> tuple[BindGroup, ...]:
         """The bind groups a kernel tracing this scene declares besides its own: the scene group,
@@ -185,5 +190,5 @@ class KernelVariant:
         return files | (self.integrator.files(self) if self.integrator else {})
 
 
-# A kernel that draws no particular scene: every material kind, no lights, flat and untextured.
+# A kernel that draws no particular scene: every material kind and lobe, no lights, flat and untextured.
 DEFAULT_VARIANT = KernelVariant()

@@ -48,6 +48,7 @@ from .gltf_compression import (
     decode_draco,
     draco_available,
 )
+from .gltf_material_lobes import LOBE_EXTENSIONS, UNMAPPED_MATERIAL_EXTENSIONS
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
 from .gltf_meshopt import (
     MESHOPT_EXTENSIONS,
@@ -61,6 +62,7 @@ from .gltf_meshopt import (
     meshopt_extension,
 )
 from .gltf_quantization import QUANTIZATION_EXTENSION, vertex_attribute
+from .gltf_specular_glossiness import SPECULAR_GLOSSINESS
 from .gltf_volume import VOLUME_EXTENSION
 from .ktx2_images import BASISU_EXTENSION, KTX2_INSTALL_HINT, ktx2_available
 
@@ -85,6 +87,8 @@ READ_EXTENSIONS = {
     VOLUME_EXTENSION,
     TRANSFORM_EXTENSION,
     QUANTIZATION_EXTENSION,
+    *LOBE_EXTENSIONS,
+    SPECULAR_GLOSSINESS,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
 UNREAD_EXTENSIONS = {
@@ -94,6 +98,7 @@ UNREAD_EXTENSIONS = {
         for name in MESHOPT_EXTENSIONS
     },
     BASISU_EXTENSION: ("KTX2 textures", f"needs opengl-basisu: {KTX2_INSTALL_HINT}"),
+    **UNMAPPED_MATERIAL_EXTENSIONS,
 }
 
 

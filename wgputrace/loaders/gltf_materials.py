@@ -21,6 +21,8 @@ from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principle
 from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
+from .gltf_material_lobes import lobe_parameters
+from .gltf_specular_glossiness import SPECULAR_GLOSSINESS, converted_material
 from .gltf_volume import volume_parameters
 from .ktx2_images import BASISU_EXTENSION, KTX2_INSTALL_HINT, ktx2_available
 from .textures import ImageError, decode_image
@@ -52,6 +54,8 @@ class GltfMaterials:
         self._materials: dict[int | None, Material] = {}
         self._textures: dict[tuple, Texture] = {}
         self._pixels: dict[int, object] = {}
+        # whether a material was converted from specular-glossiness (and the file warned of it)
+        self._converted = False
 
     def material(self, index, where: str) -> Material:
         """The material a primitive at `where` names by `index` (None: it names none)."""
@@ -79,8 +83,10 @@ class GltfMaterials:
         | `KHR_materials_transmission.transmissionFactor` (default 0)   | spec_trans (rough dielectric transmission, glTF's roughness) |
         | `KHR_materials_volume` `attenuationColor`, `attenuationDistance` (with transmission) | attenuation_color, attenuation_distance (`volume_parameters`) |
         | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
+        | `KHR_materials_clearcoat`, `KHR_materials_sheen` (a factor above 0 makes a Principled) | clearcoat, clearcoat_gloss, sheen (`gltf_material_lobes`) |
 
-        Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
+        A material with `KHR_materials_pbrSpecularGlossiness` is converted to metallic-roughness first
+        (`gltf_specular_glossiness`). Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
         `transmissionTexture` (both with a warning). Any other material (the first rule that applies):
 
         | glTF material                                                          | wgputrace material |
@@ -95,6 +101,9 @@ class GltfMaterials:
             return Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
         entry = reader.item("materials", index, f"{where}.material")
         where = f"materials[{index}]"
+        if SPECULAR_GLOSSINESS in reader.get(entry, "extensions", dict, where, {}):
+            entry = converted_material(reader, entry, where, self._converted)
+            self._converted = True
         name = entry.get("name") if isinstance(entry.get("name"), str) else f"material{index}"
         pbr = reader.get(entry, "pbrMetallicRoughness", dict, where, {})
         pbr_where = f"{where}.pbrMetallicRoughness"
@@ -122,8 +131,9 @@ class GltfMaterials:
         if alpha_mode not in ALPHA_MODES:
             raise reader.fail(f"{where}.alphaMode", f"must be one of {ALPHA_MODES}, got {alpha_mode!r:.40}")
         slots = [(path, parameter, srgb) for path, parameter, srgb in TEXTURE_SLOTS if _info(entry, path) is not None]
+        lobes = lobe_parameters(reader, extensions, f"{where}.extensions")
         try:
-            if slots or alpha_mode != "OPAQUE" or transmission > 0:
+            if slots or alpha_mode != "OPAQUE" or transmission > 0 or max(lobes.values(), default=0.0) > 0:
                 parameters = {parameter: self._texture(entry, path, srgb, where) for path, parameter, srgb in slots}
                 parameters |= self._set_values(entry, where, emissive, strength, alpha_mode)
                 if transmission > 0:
@@ -137,6 +147,7 @@ class GltfMaterials:
                     eta=ior,
                     spec_trans=transmission,
                     **parameters,
+                    **lobes,
                 )
             if emissive.max() * strength > 0:
                 return Emitter(name, color=emissive.tolist(), emittance=strength)

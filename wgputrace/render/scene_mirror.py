@@ -143,6 +143,7 @@ class SceneMirror:
             acceleration=self.acceleration_kind,
             stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self.wide.max_stack),
             material_kinds=self.material_kinds,
+            lobes=tuple(set().union(*(material.lobes() for material in self.scene.materials))),
             lights=self.light_features,
             camera=self.scene.camera.kind,
             smooth=self.corner_attributes is not None,

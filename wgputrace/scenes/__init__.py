@@ -20,7 +20,7 @@ from .glass import glass_grazing
 from .glossy import glossy_spheres
 from .glossy_through_glossy import glossy_through_glossy
 from .normal_mapped import normal_mapped_plane
-from .principled import principled_spheres, principled_transmission
+from .principled import principled_clearcoat, principled_sheen, principled_spheres, principled_transmission
 from .punctual import point_spot_directional
 from .slivers import slivers
 from .smooth_sphere import smooth_sphere
@@ -38,6 +38,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "glossy_spheres": glossy_spheres,
     "principled_spheres": principled_spheres,
     "principled_transmission": principled_transmission,
+    "principled_clearcoat": principled_clearcoat,
+    "principled_sheen": principled_sheen,
     "slivers": slivers,
     "axis_boxes": axis_boxes,
     "env_sun_spheres": env_sun_spheres,

@@ -45,6 +45,8 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "glossy_spheres": ReferenceSettings(max_depth=6),
     "principled_spheres": ReferenceSettings(max_depth=6),
     "principled_transmission": ReferenceSettings(max_depth=10),
+    "principled_clearcoat": ReferenceSettings(max_depth=6),
+    "principled_sheen": ReferenceSettings(max_depth=6),
     "textured_quads": ReferenceSettings(max_depth=6),
     "textured_asset": ReferenceSettings(max_depth=6),
     "alpha_cutout": ReferenceSettings(max_depth=6),
@@ -197,6 +199,8 @@ MATERIAL_CASES = (
     _materials("alpha_blend", seed=20261206),
     # absorbing glass and rough transmission (`volume`): Mitsuba's interior `homogeneous` media under `volpath`
     _materials("absorbing_glass", seed=20261210),
+    _materials("principled_clearcoat", seed=20261401),
+    _materials("principled_sheen", seed=20261402),
 )
 
 # --- Shading normals without our terms -------------------------------------------------------

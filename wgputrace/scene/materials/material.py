@@ -10,6 +10,7 @@ pbrt-v4's `BxDF::Flags()` it answers what the integrator asks.
 | parameters and their checks             | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)          |
 | its GPU record                          | `fill_record`                    | `material_records`                              |
 | its BSDF code (sample, eval, pdf)       | `shader`                         | `material_dispatch`: generated dispatch         |
+| optional lobes it uses (clearcoat, ...) | `lobes`                          | `SceneFeatures.lobes`: their code compiled in   |
 | every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
 | can a light sample land in its lobe?    | `samples_lights` (WGSL)          | `material_samples_lights`: next-event estimation |
 | the same BSDF seen from both sides?     | `two_sided`                      | `material_is_two_sided`; the Mitsuba `twosided` wrapper |
@@ -130,6 +131,11 @@ class Material(Kind):
         """Write the parameters into `record`, one MATERIAL record, by field name, as
         `shader` and `emission_wgsl` read them. `kind` is written by the caller; other fields stay zero."""
         raise NotImplementedError
+
+    def lobes(self) -> frozenset[str]:
+        """The optional lobes of its kind that it uses, whose code is compiled only into kernels of
+        scenes that use them (`SceneFeatures.lobes`): none here."""
+        return frozenset()
 
     def textures(self) -> dict[str, Texture]:
         """The textures it reads, by MATERIAL_TEXTURES slot ("base_color", "normal", ...): none here."""
