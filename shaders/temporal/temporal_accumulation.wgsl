@@ -116,7 +116,7 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> TemporalPixel {
         let tap = vec2<i32>(corner) + vec2<i32>(offset);
         let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
         let weight = along.x * along.y;
-        if !(weight > 0.0) || !inside(tap) {
+        if !(weight >= BILINEAR_WEIGHT_MIN) || !inside(tap) {
             continue;
         }
         let index = u32(tap.y) * params.width + u32(tap.x);

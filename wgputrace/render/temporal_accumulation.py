@@ -44,6 +44,9 @@ DEPTH_RELATIVE_TOLERANCE = 0.02
 DEPTH_GRADIENT_MARGIN = 1.5
 # ... and its normal within about 25 degrees of this pixel's.
 NORMAL_COS_MIN = 0.9
+# Taps of a smaller bilinear weight are left out: they would add next to nothing, and counting
+# them would let a motion vector's rounding decide whether a pixel's history survives.
+BILINEAR_WEIGHT_MIN = 1e-3
 
 TEMPORAL_PIXEL = GpuStruct(
     "TemporalPixel",
@@ -85,6 +88,7 @@ def temporal_constants() -> str:
     lines.append(f"const DEPTH_RELATIVE_TOLERANCE: f32 = {DEPTH_RELATIVE_TOLERANCE!r};")
     lines.append(f"const DEPTH_GRADIENT_MARGIN: f32 = {DEPTH_GRADIENT_MARGIN!r};")
     lines.append(f"const NORMAL_COS_MIN: f32 = {NORMAL_COS_MIN!r};")
+    lines.append(f"const BILINEAR_WEIGHT_MIN: f32 = {BILINEAR_WEIGHT_MIN!r};")
     return "\n".join(lines) + "\n"
 
 
