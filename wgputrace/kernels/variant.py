@@ -169,8 +169,10 @@ class KernelVariant:
     def pixels_group(self) -> BindGroup:
         """The pixels group: the guide sums where guides are on, the G-buffer and the previous
         frame's camera where it is written, and the integrator's own arrays."""
-        extra = ((GUIDE_SUMS,) if self.guides else ()) + ((GBUFFER, PREVIOUS_FRAME) if self.gbuffer else ()) + tuple(
-            array.binding for array in (self.integrator.pixel_arrays if self.integrator else ())
+        extra = (
+            ((GUIDE_SUMS,) if self.guides else ())
+            + ((GBUFFER, PREVIOUS_FRAME) if self.gbuffer else ())
+            + tuple(array.binding for array in (self.integrator.pixel_arrays if self.integrator else ()))
         )
         group = PIXELS_GROUP
         for binding in extra:

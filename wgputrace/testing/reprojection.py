@@ -51,7 +51,10 @@ def card_scene(wall: Material | None = None, card: Material | None = None) -> Sc
     seen from pinhole(0), both of one white material unless given, under a grey sky."""
     wall = wall or Diffuse("white", color=(0.8, 0.8, 0.8))
     half = (-_WALL_HALF_SIZE, _WALL_HALF_SIZE)
-    shapes = [_quad("wall", half, half, WALL_DISTANCE, wall), _quad("card", _CARD_X, _CARD_Y, CARD_DISTANCE, card or wall)]
+    shapes = [
+        _quad("wall", half, half, WALL_DISTANCE, wall),
+        _quad("card", _CARD_X, _CARD_Y, CARD_DISTANCE, card or wall),
+    ]
     return Scene(shapes, pinhole(0.0), environment=Environment(0.5))
 
 
@@ -74,7 +77,10 @@ def centre_hits(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
 
     card = on_plane(CARD_DISTANCE)
     on_card = (
-        (_CARD_X[0] <= card[..., 0]) & (card[..., 0] <= _CARD_X[1]) & (_CARD_Y[0] <= card[..., 1]) & (card[..., 1] <= _CARD_Y[1])
+        (_CARD_X[0] <= card[..., 0])
+        & (card[..., 0] <= _CARD_X[1])
+        & (_CARD_Y[0] <= card[..., 1])
+        & (card[..., 1] <= _CARD_Y[1])
     )
     return np.where(on_card[..., None], card, on_plane(WALL_DISTANCE)), on_card
 
@@ -102,7 +108,9 @@ def reprojection_taps(previous: Camera, current: Camera) -> np.ndarray:
     passes = np.zeros(on_card.shape, bool)
     for dx in (0, 1):
         for dy in (0, 1):
-            weight = (fraction[..., 0] if dx else 1 - fraction[..., 0]) * (fraction[..., 1] if dy else 1 - fraction[..., 1])
+            weight = (fraction[..., 0] if dx else 1 - fraction[..., 0]) * (
+                fraction[..., 1] if dy else 1 - fraction[..., 1]
+            )
             x, y = corner[..., 0] + dx, corner[..., 1] + dy
             inside = (0 <= x) & (x < SIZE) & (0 <= y) & (y < SIZE)
             same = np.zeros_like(inside)
