@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Renderer
+from wgputrace.gpu.layout import GBUFFER_PIXEL
 from wgputrace.kernels.variant import KernelVariant
 from wgputrace.testing.reprojection import SIZE, card_scene, centre_hits, pinhole, pixel_centres, raster_of
 
@@ -70,9 +71,10 @@ def test_the_sky_moves_with_the_cameras_turn_alone():
 def test_without_frames_nothing_of_the_gbuffer_is_compiled_or_bound():
     renderer = Renderer(card_scene(), SIZE, SIZE)
     assert not renderer.variant.gbuffer
-    assert "gbuffer" not in renderer.resources
+    assert "gbuffer" not in renderer.resources and "G-buffer" not in renderer.gpu_image_bytes
     renderer.render_frame()
     assert renderer.variant.gbuffer and "gbuffer" in renderer.resources
+    assert renderer.gpu_image_bytes["G-buffer"] == SIZE * SIZE * GBUFFER_PIXEL.size
     assert "G-buffer" in renderer.variant.label
 
 

@@ -269,8 +269,11 @@ class Renderer:
     @property
     def gpu_image_bytes(self) -> dict[str, int]:
         """Bytes allocated on the GPU for the image, by buffer: they grow with the pixels, not the
-        scene (the frame uniform is a fixed 80 bytes)."""
+        scene (the frame uniforms are a fixed 80 bytes); render_frame's G-buffer and histories too
+        once it has run."""
         buffers = (self._frame.buffer, self._rng, self._rng_at_seed, *self._sums.values())
+        if self._temporal is not None:
+            buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers)
         return {buffer.label: buffer.size for buffer in buffers}
 
     @property
