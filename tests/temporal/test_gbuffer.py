@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgputrace import Diffuse, Renderer
-from wgputrace.gpu.layout import GBUFFER_PIXEL
+from wgputrace import Diffuse, EquirectangularCamera, OrthographicCamera, Renderer
+from wgputrace.gpu.layout import FRAME, GBUFFER_PIXEL
 from wgputrace.kernels.variant import KernelVariant
 from wgputrace.testing.reprojection import SIZE, card_scene, centre_hits, pinhole, pixel_centres, raster_of
 
@@ -19,11 +19,15 @@ MOTION_TOLERANCE_PIXELS = 1e-3
 DEPTH_RELATIVE_TOLERANCE = 1e-5
 
 
-@pytest.mark.parametrize(("step", "yaw_degrees"), [(0.3, 0.0), (0.1, 7.0)], ids=["sideways", "turning"])
-def test_motion_vectors_are_where_the_previous_camera_saw_each_point(step, yaw_degrees):
+@pytest.mark.parametrize(
+    ("step", "yaw_degrees", "aperture_radius"),
+    [(0.3, 0.0, 0.0), (0.1, 7.0, 0.0), (0.1, 7.0, 0.05)],
+    ids=["sideways", "turning", "thin lens"],
+)
+def test_motion_vectors_are_where_the_previous_camera_saw_each_point(step, yaw_degrees, aperture_radius):
     scene = card_scene(card=Diffuse("grey", color=(0.3, 0.3, 0.3)))
     renderer = Renderer(scene, SIZE, SIZE)
-    previous, current = pinhole(0.0), pinhole(step, yaw_degrees)
+    previous, current = pinhole(0.0, 0.0, aperture_radius), pinhole(step, yaw_degrees, aperture_radius)
     renderer.render_frame(previous)
     renderer.render_frame(current)
     gbuffer = renderer.gbuffer()
@@ -39,6 +43,41 @@ def test_motion_vectors_are_where_the_previous_camera_saw_each_point(step, yaw_d
     np.testing.assert_array_equal(gbuffer["surface"], np.where(on_card, 2, 1))
     np.testing.assert_allclose(gbuffer["albedo"][on_card], 0.3, rtol=1e-6)
     np.testing.assert_allclose(gbuffer["normal"], np.broadcast_to([0.0, 0.0, -1.0], (SIZE, SIZE, 3)), atol=1e-6)
+
+
+def test_an_orthographic_camera_moves_everything_by_its_step():
+    renderer = Renderer(card_scene(), SIZE, SIZE)
+    previous = OrthographicCamera(position=(0.0, 0.0, 0.0), forward=(0, 0, 1), up=(0, 1, 0), view_height=4.0)
+    current = OrthographicCamera(position=(0.3, -0.2, 0.0), forward=(0, 0, 1), up=(0, 1, 0), view_height=4.0)
+    renderer.render_frame(previous)
+    renderer.render_frame(current)
+    record = FRAME.zeros(1)
+    current.fill_frame(record, SIZE, SIZE)
+    right, up = record["camera_right"][0].astype(np.float64), record["camera_up"][0].astype(np.float64)
+    step = np.subtract(current.position, previous.position)
+    # the rectangle's half extents span half the image
+    expected = (step @ right / (right @ right) * SIZE / 2, -(step @ up) / (up @ up) * SIZE / 2)
+    motion = renderer.gbuffer()["motion"]
+    assert np.abs(motion - expected).max() < MOTION_TOLERANCE_PIXELS
+
+
+def test_an_equirectangular_camera_turning_moves_everything_by_its_angle():
+    width, height = 2 * SIZE, SIZE
+    turn_degrees = 22.5
+    scene = card_scene()
+    renderer = Renderer(scene, width, height)
+    for yaw in (0.0, turn_degrees):
+        forward = (np.sin(np.radians(yaw)), 0.0, np.cos(np.radians(yaw)))
+        renderer.render_frame(EquirectangularCamera(position=(0.0, 0.0, 0.0), forward=forward, up=(0, 1, 0)))
+    motion = renderer.gbuffer()["motion"]
+    # a turn is a shift of the columns; points that crossed the image's left and right edge went
+    # the other way round
+    shift = np.abs(motion[..., 0])
+    across = np.isclose(shift, width - turn_degrees / 360 * width, atol=MOTION_TOLERANCE_PIXELS)
+    assert across.sum() == turn_degrees / 360 * width * height
+    assert np.abs(shift[~across] - turn_degrees / 360 * width).max() < 2e-3
+    # rows near the poles turn about the image's vertical axis too, to float32's rounding
+    assert np.abs(motion[..., 1]).max() < 2e-3
 
 
 def test_a_resting_camera_has_no_motion_at_all():

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..render.temporal_accumulation import BILINEAR_WEIGHT_MIN
-from ..scene import Camera, Diffuse, Material, Scene, Shape
+from ..scene import Camera, Diffuse, Material, Scene, Shape, ThinLensCamera
 from ..scene.lights.environment import Environment
 
 # The image is SIZE x SIZE pixels under a 90-degree field of view: seen from pinhole(0) at
@@ -23,12 +23,15 @@ CARD_ROWS = (8, 24)
 _WALL_HALF_SIZE = 40.0
 
 
-def pinhole(x: float, yaw_degrees: float = 0.0) -> Camera:
+def pinhole(x: float, yaw_degrees: float = 0.0, aperture_radius: float = 0.0) -> Camera:
     """The camera at (x, 0, 0) looking along +z turned by `yaw_degrees` about +y, 90 degrees
-    from the image's bottom to its top."""
+    from the image's bottom to its top; with `aperture_radius`, a thin lens of that radius
+    focused on the wall, whose rays through the lens's centre are the pinhole's."""
     yaw = np.radians(yaw_degrees)
-    forward = (np.sin(yaw), 0.0, np.cos(yaw))
-    return Camera(position=(x, 0.0, 0.0), forward=forward, up=(0.0, 1.0, 0.0), vfov_degrees=90.0)
+    view = {"position": (x, 0.0, 0.0), "forward": (np.sin(yaw), 0.0, np.cos(yaw)), "up": (0.0, 1.0, 0.0)}
+    if aperture_radius:
+        return ThinLensCamera(**view, vfov_degrees=90.0, aperture_radius=aperture_radius, focus_distance=WALL_DISTANCE)
+    return Camera(**view, vfov_degrees=90.0)
 
 
 def _plane(raster: float) -> float:
