@@ -1,9 +1,8 @@
 // Temporal accumulation: this frame's samples added to each pixel's history, reprojected along the G-buffer's motion while anything moves.
-//! include "generated/structs.wgsl"
-//! include "generated/view_structs.wgsl"
 //! include "generated/temporal.wgsl"
 //! include "integrators/accumulate.wgsl"
 //! include "view/tone_curves.wgsl"
+//! include "temporal/gbuffer_neighbours.wgsl"
 //! include "generated/bindings/temporal.wgsl"
 //! include "generated/workgroup.wgsl"
 //
@@ -18,10 +17,6 @@
 // Neither surface nor sky (GBufferPixel.surface 0): nothing was hit.
 const SKY_SURFACE: u32 = 0u;
 
-fn demodulation(albedo: vec3<f32>) -> vec3<f32> {
-    return max(albedo, vec3<f32>(FILTER_ALBEDO_MIN));
-}
-
 // This frame's samples of `pixel`, summed.
 fn frame_sum(pixel: u32) -> vec3<f32> {
     let sums = accumulation[pixel];
@@ -30,35 +25,15 @@ fn frame_sum(pixel: u32) -> vec3<f32> {
 
 // This frame's mean at `xy`, divided by its first hit's albedo.
 fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
-    let pixel = u32(xy.y) * params.width + u32(xy.x);
+    let pixel = pixel_index(xy);
     return frame_sum(pixel) / (f32(params.samples) * demodulation(gbuffer[pixel].albedo));
 }
 
-fn inside(xy: vec2<i32>) -> bool {
-    return all(xy >= vec2<i32>(0)) && xy.x < i32(params.width) && xy.y < i32(params.height);
-}
-
 // How far this pixel's depth may be from a tap's: a little of the distance, plus what the depth
-// changes over the taps' pixel of offset on this surface (the smaller of the two one-sided
-// differences per axis, so a silhouette beside the pixel does not widen it).
+// changes over the taps' pixel of offset in each axis on this surface.
 fn depth_tolerance(xy: vec2<i32>, here: GBufferPixel) -> f32 {
-    var change = 0.0;
-    for (var axis = 0; axis < 2; axis++) {
-        var smallest = FLOAT_MAX;
-        for (var side = -1; side <= 1; side += 2) {
-            var step = vec2<i32>(0);
-            step[axis] = side;
-            let neighbour = xy + step;
-            if inside(neighbour) {
-                let there = gbuffer[u32(neighbour.y) * params.width + u32(neighbour.x)];
-                if there.surface == here.surface {
-                    smallest = min(smallest, abs(there.depth - here.depth));
-                }
-            }
-        }
-        change += select(0.0, smallest, smallest < FLOAT_MAX);
-    }
-    return DEPTH_RELATIVE_TOLERANCE * here.previous_depth + DEPTH_GRADIENT_MARGIN * change;
+    let gradient = depth_gradient(xy, here);
+    return DEPTH_RELATIVE_TOLERANCE * here.previous_depth + DEPTH_GRADIENT_MARGIN * (gradient.x + gradient.y);
 }
 
 // Whether the previous frame's pixel `there` saw the surface this pixel sees now.
@@ -119,7 +94,7 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> TemporalPixel {
         if !(weight >= BILINEAR_WEIGHT_MIN) || !inside(tap) {
             continue;
         }
-        let index = u32(tap.y) * params.width + u32(tap.x);
+        let index = pixel_index(tap);
         let there = previous_gbuffer[index];
         let old = previous_history[index];
         if old.length <= 0.0 || !consistent(here, there, tolerance) {

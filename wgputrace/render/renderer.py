@@ -45,6 +45,7 @@ from .rng_seed import pixel_rng_states
 from .scene_mirror import TEXTURE_ATLAS, SceneMirror
 from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
+from .svgf_filter import VarianceGuidedFilter
 from .temporal_accumulation import TemporalAccumulation
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
@@ -219,6 +220,7 @@ class Renderer:
         self._temporal: TemporalAccumulation | None = None
         self._gbuffer: wgpu.GPUBuffer | None = None
         self._previous_frame: wgpu.GPUBuffer | None = None
+        self._filter: VarianceGuidedFilter | None = None
         self._bind()
 
     @property
@@ -274,6 +276,8 @@ class Renderer:
         buffers = (self._frame.buffer, self._rng, self._rng_at_seed, *self._sums.values())
         if self._temporal is not None:
             buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers)
+        if self._filter is not None:
+            buffers += self._filter.buffers
         return {buffer.label: buffer.size for buffer in buffers}
 
     @property
@@ -603,7 +607,7 @@ class Renderer:
         if self._temporal is not None:
             self._temporal.restart()
 
-    def render_frame(self, camera: Camera | None = None, spp: int = 1) -> np.ndarray:
+    def render_frame(self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False) -> np.ndarray:
         """One frame of a moving picture: look through `camera` (None: the scene's camera as it
         is, after any edits to the scene), trace `spp` samples per pixel and add them to every
         pixel's history (TemporalAccumulation). Returns the history's mean: float32 (height,
@@ -615,7 +619,10 @@ class Renderer:
         history where its first hit was seen before (motion vectors), rejects what was hidden
         then, and keeps at most MOVING_HISTORY_FRAMES frames of it. `restart` and `reset` start
         every history again. The first call compiles the G-buffer variant of the kernel (the
-        path tracers have one: ValueError for the others) and allocates the history."""
+        path tracers have one: ValueError for the others) and allocates the history.
+
+        `filtered`: the history's picture through SVGF's variance-guided filter instead
+        (VarianceGuidedFilter); the history itself stays unfiltered."""
         if spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
         if self._temporal is None:
@@ -632,7 +639,11 @@ class Renderer:
         self.render(spp)
         self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
-        return self._temporal.image()
+        if not filtered:
+            return self._temporal.image()
+        if self._filter is None:
+            self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
+        return self._filter.filter(self._temporal.history, self._gbuffer, spp)
 
     def _start_frames(self) -> None:
         """What render_frame needs: the G-buffer variant, the G-buffer, the previous frame's camera
