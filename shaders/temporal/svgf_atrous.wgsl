@@ -7,7 +7,9 @@
 // and normal edges (geometry_weight) and across luminance differences large against the noise: the
 // standard deviation from the variance, blurred over 3x3 first (Schied et al. 2017). The
 // variance is filtered with the squared weights, so each pass's luminance stop trusts the last's
-// result more. The last pass multiplies the albedo back (params.last).
+// result more. The last pass multiplies the albedo back (params.last). The sky passes through:
+// seen directly it carries no path's noise, and filtering would only blur the environment map and
+// mix in the pixels at its edge.
 
 const B3_SPLINE = array<f32, 3>(0.375, 0.25, 0.0625);
 const GAUSSIAN_3X3 = array<f32, 2>(0.25, 0.125);
@@ -36,8 +38,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let xy = vec2<i32>(id.xy);
     let pixel = pixel_index(xy);
     let here = gbuffer[pixel];
-    let gradient = depth_gradient(xy, here);
     let centre = source[pixel];
+    if here.surface == 0u {
+        filtered_out[pixel] = select(centre, vec4<f32>(centre.xyz * demodulation(here.albedo), centre.w), params.last != 0u);
+        return;
+    }
+    let gradient = depth_gradient(xy, here);
     let brightness = luminance(centre.xyz);
     // the luminance stop's scale; SVGF_SPREAD_MIN keeps a noiseless pixel's from 0 / 0
     let spread = SVGF_LUMINANCE_SIGMA * sqrt(blurred_variance(xy)) + SVGF_SPREAD_MIN;

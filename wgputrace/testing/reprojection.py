@@ -49,29 +49,40 @@ def _quad(name: str, x: tuple[float, float], y: tuple[float, float], z: float, m
     return Shape(name, corners[[[0, 2, 1], [0, 3, 2]]], material)
 
 
-def card_scene(wall: Material | None = None, card: Material | None = None) -> Scene:
-    """The wall at WALL_DISTANCE and the card at CARD_DISTANCE covering CARD_COLUMNS x CARD_ROWS
-    seen from pinhole(0), both of one white material unless given, under a grey sky."""
-    wall = wall or Diffuse("white", color=(0.8, 0.8, 0.8))
+WHITE = (0.8, 0.8, 0.8)
+
+
+def wall_scene(wall: Material | None = None, sky: float = 0.5) -> Scene:
+    """The wall at WALL_DISTANCE alone, white (WHITE) unless given, seen from pinhole(0) under a
+    grey sky of radiance `sky` (0: none): a white wall's radiance is WHITE times `sky` everywhere."""
+    wall = wall or Diffuse("white", color=WHITE)
     half = (-_WALL_HALF_SIZE, _WALL_HALF_SIZE)
-    shapes = [
-        _quad("wall", half, half, WALL_DISTANCE, wall),
-        _quad("card", _CARD_X, _CARD_Y, CARD_DISTANCE, card or wall),
-    ]
-    return Scene(shapes, pinhole(0.0), environment=Environment(0.5))
+    return Scene(
+        [_quad("wall", half, half, WALL_DISTANCE, wall)], pinhole(0.0), environment=Environment(sky) if sky else None
+    )
 
 
-def pixel_centres() -> np.ndarray:
-    """Raster positions of the pixels' centres, (SIZE, SIZE, 2): x right, y down."""
-    rows, columns = np.mgrid[0:SIZE, 0:SIZE] + 0.5
-    return np.stack([columns, rows], axis=-1)
+def card_scene(wall: Material | None = None, card: Material | None = None, sky: float = 0.5) -> Scene:
+    """wall_scene with the card at CARD_DISTANCE covering CARD_COLUMNS x CARD_ROWS seen from
+    pinhole(0), of the wall's material unless given."""
+    scene = wall_scene(wall, sky)
+    scene.add(_quad("card", _CARD_X, _CARD_Y, CARD_DISTANCE, card or scene.shapes[0].material))
+    return scene
 
 
-def centre_hits(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
-    """What each pixel's centre ray from `camera` (a pinhole looking towards +z) hits: the points
-    (SIZE, SIZE, 3) and whether each is on the card (SIZE, SIZE), else on the wall."""
+def pixel_centres(within: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
+    """Raster positions of the pixels' centres (or of the point `within` each pixel, in [0, 1)^2),
+    (SIZE, SIZE, 2): x right, y down."""
+    rows, columns = np.mgrid[0:SIZE, 0:SIZE].astype(np.float64)
+    return np.stack([columns + within[0], rows + within[1]], axis=-1)
+
+
+def centre_hits(camera: Camera, within: tuple[float, float] = (0.5, 0.5)) -> tuple[np.ndarray, np.ndarray]:
+    """What each pixel's centre ray (or its ray through `within`, as pixel_centres) from `camera`
+    (a pinhole looking towards +z) hits: the points (SIZE, SIZE, 3) and whether each is on the
+    card (SIZE, SIZE), else on the wall."""
     right, up, forward = camera.image_plane(SIZE, SIZE)
-    ndc = pixel_centres() / (SIZE / 2) - 1.0
+    ndc = pixel_centres(within) / (SIZE / 2) - 1.0
     directions = forward + ndc[..., :1] * right - ndc[..., 1:] * up
     origin = np.asarray(camera.position, np.float64)
 
