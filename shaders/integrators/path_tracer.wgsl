@@ -9,7 +9,8 @@
 //! include "sampling/mis.wgsl"
 //! include "integrators/accumulate.wgsl"
 //! include "integrators/loop_budget.wgsl"
-// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (path_guides_hook)
+// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in, and
+// write_gbuffer unless the G-buffer is (path_guides_hook)
 //! include "generated/path_guides.wgsl"
 // escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (escaped_light_hook)
 //! include "generated/escaped_light.wgsl"
@@ -257,6 +258,8 @@ fn render_pixel(xy: vec2<u32>, samples: u32) {
         return;
     }
     let pixel = xy.y * frame.width + xy.x;
+    // before the sampler is seeded: the G-buffer's ray draws nothing of the pixel's sequence
+    write_gbuffer(xy, pixel);
     let owed = samples_owed(pixel);
     let count = select(owed + samples, min(owed, 1u), samples == 0u);
     if count == 0u {

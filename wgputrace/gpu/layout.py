@@ -144,6 +144,22 @@ ACCUMULATED_PIXEL = GpuStruct(
     "Kahan-compensated sum of a pixel's samples; sum.w counts its non-finite samples, compensation.w "
     "those the driver's loop budget may have cut short (both dropped).",
 )
+GBUFFER_PIXEL = GpuStruct(
+    "GBufferPixel",
+    (
+        ("normal", "vec3<f32>"),
+        ("depth", "f32"),
+        ("albedo", "vec3<f32>"),
+        ("surface", "u32"),
+        ("motion", "vec2<f32>"),
+        ("previous_depth", "f32"),
+        ("previous_seen", "u32"),
+    ),
+    "What the ray through a pixel's centre first hits (write_gbuffer): the shading normal facing the "
+    "camera, the distance the camera's ray travels to it (0: nothing hit), the material's colour, the "
+    "surface (material index + 1; 0: nothing hit), the motion from this frame's raster position to "
+    "the previous frame's, and the distance from the previous camera and whether it saw the point.",
+)
 
 LIGHT = GpuStruct(
     "Light",
@@ -257,4 +273,15 @@ MATERIAL_TEXTURES = GpuStruct(
     "normal texture's strength (`mapped_normal`), in the padding after `emitted`.",
 )
 
-ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)
+ALL_STRUCTS = (
+    TRIANGLE,
+    BVH_NODE,
+    WIDE_BVH_NODE,
+    MATERIAL,
+    FRAME,
+    ACCUMULATED_PIXEL,
+    GBUFFER_PIXEL,
+    LIGHT,
+    LIGHT_SOURCE,
+    LIGHTING,
+)

@@ -13,6 +13,7 @@ descriptor, registered by name, that they ask instead of naming it.
 | several samples per dispatch (regeneration) | `regenerates`    | `KernelVariant` (`check_regeneration`)      |
 | how many, by adapter type (measured)        | `dispatch_samples` | the Renderer (`samples_per_dispatch`)     |
 | absorption inside materials (`volume`)      | `absorbs`        | the Renderer (`check_materials`)            |
+| writes the G-buffer (`write_gbuffer`)       | `gbuffer`        | `KernelVariant` (`check_gbuffer`)           |
 
 A new integrator is one module in this package that registers an instance (`register`), plus its
 WGSL entry file: the renderer, the CLI's choices and the limits follow from the descriptor.
@@ -60,6 +61,8 @@ class Integrator:
     dispatch_samples: tuple[tuple[str, int], ...] = ()
     # whether its kernel multiplies its segments by their absorption (`segment_transmittance`)
     absorbs: bool = False
+    # whether its kernel calls `write_gbuffer` for each pixel (temporal accumulation needs it)
+    gbuffer: bool = False
 
     def files(self, variant: KernelVariant) -> dict[str, str]:
         """Generated files of its own, for `variant`: none here."""
@@ -91,6 +94,11 @@ class Integrator:
         """ValueError unless its kernel can take several samples of a pixel per dispatch."""
         if not self.regenerates:
             raise ValueError(f"the {self.name} integrator's kernel takes one sample of each pixel per dispatch")
+
+    def check_gbuffer(self) -> None:
+        """ValueError unless its kernel writes the G-buffer that temporal accumulation reads."""
+        if not self.gbuffer:
+            raise ValueError(f"the {self.name} integrator writes no G-buffer: temporal accumulation needs one")
 
     def check_rows(self) -> None:
         """ValueError unless it has a band-of-rows kernel for the viewer."""

@@ -24,5 +24,6 @@ for _index, _name in enumerate(ESTIMATORS):
             regenerates=True,
             dispatch_samples=(("CPU", 8),),
             absorbs=True,
+            gbuffer=True,
         )
     )

@@ -28,6 +28,7 @@ from ..gpu.layout import (
     CORNER_TANGENTS,
     CORNER_UVS,
     FRAME,
+    GBUFFER_PIXEL,
     LIGHT,
     LIGHT_SOURCE,
     LIGHTING,
@@ -76,6 +77,10 @@ PIXELS_GROUP = BindGroup(
 # The denoiser's guides: two Kahan sums per pixel, the albedo's at 2 * pixel and the normal's at
 # 2 * pixel + 1, bound only in the variants that make them.
 GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
+# The G-buffer of the pixels' centres and the previous frame's camera its motion vectors project
+# through, bound only in the variants that write it (`KernelVariant.gbuffer`).
+GBUFFER = Binding("gbuffer", STORAGE_READ_WRITE, GBUFFER_PIXEL)
+PREVIOUS_FRAME = Binding("previous_frame", UNIFORM, FRAME)
 
 # The viewer's band of rows: the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))

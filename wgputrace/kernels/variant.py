@@ -15,8 +15,10 @@ from typing import TYPE_CHECKING
 from ..scene.materials import material_class, material_classes
 from .bind_groups import (
     BAND_GROUP,
+    GBUFFER,
     GUIDE_SUMS,
     PIXELS_GROUP,
+    PREVIOUS_FRAME,
     RAY_COUNT_GROUP,
     dispatch_group,
     lights_group,
@@ -117,6 +119,9 @@ class KernelVariant:
     count_lanes: bool = flag("counting lanes")
     # the denoiser's albedo and normal guides
     guides: bool = flag("guides")
+    # the G-buffer of each pixel's centre and its motion since the previous frame's camera, for
+    # temporal accumulation (`write_gbuffer`)
+    gbuffer: bool = flag("G-buffer")
     # the adapter ends an invocation's loops after a budget of iterations (`loop_iteration_limit`),
     # which the samples of a regenerating invocation share
     loop_budget: bool = flag("loop budget")
@@ -137,6 +142,8 @@ class KernelVariant:
             object.__setattr__(self, "loop_budget", False)
         if self.samples_per_dispatch > 1:
             self.require_integrator().check_regeneration()
+        if self.gbuffer:
+            self.require_integrator().check_gbuffer()
         object.__setattr__(self, "overrides", tuple(sorted(dict(self.overrides).items())))
 
     def require_integrator(self) -> Integrator:
@@ -167,9 +174,12 @@ class KernelVariant:
         return {**dict(self.require_integrator().constants), **dict(self.overrides)}
 
     def pixels_group(self) -> BindGroup:
-        """The pixels group: the guide sums where guides are on, and the integrator's own arrays."""
-        extra = ((GUIDE_SUMS,) if self.guides else ()) + tuple(
-            array.binding for array in (self.integrator.pixel_arrays if self.integrator else ())
+        """The pixels group: the guide sums where guides are on, the G-buffer and the previous
+        frame's camera where it is written, and the integrator's own arrays."""
+        extra = (
+            ((GUIDE_SUMS,) if self.guides else ())
+            + ((GBUFFER, PREVIOUS_FRAME) if self.gbuffer else ())
+            + tuple(array.binding for array in (self.integrator.pixel_arrays if self.integrator else ()))
         )
         group = PIXELS_GROUP
         for binding in extra:
