@@ -1,0 +1,60 @@
+"""Per-vertex shading attributes from per-corner ones: the vertices a mesh's triangles share.
+
+Shapes keep their attributes per corner (n, 3, k), as loaders flatten a file's index buffer into
+them; the GPU keeps them per vertex (TRIANGLE_VERTICES and VERTEX_NORMAL's siblings), which costs
+a smooth mesh a third of the memory. Corners whose attributes are equal bit for bit become one
+vertex, so a shared vertex of glTF or OBJ comes back as one and the GPU reads exactly the values
+it read per corner: the images do not change. Vertices are numbered in the order of their first
+corner, so an edit that keeps which corners are equal (a shape moved) keeps every index, and only
+the moved vertices' records change.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ..gpu.layout import TRIANGLE_VERTICES, GpuStruct
+
+
+def shared_vertices(corners: Mapping[str, np.ndarray]) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Each triangle's vertex indices (n, 3) uint32 and each attribute per vertex (v, k), from
+    attributes per corner (n, 3, k) of 4-byte values (float32), all of the same n triangles."""
+    values = list(corners.values())
+    count = len(values[0])
+    words = np.concatenate([np.ascontiguousarray(v).reshape(3 * count, -1).view(np.uint32) for v in values], axis=1)
+    keys = np.ascontiguousarray(words).view(np.dtype((np.void, words.shape[1] * 4))).ravel()
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    by_first = np.argsort(first)
+    rank = np.empty_like(by_first)
+    rank[by_first] = np.arange(len(by_first))
+    indices = rank[inverse.ravel()].reshape(count, 3).astype(np.uint32)
+    corner_of_vertex = first[by_first]
+    return indices, {name: v.reshape(3 * count, -1)[corner_of_vertex] for name, v in corners.items()}
+
+
+def triangle_vertex_records(indices: np.ndarray) -> np.ndarray:
+    """TRIANGLE_VERTICES records of (n, 3) vertex indices."""
+    records = TRIANGLE_VERTICES.zeros(len(indices))
+    records["v0"], records["v1"], records["v2"] = indices[:, 0], indices[:, 1], indices[:, 2]
+    return records
+
+
+def vertex_records(struct: GpuStruct, values: np.ndarray) -> np.ndarray:
+    """Records of `struct` holding (v, k) values, its fields' components in field order."""
+    records = struct.zeros(len(values))
+    column = 0
+    for name in struct.dtype.names:
+        shape = struct.dtype[name].shape
+        width = shape[0] if shape else 1
+        records[name] = values[:, column] if not shape else values[:, column : column + width]
+        column += width
+    return records
+
+
+def corner_values(triangle_vertices: np.ndarray, records: np.ndarray) -> np.ndarray:
+    """The per-corner values (n, 3, k) of vertex `records` at TRIANGLE_VERTICES records, their
+    fields' components in field order: what `shared_vertices` was given, back."""
+    values = np.concatenate([records[name].reshape(len(records), -1) for name in records.dtype.names], axis=1)
+    return values[np.stack([triangle_vertices[f"v{k}"] for k in range(3)], axis=1)]
