@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgputrace import Renderer, model_matrix
+from wgputrace import Diffuse, Renderer, make_box, model_matrix
 from wgputrace.gpu.layout import TRIANGLE_VERTICES, VERTEX_NORMAL, VERTEX_TANGENT, VERTEX_UV
 from wgputrace.render import shared_vertices as shared_vertices_module
 from wgputrace.render.scene_mirror import (
@@ -104,3 +104,15 @@ def test_moving_a_smooth_textured_mesh_uploads_its_vertices_not_its_indices():
     scene.shapes[0].material.normal_texture = None
     renderer.update()
     assert len(renderer._mirror.vertices[VERTEX_TANGENTS]) == 1 and VERTEX_NORMALS in renderer._mirror.vertices
+
+
+def test_moving_a_shape_without_attributes_beside_a_smooth_one_leaves_the_vertices():
+    scene = textured_sphere(SEGMENTS)
+    scene.shapes[0].material.normal_texture = None  # tangents follow every position under a map
+    scene.add(make_box((2, 0, 0), (0, 0, 0), (1, 1, 1), Diffuse("box"), "box"))
+    mirror = SceneMirror(scene, "bvh")
+    before = dict(mirror.vertices)
+    scene.shape("box").transform = model_matrix((0.0, 0.1, 0.0), (0.0, 0.0, 0.0), 1.0)
+    changes = mirror.update()
+    assert mirror.refits == 1 and not set(changes) & {VERTEX_INDICES, *VERTEX_ARRAYS}
+    assert all(mirror.vertices[name] is records for name, records in before.items())

@@ -238,7 +238,7 @@ class SceneMirror:
             changes.update(self._update_lights())
         shading = (self.textured, self._normal_mapped)
         changes.update(self._update_textures())
-        if moved or shading != (self.textured, self._normal_mapped):
+        if (moved and self._moves_vertices(moved)) or shading != (self.textured, self._normal_mapped):
             changes.update(self._update_vertices())
         self._snapshot()
         return {name: rows for name, rows in changes.items() if rows.size}
@@ -290,6 +290,20 @@ class SceneMirror:
         changes[MATERIAL_TEXTURES] = np.arange(len(records)) if old is None else changed_rows(old, records)
         self.material_textures = records
         return changes
+
+    def _moves_vertices(self, moved: list[int]) -> bool:
+        """Whether moving the shapes `moved` (indices) can change a vertex: one with attributes of its
+        own (a turn turns its normals, a mirror swaps its corners), or any under a normal map
+        (MikkTSpace's tangents follow the positions). Moving the others leaves the vertices as they
+        are, which spares a large smooth mesh's table when something beside it moves."""
+        if self._normal_mapped:
+            return True
+        shapes = [self.scene.shapes[index] for index in moved]
+        return any(
+            attribute is not None
+            for shape in shapes
+            for attribute in (shape.normals, shape.uvs, shape.tangents, shape.colors)
+        )
 
     def _corner_attributes(self) -> dict[str, np.ndarray]:
         """The shading attributes the scene has, per corner (n, 3, k) float32 in BVH order, from the

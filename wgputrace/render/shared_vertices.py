@@ -38,9 +38,9 @@ def shared_vertices(corners: Mapping[str, np.ndarray]) -> tuple[np.ndarray, dict
 
 def _equal_rows(words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For (m, k) uint32 rows: the first row of each set of equal ones, and each row's set. Sorting
-    64-bit hashes of the rows is some twenty times as fast as sorting the rows (a million-triangle
-    mesh: about half a second); rows are then compared with their set's first, and should two
-    different rows share a hash, the rows themselves are sorted instead."""
+    64-bit hashes of the rows took a half to a quarter of the time of sorting the rows (np.unique
+    of their bytes) for a 249,000-triangle sphere's normals and uvs; rows are then compared with
+    their set's first, and should two different rows share a hash, the rows themselves are sorted."""
     hashes = _row_hashes(words)
     order = np.argsort(hashes)  # not a stable sort, which takes twice as long: `first` is a minimum
     new_set = hashes[order[1:]] != hashes[order[:-1]]
