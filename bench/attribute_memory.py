@@ -149,9 +149,8 @@ def plot(path: Path, result: dict) -> None:
         axes.text(x, bottoms[x], f"{bottoms[x]:.0f}", ha="center", va="bottom", fontsize=7)
     flat = result["scenes"][FLAT]["current"]["total"]
     axes.axhline(TARGET_RATIO * flat, color="grey", linestyle=":", label=f"{TARGET_RATIO:g} x the flat Cornell box")
-    labels = [
-        f"{scene}\n{result['baseline_revision'] if checkout == 'baseline' else 'now'}" for scene, checkout in bars
-    ]
+    revisions = {"baseline": result["baseline_revision"], "current": result["git_revision"]}
+    labels = [f"{scene.split(' (')[0]}\n{revisions[checkout]}" for scene, checkout in bars]
     axes.set_xticks(np.arange(len(bars)), labels, fontsize=7)
     axes.set_ylabel("GPU bytes per triangle (textures apart)")
     axes.legend(fontsize=6, ncols=2)
