@@ -57,6 +57,11 @@ def test_rows_sharing_a_hash_are_told_apart(rng, monkeypatch):
     np.testing.assert_array_equal(vertices[VERTEX_NORMALS][indices], normals)
 
 
+def test_no_triangles_no_vertices():
+    indices, vertices = shared_vertices({VERTEX_NORMALS: np.zeros((0, 3, 3), np.float32)})
+    assert indices.shape == (0, 3) and vertices[VERTEX_NORMALS].shape == (0, 3)
+
+
 def test_a_meshs_index_buffer_comes_back_as_its_vertices():
     """The mirror finds the vertices the index buffer shared (those its triangles use), no more."""
     _, _, _, triangles = uv_sphere(SEGMENTS)

@@ -183,8 +183,7 @@ LIGHTING = GpuStruct(
 )
 
 # Shading attributes are stored once per vertex, not per corner: a smooth mesh shares each vertex
-# among about six triangles, so per-corner records cost it three times the memory
-# (`python -m bench.attribute_memory`). A triangle names its three vertices (TRIANGLE_VERTICES, in
+# among about six triangles, whose corners held a copy each (`python -m bench.attribute_memory`). A triangle names its three vertices (TRIANGLE_VERTICES, in
 # the triangles' BVH order); each attribute is its own array of vertex records, bound only for
 # scenes that have it (`shading_group`), so smooth scenes without textures and textured ones
 # without normals pay only for theirs. `shared_vertices` makes the vertices: corners whose

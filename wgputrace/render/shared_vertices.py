@@ -1,8 +1,9 @@
 """Per-vertex shading attributes from per-corner ones: the vertices a mesh's triangles share.
 
 Shapes keep their attributes per corner (n, 3, k), as loaders flatten a file's index buffer into
-them; the GPU keeps them per vertex (TRIANGLE_VERTICES and VERTEX_NORMAL's siblings), which costs
-a smooth mesh a third of the memory. Corners whose attributes are equal bit for bit become one
+them; the GPU keeps them per vertex (TRIANGLE_VERTICES and VERTEX_NORMAL's siblings): a smooth
+mesh shares each vertex among about six triangles, so it holds about a sixth of the records, and
+12 bytes per triangle naming its vertices. Corners whose attributes are equal bit for bit become one
 vertex, so a shared vertex of glTF or OBJ comes back as one and the GPU reads exactly the values
 it read per corner: the images do not change. Vertices are numbered in the order of their first
 corner, so an edit that keeps which corners are equal (a shape moved) keeps every index, and only
@@ -26,14 +27,16 @@ def shared_vertices(corners: Mapping[str, np.ndarray]) -> tuple[np.ndarray, dict
     attributes per corner (n, 3, k) of 4-byte values (float32), all of the same n triangles."""
     values = list(corners.values())
     count = len(values[0])
-    words = np.concatenate([np.ascontiguousarray(v).reshape(3 * count, -1).view(np.uint32) for v in values], axis=1)
+    words = np.concatenate(
+        [np.ascontiguousarray(v).reshape(3 * count, v.shape[-1]).view(np.uint32) for v in values], axis=1
+    )
     first, inverse = _equal_rows(words)
     by_first = np.argsort(first)
     rank = np.empty_like(by_first)
     rank[by_first] = np.arange(len(by_first))
     indices = rank[inverse].reshape(count, 3).astype(np.uint32)
     corner_of_vertex = first[by_first]
-    return indices, {name: v.reshape(3 * count, -1)[corner_of_vertex] for name, v in corners.items()}
+    return indices, {name: v.reshape(3 * count, v.shape[-1])[corner_of_vertex] for name, v in corners.items()}
 
 
 def _equal_rows(words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -41,6 +44,8 @@ def _equal_rows(words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     64-bit hashes of the rows took a half to a quarter of the time of sorting the rows (np.unique
     of their bytes) for a 249,000-triangle sphere's normals and uvs; rows are then compared with
     their set's first, and should two different rows share a hash, the rows themselves are sorted."""
+    if not len(words):
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
     hashes = _row_hashes(words)
     order = np.argsort(hashes)  # not a stable sort, which takes twice as long: `first` is a minimum
     new_set = hashes[order[1:]] != hashes[order[:-1]]
@@ -86,5 +91,8 @@ def vertex_records(struct: GpuStruct, values: np.ndarray) -> np.ndarray:
 def corner_values(triangle_vertices: np.ndarray, records: np.ndarray) -> np.ndarray:
     """The per-corner values (n, 3, k) of vertex `records` at TRIANGLE_VERTICES records, their
     fields' components in field order: what `shared_vertices` was given, back."""
-    values = np.concatenate([records[name].reshape(len(records), -1) for name in records.dtype.names], axis=1)
+    columns = [
+        records[name].reshape(len(records), np.prod(records[name].shape[1:], dtype=int)) for name in records.dtype.names
+    ]
+    values = np.concatenate(columns, axis=1)
     return values[np.stack([triangle_vertices[f"v{k}"] for k in range(3)], axis=1)]
