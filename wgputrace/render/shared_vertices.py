@@ -41,9 +41,10 @@ def shared_vertices(corners: Mapping[str, np.ndarray]) -> tuple[np.ndarray, dict
 
 def _equal_rows(words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For (m, k) uint32 rows: the first row of each set of equal ones, and each row's set. Sorting
-    64-bit hashes of the rows took a half to a quarter of the time of sorting the rows (np.unique
-    of their bytes) for a 249,000-triangle sphere's normals and uvs; rows are then compared with
-    their set's first, and should two different rows share a hash, the rows themselves are sorted."""
+    64-bit hashes of the rows rather than the rows (np.unique of their bytes) took 0.5-1.0 s against
+    1.2 s for a 998,000-triangle sphere's normals and uvs on a quiet machine, a half to a quarter of
+    the time on a busy one; rows are then compared with their set's first, and should two different
+    rows share a hash, the rows themselves are sorted."""
     if not len(words):
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     hashes = _row_hashes(words)
