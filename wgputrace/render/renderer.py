@@ -289,7 +289,7 @@ class Renderer:
 
     @property
     def gpu_bytes_per_triangle(self) -> float:
-        """Scene bytes on the GPU (triangles, BVH nodes, materials, lights, per-corner attributes;
+        """Scene bytes on the GPU (triangles, BVH nodes, materials, lights, per-vertex attributes;
         not the texture atlas: gpu_texture_bytes) per triangle."""
         return (sum(self.gpu_scene_bytes.values()) - self.gpu_texture_bytes) / self.triangle_count
 

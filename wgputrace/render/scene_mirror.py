@@ -4,7 +4,7 @@ doing only the work each edit needs and reporting which rows changed, so only th
 Rows are compared as bytes before they count as changed (`changed_rows`), so an edit that restores
 a value uploads nothing and does not restart accumulation; and the records after an edit are those
 a fresh mirror of the edited scene makes (up to exact ties of two hit distances), so the picture
-after an edit is a fresh Renderer's. Arrays a scene does not use (corner normals, texture records,
+after an edit is a fresh Renderer's. Arrays a scene does not use (vertex normals, texture records,
 light sources, an environment map) are not kept.
 """
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..bvh import BVH, Refitter
-from ..gpu.layout import LIGHT_SOURCE, LIGHTING
+from ..gpu.layout import LIGHT_SOURCE, LIGHTING, VERTEX_COLOR, VERTEX_NORMAL, VERTEX_TANGENT, VERTEX_UV
 from ..kernels.light_dispatch import LightFeatures
 from ..kernels.traversal import BVH_STACK_SIZE, traversal_stack_size
 from ..kernels.variant import SceneFeatures
@@ -28,15 +28,12 @@ from .lights import LUMINANCE_WEIGHTS, LightTable, emitting, light_table
 from .scene_records import (
     SceneRecords,
     build_acceleration,
-    corner_attribute_records,
-    corner_color_records,
-    corner_tangent_records,
-    corner_uv_records,
     gpu_node_records,
     material_records,
     set_wide_bounds,
     triangle_records,
 )
+from .shared_vertices import shared_vertices, triangle_vertex_records, vertex_records
 from .texture_atlas import light_density, material_texture_records, needs_material_record, pack_atlas, used_textures
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built
@@ -47,10 +44,21 @@ from .texture_atlas import light_density, material_texture_records, needs_materi
 REBUILD_DEGRADATION = 1.2
 
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "bvh nodes", "materials", "lights"
-CORNER_ATTRIBUTES = "corner attributes"
-CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
-CORNER_TANGENTS = "corner tangents"
-CORNER_COLORS = "corner colors"
+TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "texture atlas", "textures", "material textures"
+# The shading attributes per vertex (`shared_vertices`) and each triangle's vertices, in BVH order.
+VERTEX_INDICES = "triangle vertices"
+VERTEX_NORMALS, VERTEX_UVS, VERTEX_TANGENTS, VERTEX_COLORS = (
+    "vertex normals",
+    "vertex uvs",
+    "vertex tangents",
+    "vertex colors",
+)
+VERTEX_ARRAYS = {
+    VERTEX_NORMALS: VERTEX_NORMAL,
+    VERTEX_UVS: VERTEX_UV,
+    VERTEX_TANGENTS: VERTEX_TANGENT,
+    VERTEX_COLORS: VERTEX_COLOR,
+}
 TRIANGLE_LIGHT_DENSITIES = "triangle light densities"
 # WebGPU's default max-texture-dimension-2d: the atlas side where no device says otherwise
 DEFAULT_TEXTURE_SIDE = 8192
@@ -77,18 +85,16 @@ class SceneMirror:
     def __init__(self, scene: Scene, acceleration: str, texture_side: int = DEFAULT_TEXTURE_SIDE) -> None:
         self.scene, self.acceleration_kind = scene, acceleration
         self.triangles = self.nodes = self.materials = None
-        # CORNER_ATTRIBUTES records in BVH order, None for a scene without per-vertex normals
-        self.corner_attributes: np.ndarray | None = None
-        # for a scene with textures (else None): CORNER_UVS records in BVH order, the atlas's texels
-        # (float32 (H, W, 4), at most texture_side per side), TEXTURE and MATERIAL_TEXTURES records
+        # the shading attributes by name (VERTEX_ARRAYS: their records) and TRIANGLE_VERTICES
+        # records in BVH order (VERTEX_INDICES), only those the scene has (`_update_vertices`):
+        # normals where a shape has them, uvs and tangents with textures (tangents one zero record
+        # unless a material reads a normal map), colours where a shape has them
+        self.vertices: dict[str, np.ndarray] = {}
+        # for a scene with textures (else None): the atlas's texels (float32 (H, W, 4), at most
+        # texture_side per side), TEXTURE and MATERIAL_TEXTURES records
         self.texture_side = texture_side
-        self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
-        # CORNER_TANGENTS records in BVH order while a material reads a normal map, else one zero
-        # record (the binding exists in every textured scene)
-        self.corner_tangents: np.ndarray | None = None
+        self.atlas_texels = self.texture_records = self.material_textures = None
         self._normal_mapped = False
-        # CORNER_COLORS records in BVH order, None for a scene without vertex colours
-        self.corner_colors: np.ndarray | None = None
         self._textures: list = []
         # float32 in BVH order: each triangle's light table weight per unit area from what it emits
         # through a texture record (`footprint_means`); one zero where none emits so
@@ -111,7 +117,7 @@ class SceneMirror:
     @property
     def records(self) -> SceneRecords:
         return SceneRecords(
-            self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.corner_attributes, self.lights.entries
+            self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.lights.entries, dict(self.vertices)
         )
 
     @property
@@ -126,10 +132,7 @@ class SceneMirror:
             LIGHT_SOURCES: self.sources,
             ENVIRONMENT_TEXELS: self.environment_texels,
             ENVIRONMENT_TABLES: self.environment_tables,
-            CORNER_ATTRIBUTES: self.corner_attributes,
-            CORNER_UVS: self.corner_uvs,
-            CORNER_TANGENTS: self.corner_tangents,
-            CORNER_COLORS: self.corner_colors,
+            **{name: self.vertices.get(name) for name in (VERTEX_INDICES, *VERTEX_ARRAYS)},
             TEXTURE_ATLAS: self.atlas_texels,
             TEXTURES: self.texture_records,
             MATERIAL_TEXTURES: self.material_textures,
@@ -146,11 +149,11 @@ class SceneMirror:
             lobes=tuple(set().union(*(material.lobes() for material in self.scene.materials))),
             lights=self.light_features,
             camera=self.scene.camera.kind,
-            smooth=self.corner_attributes is not None,
+            smooth=VERTEX_NORMALS in self.vertices,
             textured=self.textured,
             see_through=self.see_through,
             emissive_surfaces=self.emissive_surfaces,
-            vertex_colors=self.corner_colors is not None,
+            vertex_colors=VERTEX_COLORS in self.vertices,
             absorbing=any(is_absorbing(material) for material in self.scene.materials),
         )
 
@@ -186,7 +189,7 @@ class SceneMirror:
         | edit                                        | work                                          | rows that change                     |
         |---------------------------------------------|-----------------------------------------------|--------------------------------------|
         | material parameter                          | that material's record                        | one material record                  |
-        | shape transform (same zero-area triangles)  | its world triangles (and corner normals), BVH refit | its triangles, nodes whose bounds moved |
+        | shape transform (same zero-area triangles)  | its world triangles (and vertices), BVH refit | its triangles and vertices, nodes whose bounds moved |
         | shape material reassigned                   | material list and every triangle's index      | materials and triangles whose index moved |
         | shapes added/removed, vertices or normals replaced | arrays, BVH build                      | whatever differs (nearly all)        |
 
@@ -236,9 +239,10 @@ class SceneMirror:
             or (TRIANGLES in changes and self._has_distant_lights())
         ):
             changes.update(self._update_lights())
-        changes.update(self._update_textures(geometry_moved=bool(moved)))
-        if moved:  # a mirroring transform reorders corners
-            changes.update(self._update_corner_colors())
+        shading = (self.textured, self._normal_mapped)
+        changes.update(self._update_textures())
+        if (moved and self._moves_vertices(moved)) or shading != (self.textured, self._normal_mapped):
+            changes.update(self._update_vertices())
         self._snapshot()
         return {name: rows for name, rows in changes.items() if rows.size}
 
@@ -264,25 +268,19 @@ class SceneMirror:
             or (environment is not None and environment.generation != self._environment_generation)
         )
 
-    def _update_textures(self, geometry_moved: bool) -> dict[str, np.ndarray]:
+    def _update_textures(self) -> dict[str, np.ndarray]:
         """The texture records of the scene's materials, repacking the atlas where the set of textures
-        changed (a texture swapped for one of its size and kind keeps the others' rectangles) and the
-        corner coordinates where geometry moved; their changed rows. A scene without textures keeps
-        none of them, whatever UVs its shapes have.
+        changed (a texture swapped for one of its size and kind keeps the others' rectangles); their
+        changed rows. A scene without textures keeps none of them, whatever UVs its shapes have.
         """
         materials = self.scene.materials
         textures = used_textures(materials)
         if not textures and not any(needs_material_record(material) for material in materials):
-            self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
-            self.corner_tangents = None
-            self._textures = []
+            self.atlas_texels = self.texture_records = self.material_textures = None
+            self._textures, self._normal_mapped = [], False
             return {}
         changes = {}
-        if geometry_moved or self.corner_uvs is None:
-            changes[CORNER_UVS] = self._update_corner_uvs()
-        normal_mapped = any("normal" in material.textures() for material in materials)
-        if geometry_moved or self.corner_tangents is None or normal_mapped != self._normal_mapped:
-            changes[CORNER_TANGENTS] = self._update_corner_tangents(normal_mapped)
+        self._normal_mapped = any("normal" in material.textures() for material in materials)
         if [id(t) for t in textures] != [id(t) for t in self._textures] or self.atlas_texels is None:
             atlas = pack_atlas(textures, self.texture_side)
             changes[TEXTURE_ATLAS] = _changed_texel_rows(self.atlas_texels, atlas.texels)
@@ -296,46 +294,58 @@ class SceneMirror:
         self.material_textures = records
         return changes
 
-    def _update_corner_uvs(self) -> np.ndarray:
-        """The corner texture coordinates in BVH order from the shapes as they are; the changed rows."""
+    def _moves_vertices(self, moved: list[int]) -> bool:
+        """Whether moving the shapes `moved` (indices) can change a vertex: one with attributes of its
+        own (a turn turns its normals, a mirror swaps its corners), or any under a normal map
+        (MikkTSpace's tangents follow the positions). Moving the others leaves the vertices as they
+        are, which spares a large smooth mesh's table when something beside it moves."""
+        if self._normal_mapped:
+            return True
+        shapes = [self.scene.shapes[index] for index in moved]
+        return any(
+            attribute is not None
+            for shape in shapes
+            for attribute in (shape.normals, shape.uvs, shape.tangents, shape.colors)
+        )
+
+    def _corner_attributes(self) -> dict[str, np.ndarray]:
+        """The shading attributes the scene has, per corner (n, 3, k) float32 in BVH order, from the
+        shapes as they are: normals (zero for shapes without: flat), texture coordinates with
+        textures (zero for shapes without) and tangents where a material reads a normal map,
+        colours (white for shapes without)."""
         shapes = self.scene.shapes
         shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
-        uvs = np.zeros((len(self._position), 3, 2), np.float32)
-        scene_uvs = corner_uvs(shapes, shape_index, self._local_index)
-        uvs[self._position] = 0.0 if scene_uvs is None else scene_uvs
-        records = corner_uv_records(uvs)
-        old = self.corner_uvs
-        self.corner_uvs = records
-        return np.arange(len(records)) if old is None else changed_rows(old, records)
+        scene_order = {VERTEX_NORMALS: corner_normals(shapes, shape_index, self._local_index)}
+        if self.textured:
+            uvs = corner_uvs(shapes, shape_index, self._local_index)
+            scene_order[VERTEX_UVS] = np.zeros((len(shape_index), 3, 2), np.float32) if uvs is None else uvs
+            if self._normal_mapped:
+                scene_order[VERTEX_TANGENTS] = corner_tangents(shapes, shape_index, self._local_index)
+        scene_order[VERTEX_COLORS] = corner_colors(shapes, shape_index, self._local_index)
+        corners = {}
+        for name, values in scene_order.items():
+            if values is not None:
+                corners[name] = np.empty_like(values)
+                corners[name][self._position] = values
+        return corners
 
-    def _update_corner_colors(self) -> dict[str, np.ndarray]:
-        """The corner vertex colours in BVH order from the shapes as they are (None where no shape
-        has any); their changed rows."""
-        shapes = self.scene.shapes
-        shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
-        colors = corner_colors(shapes, shape_index, self._local_index)
-        if colors is None:
-            self.corner_colors = None
-            return {}
-        ordered = np.empty_like(colors)
-        ordered[self._position] = colors
-        records = corner_color_records(ordered)
-        old = self.corner_colors
-        self.corner_colors = records
-        return {CORNER_COLORS: np.arange(len(records)) if old is None else changed_rows(old, records)}
-
-    def _update_corner_tangents(self, normal_mapped: bool) -> np.ndarray:
-        """The corner tangents in BVH order from the shapes as they are (one zero record where no
-        material reads a normal map); the changed rows."""
-        tangents = np.zeros((len(self._position) if normal_mapped else 1, 3, 4), np.float32)
-        if normal_mapped:
-            shapes = self.scene.shapes
-            shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
-            tangents[self._position] = corner_tangents(shapes, shape_index, self._local_index)
-        records = corner_tangent_records(tangents)
-        old = self.corner_tangents
-        self.corner_tangents, self._normal_mapped = records, normal_mapped
-        return np.arange(len(records)) if old is None or len(old) != len(records) else changed_rows(old, records)
+    def _update_vertices(self) -> dict[str, np.ndarray]:
+        """The shading attributes per vertex and each triangle's vertices (`shared_vertices`), from
+        the shapes as they are (none where the scene has no attribute); their changed rows. A
+        textured scene without a normal map binds one zero tangent."""
+        corners = self._corner_attributes()
+        vertices = {}
+        if corners:
+            indices, values = shared_vertices(corners)
+            vertices[VERTEX_INDICES] = triangle_vertex_records(indices)
+            vertices |= {name: vertex_records(VERTEX_ARRAYS[name], v) for name, v in values.items()}
+        if self.textured and not self._normal_mapped:
+            vertices[VERTEX_TANGENTS] = VERTEX_TANGENT.zeros(1)
+        old, self.vertices = self.vertices, vertices
+        return {
+            name: np.arange(len(records)) if name not in old else changed_rows(old[name], records)
+            for name, records in vertices.items()
+        }
 
     def _triangle_light_densities(self) -> np.ndarray:
         """Each triangle's light table weight per unit area, in scene order, from what its material
@@ -411,26 +421,16 @@ class SceneMirror:
         order = bvh.triangle_order
         vertices = arrays.vertices[order]
         nodes, wide = gpu_node_records(bvh)
-        normals = corner_normals(self.scene.shapes, arrays.shape_index, arrays.local_index)
         new = {
             TRIANGLES: triangle_records(vertices, arrays.material_index[order]),
             NODES: nodes,
             MATERIALS: material_records(arrays.materials),
-            CORNER_ATTRIBUTES: None if normals is None else corner_attribute_records(normals[order]),
         }
-        old = {
-            TRIANGLES: self.triangles,
-            NODES: self.nodes,
-            MATERIALS: self.materials,
-            CORNER_ATTRIBUTES: self.corner_attributes,
-        }
+        old = {TRIANGLES: self.triangles, NODES: self.nodes, MATERIALS: self.materials}
         changes = {
-            name: np.arange(len(new[name])) if old[name] is None else changed_rows(old[name], new[name])
-            for name in new
-            if new[name] is not None
+            name: np.arange(len(new[name])) if old[name] is None else changed_rows(old[name], new[name]) for name in new
         }
         self.triangles, self.nodes, self.materials = new[TRIANGLES], new[NODES], new[MATERIALS]
-        self.corner_attributes = new[CORNER_ATTRIBUTES]
         self.bvh: BVH = bvh
         self.wide = wide
         self.refitter = Refitter(bvh, vertices)
@@ -442,10 +442,8 @@ class SceneMirror:
         self._position = np.empty(len(order), np.int64)
         self._position[order] = np.arange(len(order))
         changes.update(self._update_lights())
-        self.corner_uvs = self.corner_tangents = None  # new triangles: every row is new
-        changes.update(self._update_textures(geometry_moved=True))
-        self.corner_colors = None  # new triangles: every row is new
-        changes.update(self._update_corner_colors())
+        changes.update(self._update_textures())
+        changes.update(self._update_vertices())
         self.rebuilds += 1
         self._needs_rebuild = False
         self._snapshot()
@@ -454,7 +452,7 @@ class SceneMirror:
     def _refit(self, moved: list[int]) -> dict[str, np.ndarray] | None:
         """New world triangles of the moved shapes and a refit BVH; None where only a rebuild will do
         (a triangle turned zero-area or back, or the refit tree got too slow)."""
-        positions, corners, normals = [], [], []
+        positions, corners = [], []
         for index in moved:
             shape = self.scene.shapes[index]
             span = slice(self._input_start[index], self._input_start[index + 1])
@@ -464,12 +462,9 @@ class SceneMirror:
                 return None
             positions.append(self._position[span])
             corners.append(world[kept])
-            if shape.world_normals is not None:
-                normals.append((self._position[span], shape.world_normals[kept]))
         positions, corners = np.concatenate(positions), np.concatenate(corners)
         order = np.argsort(positions)
         positions, corners = positions[order], corners[order]
-        changes = self._move_corner_normals(normals)
         touched = self.refitter.move(positions, corners)
         if self.bvh.kind == "bvh" and self.refitter.degradation > REBUILD_DEGRADATION:
             return None
@@ -479,18 +474,7 @@ class SceneMirror:
             triangles[f"v{corner}"] = corners[:, corner]
         rows = positions[changed_rows(self.triangles[positions], triangles)]
         self.triangles[positions] = triangles
-        return {**changes, TRIANGLES: rows, NODES: self._refit_nodes(touched)}
-
-    def _move_corner_normals(self, moved: list[tuple[np.ndarray, np.ndarray]]) -> dict[str, np.ndarray]:
-        """Write the (BVH positions, world corner normals) of moved shapes with normals into the
-        corner attributes; their changed rows."""
-        if not moved:
-            return {}
-        positions = np.concatenate([position for position, _ in moved])
-        records = corner_attribute_records(np.concatenate([normals for _, normals in moved]))
-        rows = positions[changed_rows(self.corner_attributes[positions], records)]
-        self.corner_attributes[positions] = records
-        return {CORNER_ATTRIBUTES: rows}
+        return {TRIANGLES: rows, NODES: self._refit_nodes(touched)}
 
     def _refit_nodes(self, touched: np.ndarray) -> np.ndarray:
         """Bring the GPU node records up to date with the refit `touched` binary nodes; the rows that
