@@ -1,6 +1,6 @@
 // A frame's pixels and their neighbours in the G-buffer, as the temporal passes read them: bounds, indices, demodulation, the depth's gradient.
 //! include "generated/structs.wgsl"
-//! include "generated/view_structs.wgsl"
+//! include "generated/display_constants.wgsl"
 //! include "common/constants.wgsl"
 //
 // The including kernel binds `params` (with the image's width and height) and `gbuffer`.

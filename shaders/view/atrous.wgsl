@@ -1,6 +1,7 @@
 // One pass of the edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) on demodulated radiance.
 //! include "generated/structs.wgsl"
 //! include "generated/view_structs.wgsl"
+//! include "generated/display_constants.wgsl"
 //! include "common/constants.wgsl"
 //! include "view/guide_packing.wgsl"
 //! include "generated/bindings/atrous.wgsl"

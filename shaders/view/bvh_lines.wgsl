@@ -1,5 +1,6 @@
 // The edges of BVH boxes drawn over the picture as lines, projected by the path tracer's camera.
 //! include "generated/view_structs.wgsl"
+//! include "generated/display_constants.wgsl"
 //! include "generated/bindings/box_lines.wgsl"
 //
 // The projection maps a point to the pixel its camera ray passes through (see BoxLinesParams),

@@ -1,4 +1,5 @@
 // Auto-exposure: the resolved image's log-average luminance, smoothed over frames (exposure_state).
+//! include "generated/view_structs.wgsl"
 //! include "view/tone_curves.wgsl"
 //! include "common/finite.wgsl"
 //! include "generated/bindings/exposure.wgsl"

@@ -1,4 +1,5 @@
 // Presenting a frame: the resolved linear image scaled to the window, exposure, tone curve, and the text overlay.
+//! include "generated/view_structs.wgsl"
 //! include "view/tone_curves.wgsl"
 //! include "generated/bindings/present.wgsl"
 //

@@ -1,6 +1,7 @@
 // One frame's picture as linear colour: the accumulated mean (blended with the filtered one) or a guide view.
 //! include "generated/structs.wgsl"
 //! include "generated/view_structs.wgsl"
+//! include "generated/display_constants.wgsl"
 //! include "common/constants.wgsl"
 //! include "view/colormap.wgsl"
 //! include "view/guide_packing.wgsl"

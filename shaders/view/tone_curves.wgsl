@@ -1,5 +1,5 @@
 // The tone curves of wgputrace.image_io (tone_curve): exposed linear sRGB to display-linear values in [0, 1].
-//! include "generated/view_structs.wgsl"
+//! include "generated/display_constants.wgsl"
 //
 // Each is its numpy curve line for line (the constants and their sources: image_io, generated
 // into view_structs.wgsl); tests/view/test_tone_curves.py holds the two to one another.

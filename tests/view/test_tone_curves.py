@@ -19,8 +19,9 @@ from wgputrace.image_io import (
     srgb8,
     tone_curve,
 )
+from wgputrace.render.display_constants import GENERATED_DISPLAY_CONSTANTS, display_constants
 from wgputrace.testing.harness import run_per_case
-from wgputrace.view.layout import GENERATED_VIEW_STRUCTS, IMAGE_FORMAT, generated_view_structs
+from wgputrace.view.layout import IMAGE_FORMAT
 from wgputrace.view.present import AUTO_EXPOSURE_SECONDS, Presenter, Tone
 
 pytestmark = pytest.mark.gpu
@@ -52,7 +53,7 @@ def test_the_shaders_curves_are_the_numpy_curves(gpu_context, rng, operator):
         ["view/tone_curves.wgsl"],
         {"exposed": values},
         f"    return vec4<f32>(tone_curve(exposed, TONEMAP_{operator.upper()}), 0.0);",
-        generated={GENERATED_VIEW_STRUCTS: generated_view_structs()},
+        generated={GENERATED_DISPLAY_CONSTANTS: display_constants()},
     )[:, :3]
     np.testing.assert_allclose(shown, tone_curve(values.astype(np.float32), operator), atol=CURVE_ATOL)
 

@@ -20,7 +20,7 @@ from ..gpu.device import GpuContext
 from ..gpu.kernel import ComputeKernel, Pass, submit
 from ..gpu.layout import GBUFFER_PIXEL, GpuStruct
 from ..kernels.compile import compute_kernel
-from ..view.layout import GENERATED_VIEW_STRUCTS, generated_view_structs
+from .display_constants import GENERATED_DISPLAY_CONSTANTS, display_constants
 from .temporal_accumulation import TEMPORAL_PIXEL
 
 GENERATED_SVGF = "generated/svgf.wgsl"
@@ -93,7 +93,7 @@ _kernels: dict[tuple[int, str], ComputeKernel] = {}
 def _kernel(context: GpuContext, entry: str, group: BindGroup) -> ComputeKernel:
     key = (id(context.device), entry)
     if key not in _kernels:
-        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs(), GENERATED_SVGF: svgf_constants()}
+        generated = {GENERATED_DISPLAY_CONSTANTS: display_constants(), GENERATED_SVGF: svgf_constants()}
         _kernels[key] = compute_kernel(context, entry, (group,), generated=generated)
     return _kernels[key]
 

@@ -29,7 +29,7 @@ from ..gpu.device import GpuContext
 from ..gpu.kernel import ComputeKernel
 from ..gpu.layout import ACCUMULATED_PIXEL, GBUFFER_PIXEL, GpuStruct
 from ..kernels.compile import compute_kernel
-from ..view.layout import GENERATED_VIEW_STRUCTS, generated_view_structs
+from .display_constants import GENERATED_DISPLAY_CONSTANTS, display_constants
 
 GENERATED_TEMPORAL = "generated/temporal.wgsl"
 
@@ -103,7 +103,7 @@ def temporal_kernel(context: GpuContext) -> ComputeKernel:
     """The temporal accumulation kernel, compiled once per device."""
     key = id(context.device)
     if key not in _kernels:
-        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs(), GENERATED_TEMPORAL: temporal_constants()}
+        generated = {GENERATED_DISPLAY_CONSTANTS: display_constants(), GENERATED_TEMPORAL: temporal_constants()}
         _kernels[key] = compute_kernel(
             context, "temporal/temporal_accumulation.wgsl", (TEMPORAL_GROUP,), generated=generated
         )

@@ -21,6 +21,7 @@ from ..gpu.graphics import copy_texture, image_texture, read_texture
 from ..gpu.kernel import ComputeKernel, Pass, submit
 from ..kernels.compile import compute_kernel
 from ..kernels.variant import KernelVariant, SceneFeatures
+from ..render.display_constants import GENERATED_DISPLAY_CONSTANTS, display_constants
 from .banded import BandedRenderer
 from .layout import (
     ATROUS_GROUP,
@@ -77,7 +78,7 @@ class Display:
         self.context = context = banded.context
         renderer = banded.renderer
         width, height = banded.full_size
-        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
+        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs(), GENERATED_DISPLAY_CONSTANTS: display_constants()}
         self._resolve_kernel = compute_kernel(context, "view/resolve.wgsl", (RESOLVE_GROUP,), generated=generated)
         self._atrous_kernel = compute_kernel(context, "view/atrous.wgsl", (ATROUS_GROUP,), generated=generated)
         self.guides = image_texture(context, "pixel guides", width, height, GUIDE_FORMAT)
@@ -224,7 +225,7 @@ def guides_kernel(context: GpuContext, features: SceneFeatures) -> ComputeKernel
     key = (id(context.device), features)
     if key not in _guides_kernels:
         scene, *extras = features.groups()
-        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
+        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs(), GENERATED_DISPLAY_CONSTANTS: display_constants()}
         _guides_kernels[key] = compute_kernel(
             context,
             "view/first_hit_guides.wgsl",

@@ -1,14 +1,12 @@
 """Host/GPU structs, constants and bind groups of the viewer's kernels (guides, resolve, filter,
 present, exposure, box lines), defined once like the renderer's (`GpuStruct`, `BindGroup`): each
 struct becomes a numpy dtype and the WGSL of GENERATED_VIEW_STRUCTS, each group its WGSL
-declarations and layout. The tone curves' constants come from wgputrace.image_io, whose numpy
-curves the shader's must equal."""
+declarations and layout. The tone curves' constants are wgputrace.render.display_constants'."""
 
 from __future__ import annotations
 
 from enum import IntEnum
 
-from .. import image_io
 from ..gpu.bindings import (
     STORAGE_READ,
     STORAGE_READ_WRITE,
@@ -21,12 +19,10 @@ from ..gpu.bindings import (
     Binding,
 )
 from ..gpu.layout import ACCUMULATED_PIXEL, GpuStruct
+from ..render.display_constants import FILTER_ALBEDO_MIN  # noqa: F401 (the viewer's filter floor, named here too)
 
 GENERATED_VIEW_STRUCTS = "generated/view_structs.wgsl"
 
-# The filter divides radiance by the first hit's albedo and multiplies it back; albedo channels
-# below this (black materials, nothing hit) divide by it instead of by ~0.
-FILTER_ALBEDO_MIN = 1e-3
 # Guides store the normal in two 16-bit snorms (`pack_guide`): decoded normals are off by
 # at most this much per component (measured bound of the octahedral code at 16 bits, with margin).
 GUIDE_NORMAL_ERROR = 1e-4
@@ -182,42 +178,9 @@ BOX_LINES_GROUP = BindGroup(
 )
 
 
-def _wgsl_matrix(name: str, matrix) -> str:
-    """A 3x3 numpy matrix (acting on column vectors) as a WGSL constant (mat3x3 takes columns)."""
-    columns = ", ".join(f"{value!r}" for value in matrix.T.ravel().tolist())
-    return f"const {name}: mat3x3<f32> = mat3x3<f32>({columns});"
-
-
-def tone_constants() -> list[str]:
-    """The tone curves' ids and constants (`image_io.tone_curve`'s), as WGSL."""
-    parts = [f"const TONEMAP_{name.upper()}: u32 = {index}u;" for index, name in enumerate(image_io.TONEMAP_OPERATORS)]
-    scalars = (
-        "MIDDLE_GREY",
-        "LOG_AVERAGE_FLOOR",
-        "TONE_RADIANCE_MAX",
-        "PBR_NEUTRAL_F90",
-        "PBR_NEUTRAL_COMPRESSION_START",
-    )
-    scalars += ("PBR_NEUTRAL_DESATURATION", "AGX_MIN_EV", "AGX_MAX_EV", "AGX_FLOOR", "AGX_DISPLAY_GAMMA")
-    parts += [f"const {name}: f32 = {float(getattr(image_io, name))!r};" for name in scalars]
-    for name in ("SRGB_TO_REC2020", "REC2020_TO_SRGB", "AGX_INSET", "AGX_OUTSET", "ACES_INPUT", "ACES_OUTPUT"):
-        parts.append(_wgsl_matrix(name, getattr(image_io, name)))
-    luminance = ", ".join(repr(float(w)) for w in image_io.REC709_LUMINANCE)
-    parts.append(f"const REC709_LUMINANCE: vec3<f32> = vec3<f32>({luminance});")
-    sigmoid = ", ".join(repr(float(c)) for c in image_io.AGX_SIGMOID)
-    parts.append(
-        f"const AGX_SIGMOID: array<f32, {len(image_io.AGX_SIGMOID)}> = array<f32, {len(image_io.AGX_SIGMOID)}>({sigmoid});"
-    )
-    fit = ", ".join(repr(float(c)) for c in image_io.ACES_FIT)
-    parts.append(f"const ACES_FIT: array<f32, {len(image_io.ACES_FIT)}> = array<f32, {len(image_io.ACES_FIT)}>({fit});")
-    return parts
-
-
 def generated_view_structs() -> str:
     parts = ["// Generated from wgputrace.view.layout: the viewer's host/GPU structs, view ids and tone curves."]
     parts += [struct.wgsl() for struct in VIEW_STRUCTS]
     parts += [f"const VIEW_{view.name}: u32 = {int(view)}u;" for view in View]
     parts += [f"const RESOLVE_{mode.name}: u32 = {int(mode)}u;" for mode in ResolveMode]
-    parts.append(f"const FILTER_ALBEDO_MIN: f32 = {FILTER_ALBEDO_MIN!r};")
-    parts += tone_constants()
     return "\n".join(parts) + "\n"

@@ -14,6 +14,7 @@ from ..gpu.device import GpuContext
 from ..gpu.graphics import RenderKernel, read_texture, rgba8_texture, target_texture, write_rgba8
 from ..image_io import DEFAULT_TONEMAP, TONEMAP_OPERATORS, check_tonemap
 from ..kernels.compile import compute_kernel
+from ..render.display_constants import GENERATED_DISPLAY_CONSTANTS, display_constants
 from ..scene import Sensor
 from .layout import (
     BOX_LINES_GROUP,
@@ -67,7 +68,7 @@ class Presenter:
 
     def __init__(self, context: GpuContext, target_format: str) -> None:
         self.context, self.target_format = context, target_format
-        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs()}
+        generated = {GENERATED_VIEW_STRUCTS: generated_view_structs(), GENERATED_DISPLAY_CONSTANTS: display_constants()}
         encode = not target_format.endswith("-srgb")
         self._image_kernel = RenderKernel(
             context,
