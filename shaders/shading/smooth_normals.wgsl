@@ -6,6 +6,7 @@
 
 //! include "geometry/barycentric.wgsl"
 //! include "shading/shading_weight.wgsl"
+//! include "generated/instancing.wgsl"
 
 // The corner normals interpolated at `p` (barycentric), turned to the geometric side, unit length;
 // the geometric normal for flat triangles (zero corner normals), degenerate interpolations (opposite
@@ -14,12 +15,12 @@
 // horizon but above the geometric one (at silhouettes) thus shades with the geometric normal at that
 // point, so it is never black.
 fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32> {
-    let corners = corner_attributes[triangle_index];
+    let corners = corner_attributes[mesh_triangle(triangle_index)];
     if all(corners.normal0 == vec3<f32>(0.0)) {
         return geometric;
     }
     let b = triangle_barycentric(triangle, p);
-    var n = (1.0 - b.x - b.y) * corners.normal0 + b.x * corners.normal1 + b.y * corners.normal2;
+    var n = world_normal(triangle_index, (1.0 - b.x - b.y) * corners.normal0 + b.x * corners.normal1 + b.y * corners.normal2);
     let n_length = length(n);
     // NaN too: a zero-area triangle's determinant is 0
     if !(n_length > SHADING_NORMAL_MIN_LENGTH) {

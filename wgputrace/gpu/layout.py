@@ -182,6 +182,21 @@ LIGHTING = GpuStruct(
     "bounding sphere where distant lights need it (their power crosses it, light paths start on it).",
 )
 
+# An instance as the two-level traversal reads it (`render/instance_records.py`), in the top-level
+# BVH's order: world to object (the rays going in) and object to world (hit triangles, normals and
+# tangents coming out) as the rows of 3x4 matrices, its mesh's bottom-level root record, and the
+# slot its triangles' hit words carry (0 for the scene's own shapes, whose matrices are unused).
+INSTANCE = GpuStruct(
+    "Instance",
+    (
+        *((f"world_to_object{row}", "vec4<f32>") for row in range(3)),
+        *((f"object_to_world{row}", "vec4<f32>") for row in range(3)),
+        ("root", "u32"),
+        ("slot", "u32"),
+    ),
+    "One placement of a mesh: its matrices' rows, its bottom-level BVH's root record, its hit-word slot.",
+)
+
 # Per-corner attributes of a triangle, in the triangles' (BVH) order, bound only for scenes that
 # have some (`shading_group`): the shading normals, zero for a flat triangle. Texture
 # coordinates and tangents join as fields of their own.

@@ -11,6 +11,7 @@ from ..gpu.texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
 from .alpha import GENERATED_ALPHA, alpha_hook
 from .camera import GENERATED_CAMERA, camera_hook
 from .emission import GENERATED_EMISSION, emission_hook
+from .instancing import GENERATED_INSTANCING, instancing_hook
 from .light_dispatch import GENERATED_ESCAPED_LIGHT, GENERATED_LIGHTS, escaped_light_hook, lights_hook
 from .material_dispatch import GENERATED_MATERIALS, materials_hook
 from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
@@ -35,6 +36,7 @@ HOOKS: dict[str, Callable[[KernelVariant], str]] = {
     GENERATED_STRUCTS: structs_hook,
     GENERATED_TEXEL_LOADERS: _texel_loaders_hook,
     GENERATED_ACCELERATION: acceleration_hook,
+    GENERATED_INSTANCING: instancing_hook,
     GENERATED_CAMERA: camera_hook,
     GENERATED_TRAVERSAL_STACK: traversal_stack_hook,
     GENERATED_MATERIALS: materials_hook,

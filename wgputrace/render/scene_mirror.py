@@ -17,12 +17,13 @@ from ..gpu.layout import LIGHT_SOURCE, LIGHTING
 from ..kernels.light_dispatch import LightFeatures
 from ..kernels.traversal import BVH_STACK_SIZE, traversal_stack_size
 from ..kernels.variant import SceneFeatures
-from ..scene import Scene, Shape
+from ..scene import Scene, SceneError, Shape
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_colors, corner_normals, corner_uvs
 from ..scene.tangents import corner_tangents
 from .emission_footprints import footprint_means
 from .environment_records import environment_state, environment_table_words, environment_texels
+from .instance_records import InstanceRecords, joined
 from .lights import LUMINANCE_WEIGHTS, LightTable, emitting, light_table
 from .scene_records import (
     SceneRecords,
@@ -50,6 +51,9 @@ CORNER_ATTRIBUTES = "corner attributes"
 CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
 CORNER_TANGENTS = "corner tangents"
 CORNER_COLORS = "corner colors"
+INSTANCES = "instances"
+# the top level's changed rows inside `update` before `_assemble` makes them rows of NODES
+_TOP_NODES = "top-level nodes"
 TRIANGLE_LIGHT_DENSITIES = "triangle light densities"
 # WebGPU's default max-texture-dimension-2d: the atlas side where no device says otherwise
 DEFAULT_TEXTURE_SIDE = 8192
@@ -105,6 +109,10 @@ class SceneMirror:
         # set while the BVH is out of step with the records (a refit that must become a rebuild,
         # which then did not finish: interrupted, out of memory): the next update rebuilds
         self._needs_rebuild = False
+        # the two-level structure's records for a scene with instances (else None), and every array
+        # as the GPU holds it: the world's with the instanced meshes' appended (`_assemble`)
+        self.instancing: InstanceRecords | None = None
+        self._assembled: dict[str, np.ndarray | None] = {}
         self._rebuild()
 
     @property
@@ -115,7 +123,12 @@ class SceneMirror:
 
     @property
     def arrays(self) -> dict[str, np.ndarray | None]:
-        """Every array of records by name (None: the scene has none of it now)."""
+        """Every array of records by name (None: the scene has none of it now), as the GPU holds it."""
+        return {**self._world_arrays, **self._assembled}
+
+    @property
+    def _world_arrays(self) -> dict[str, np.ndarray | None]:
+        """The arrays of the scene's own shapes (all of them, in a scene without instances)."""
         return {
             TRIANGLES: self.triangles,
             NODES: self.nodes,
@@ -140,16 +153,21 @@ class SceneMirror:
         """What the scene compiles into every kernel that traces it, as it is now."""
         return SceneFeatures(
             acceleration=self.acceleration_kind,
-            stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self.wide.max_stack),
+            stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self._stack_entries),
             material_kinds=self.material_kinds,
             lights=self.light_features,
             camera=self.scene.camera.kind,
-            smooth=self.corner_attributes is not None,
+            smooth=self.arrays[CORNER_ATTRIBUTES] is not None,
             textured=self.textured,
             see_through=self.see_through,
             emissive_surfaces=self.emissive_surfaces,
-            vertex_colors=self.corner_colors is not None,
+            vertex_colors=self.arrays[CORNER_COLORS] is not None,
+            instance_triangle_bits=0 if self.instancing is None else self.instancing.triangle_bits,
         )
+
+    @property
+    def _stack_entries(self) -> int:
+        return self.wide.max_stack if self.instancing is None else self.instancing.stack_entries
 
     @property
     def textured(self) -> bool:
@@ -200,6 +218,7 @@ class SceneMirror:
                 not isinstance(s, Shape) or s.geometry_version != v[0]
                 for s, v in zip(shapes, self._versions, strict=True)
             )
+            or self._instance_state() != self._instances
         ):
             return self._rebuild()
         changes: dict[str, np.ndarray] = {}
@@ -210,7 +229,17 @@ class SceneMirror:
                 self._needs_rebuild = True
                 return self._rebuild()
             changes.update(refit)
+        placed = self._instance_placements() != self._placements
+        if self.instancing is not None and (moved or placed):
+            top_nodes, records = self.instancing.top_nodes.copy(), self.instancing.records.copy()
+            if not self.instancing.refit():
+                self._needs_rebuild = True
+                return self._rebuild()
+            changes[_TOP_NODES] = changed_rows(top_nodes, self.instancing.top_nodes)
+            changes[INSTANCES] = changed_rows(records, self.instancing.records)
         reassigned = any(s.material_version != v[2] for s, v in zip(shapes, self._versions, strict=True))
+        if (reassigned or self.scene.materials != self._materials) and self.instancing is not None:
+            return self._rebuild()  # the meshes' triangles index the material list too
         if reassigned or self.scene.materials != self._materials:
             changes = _union(changes, self._reassign_materials())
         else:
@@ -230,16 +259,76 @@ class SceneMirror:
             or emitter[self.triangles["material"][changes.get(TRIANGLES, [])]].any()
             or emitter[changes.get(MATERIALS, [])].any()
             or self._lights_edited()
-            or (TRIANGLES in changes and self._has_distant_lights())
+            or ((TRIANGLES in changes or placed) and self._has_distant_lights())
         ):
             changes.update(self._update_lights())
         changes.update(self._update_textures(geometry_moved=bool(moved)))
         if moved:  # a mirroring transform reorders corners
             changes.update(self._update_corner_colors())
         self._snapshot()
-        return {name: rows for name, rows in changes.items() if rows.size}
+        return {name: rows for name, rows in self._assemble(changes).items() if rows.size}
+
+    def _instance_state(self) -> list[tuple]:
+        """What an instance edit other than a new transform changes (a rebuild): the instances, their
+        meshes and the meshes' versions."""
+        return [
+            (id(i), id(i.mesh), i.mesh.geometry_version, i.mesh.transform_version, i.mesh.material_version)
+            for i in self.scene.instances
+        ]
+
+    def _instance_placements(self) -> list[int]:
+        return [instance.transform_version for instance in self.scene.instances]
+
+    def _assemble(self, changes: dict[str, np.ndarray], rebuilt: bool = False) -> dict[str, np.ndarray]:
+        """The arrays as the GPU holds them in a scene with instances (`InstanceRecords`: the top
+        level's records first, the meshes' triangles and attributes after the world's) from the
+        world's arrays, and `changes` (rows of the world's arrays, and _TOP_NODES) as rows of them:
+        every row after a rebuild."""
+        instancing = self.instancing
+        if instancing is None:
+            self._assembled = {}
+            return changes
+        world = self._world_arrays
+        counts = (len(self.triangles), len(instancing.triangles))
+        assembled = {
+            TRIANGLES: joined([self.triangles, instancing.triangles]),
+            NODES: instancing.nodes(self.nodes),
+            INSTANCES: instancing.records,
+            CORNER_ATTRIBUTES: _appended(
+                world[CORNER_ATTRIBUTES], instancing.corner_values("normals"), corner_attribute_records, 0.0, counts
+            ),
+            CORNER_COLORS: _appended(
+                world[CORNER_COLORS], instancing.corner_values("colors"), corner_color_records, 1.0, counts
+            ),
+        }
+        if self.textured:
+            assembled[CORNER_UVS] = _appended(
+                world[CORNER_UVS], instancing.corner_values("uvs"), corner_uv_records, 0.0, counts
+            )
+        if self._normal_mapped:
+            assembled[CORNER_TANGENTS] = _appended(
+                world[CORNER_TANGENTS], instancing.corner_values("tangents"), corner_tangent_records, 0.0, counts
+            )
+        densities = world[TRIANGLE_LIGHT_DENSITIES]
+        if len(densities) > 1:  # the meshes emit nothing (InstanceRecords refuses emitting meshes)
+            assembled[TRIANGLE_LIGHT_DENSITIES] = np.concatenate(
+                [densities, np.zeros(len(instancing.triangles), np.float32)]
+            )
+        before, self._assembled = self._assembled, assembled
+        if rebuilt:
+            return {name: np.arange(len(array)) for name, array in self.arrays.items() if array is not None}
+        changes = dict(changes)
+        for name, array in assembled.items():  # an attribute the meshes' side gained, or grew
+            if array is not None and (before.get(name) is None or len(before[name]) != len(array)):
+                changes[name] = np.arange(len(array))
+        top = changes.pop(_TOP_NODES, np.zeros(0, np.int64))
+        if NODES in changes:
+            changes[NODES] = changes[NODES] + instancing.top_records
+        changes[NODES] = np.union1d(top, changes.get(NODES, [])).astype(np.int64)
+        return changes
 
     def _snapshot(self) -> None:
+        self._instances, self._placements = self._instance_state(), self._instance_placements()
         self._shapes = list(self.scene.shapes)
         self._versions = [(s.geometry_version, s.transform_version, s.material_version) for s in self._shapes]
         self._materials = self.scene.materials
@@ -396,6 +485,9 @@ class SceneMirror:
         diagonal), which the power of distant lights and the environment is measured through and
         light paths from them start on (`distant_emission_origin`)."""
         corners = np.concatenate([self.triangles[corner] for corner in ("v0", "v1", "v2")]).astype(np.float64)
+        if self.instancing is not None:  # the top level's root box holds the instances' boxes
+            top = self.instancing.top
+            corners = np.concatenate([corners, top.bounds_min[:1], top.bounds_max[:1]]).astype(np.float64)
         low, high = corners.min(axis=0), corners.max(axis=0)
         return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
 
@@ -431,6 +523,12 @@ class SceneMirror:
         self.bvh: BVH = bvh
         self.wide = wide
         self.refitter = Refitter(bvh, vertices)
+        self.instancing = None
+        if self.scene.instances:
+            if wide is None:
+                raise SceneError(f"instances need the 'bvh' acceleration, not {self.acceleration_kind!r}")
+            slot = {id(material): index for index, material in enumerate(arrays.materials)}
+            self.instancing = InstanceRecords(self.scene, bvh, wide, len(vertices), slot)
         # where each shape's kept triangles start in input order, their local indices, and the
         # BVH position of every input triangle
         counts = np.bincount(arrays.shape_index, minlength=len(self.scene.shapes))
@@ -446,6 +544,7 @@ class SceneMirror:
         self.rebuilds += 1
         self._needs_rebuild = False
         self._snapshot()
+        changes = self._assemble(changes, rebuilt=self.instancing is not None)
         return {name: rows for name, rows in changes.items() if rows.size}
 
     def _refit(self, moved: list[int]) -> dict[str, np.ndarray] | None:
@@ -597,6 +696,22 @@ def _changed_texel_rows(old: np.ndarray | None, new: np.ndarray) -> np.ndarray:
     if old is None or old.shape != new.shape or old.dtype != new.dtype:
         return np.arange(len(new))
     return np.flatnonzero((old != new).reshape(len(new), -1).any(axis=1))
+
+
+def _appended(
+    world: np.ndarray | None, meshes: np.ndarray | None, records, missing: float, counts
+) -> np.ndarray | None:
+    """A corner attribute's records: the world's (`counts[0]` triangles), then the meshes' values
+    (`counts[1]` triangles, (n, 3, k)) made into records by `records`, `missing` for the side that
+    has none; None where neither has any."""
+    if world is None and meshes is None:
+        return None
+    width = meshes.shape[-1] if meshes is not None else world.dtype[0].shape[-1]
+    if world is None:
+        world = records(np.full((counts[0], 3, width), missing, np.float32))
+    if meshes is None:
+        meshes = np.full((counts[1], 3, width), missing, np.float32)
+    return joined([world, records(meshes)])
 
 
 def _union(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
