@@ -18,6 +18,7 @@ from .environment_lit import constant_env, env_one_texel, env_sun_spheres
 from .glass import glass_grazing
 from .glossy import glossy_spheres
 from .glossy_through_glossy import glossy_through_glossy
+from .instanced import instanced_cornell
 from .normal_mapped import normal_mapped_plane
 from .principled import principled_spheres, principled_transmission
 from .punctual import point_spot_directional
@@ -55,6 +56,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "depth_of_field": depth_of_field,
     "orthographic_boxes": orthographic_boxes,
     "sunlit_spheres": sunlit_spheres,
+    # instances (issue 25)
+    "instanced_cornell": instanced_cornell,
 }
 DEFAULT_SCENE = "cornell"
 
