@@ -91,7 +91,7 @@ def measure(scene: Scene, width: int, height: int, spp: int, repeats: int) -> di
         seconds.append(renderer.render(spp).render_seconds / spp)
     scene_bytes = renderer.gpu_scene_bytes
     return {
-        "triangles_stored": len(renderer._mirror.arrays["triangles"]),
+        "triangles_stored": renderer.triangle_count,
         "setup_seconds": setup_seconds,
         "gpu_scene_bytes": int(sum(scene_bytes.values())),
         "gpu_scene_bytes_by_array": scene_bytes,

@@ -254,9 +254,3 @@ class InstanceRecords:
                 for tree, part in zip(self.trees, parts, strict=True)
             ]
         )
-
-    def word(self, instance_index: int, mesh_triangle: int) -> int:
-        """The hit word of `instance_index`'s triangle `mesh_triangle` (its BVH position in the mesh)."""
-        tree = self._tree_of[instance_index]
-        slot = self._position[instance_index + 1] + 1
-        return int(slot) << self.triangle_bits | (tree.first_triangle + mesh_triangle)

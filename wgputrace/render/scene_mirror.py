@@ -146,6 +146,7 @@ class SceneMirror:
             TEXTURES: self.texture_records,
             MATERIAL_TEXTURES: self.material_textures,
             TRIANGLE_LIGHT_DENSITIES: self.triangle_light_densities,
+            INSTANCES: None,  # the instances' records come with the other arrays `_assemble` makes
         }
 
     @property
