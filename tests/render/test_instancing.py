@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, PointLight, Renderer, Scene, make_box, make_plane, model_matrix
+from wgputrace.scenes import scene_by_name
 from wgputrace.scenes.instanced import instanced_cornell
 from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, Estimate, compare_blocks
 
@@ -45,14 +46,54 @@ def at_identity(scene: Scene) -> Scene:
     return placed
 
 
-def test_instances_at_the_identity_render_the_flattened_picture_bit_for_bit(gpu_context):
+def shapes_as_instances(scene: Scene) -> Scene:
+    """`scene` with each of its shapes that does not emit drawn by an instance at the identity (the
+    shape its mesh), and a small grey square behind the camera where no shape is left."""
+    kept = [shape for shape in scene.shapes if shape.material.emits()]
+    behind = np.asarray(scene.camera.position) - 2.0 * np.asarray(scene.camera.forward)
+    kept = kept or [make_plane(behind, (0, 0, 0), (0.1, 0.1), Diffuse("anchor", (0.5, 0.5, 0.5)), "anchor")]
+    placed = Scene(kept, scene.camera, scene.environment)
+    placed.add_light(*scene.lights)
+    for shape in scene.shapes:
+        if not shape.material.emits():
+            placed.add_instance(shape, np.eye(4), shape.name)
+    return placed
+
+
+def coloured_cornell() -> Scene:
+    """The instanced Cornell box at the identity, its spheres with vertex colours."""
     scene = at_identity(instanced_cornell())
+    for instance in scene.instances:
+        corners = instance.mesh.world_vertices
+        instance.mesh.colors = np.concatenate([0.5 + 0.5 * np.sin(4 * corners), np.ones_like(corners[..., :1])], -1)
+    return scene
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        pytest.param(lambda: at_identity(instanced_cornell()), id="smooth normals"),
+        pytest.param(coloured_cornell, id="vertex colours", marks=pytest.mark.slow),
+        pytest.param(
+            lambda: shapes_as_instances(scene_by_name("textured_quads")), id="textures", marks=pytest.mark.slow
+        ),
+        pytest.param(
+            lambda: shapes_as_instances(scene_by_name("normal_mapped_plane")), id="normal map", marks=pytest.mark.slow
+        ),
+        pytest.param(
+            lambda: shapes_as_instances(scene_by_name("alpha_cutout")), id="alpha cut-out", marks=pytest.mark.slow
+        ),
+    ],
+)
+def test_instances_at_the_identity_render_the_flattened_picture_bit_for_bit(gpu_context, make):
+    scene = make()
     renderer = Renderer(scene, SIZE, SIZE, seed=SEED)
     assert "instances" in renderer.variant.scene.labels
     renderer.render(SPP)
     np.testing.assert_array_equal(renderer.image(), image(scene.flattened()))
 
 
+@pytest.mark.slow
 def test_placed_instances_render_the_flattened_picture(gpu_context):
     scene = instanced_cornell()
     estimates = [
