@@ -145,7 +145,7 @@ class InstanceRecords:
         self.triangle_bits = WORD_BITS - items.bit_length()
         if self.triangle_count >= (1 << self.triangle_bits) - 1:
             raise SceneError(
-                f"{len(self.instances):,} instances and {self.triangle_count:,} stored triangles do not fit a 32-bit "
+                f"{len(self.instances):,} instances and {self.triangle_count:,} stored triangles do not fit a {WORD_BITS}-bit "
                 f"hit word ({WORD_BITS - self.triangle_bits} bits of instance, {self.triangle_bits} of triangle): "
                 "flatten some instances"
             )
