@@ -72,9 +72,13 @@ def test_adding_an_instance_rebuilds():
     assert mirror.rebuilds == rebuilds + 1 and len(changes[INSTANCES]) == len(scene.instances) + 1
 
 
-def test_instances_need_the_bvh_and_a_word_that_addresses_them(monkeypatch):
+def test_instances_need_the_bvh_a_shape_and_a_word_that_addresses_them(monkeypatch):
     with pytest.raises(SceneError, match="instances need the 'bvh' acceleration"):
         SceneMirror(field(), "flat")
+    alone = field()
+    alone.shapes = []
+    with pytest.raises(SceneError, match="6 instances and no Shape: add at least one Shape"):
+        SceneMirror(alone, "bvh")
     monkeypatch.setattr(instance_records, "WORD_BITS", 10)  # 3 bits of slot, 7 of triangle
     with pytest.raises(SceneError, match=r"6 instances and 334 stored triangles do not fit a 10-bit hit word"):
         SceneMirror(field(), "bvh")

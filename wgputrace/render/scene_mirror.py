@@ -496,6 +496,11 @@ class SceneMirror:
         return self.scene_bounding_sphere()[1]
 
     def _rebuild(self) -> dict[str, np.ndarray]:
+        if self.scene.instances and not self.scene.shapes:
+            raise SceneError(
+                f"the scene has {len(self.scene.instances)} instances and no Shape: add at least one Shape beside "
+                "them (the scene's own shapes are an item of the instances' top level), e.g. a ground"
+            )
         arrays = self.scene.arrays()
         bvh = build_acceleration(arrays, self.acceleration_kind)
         order = bvh.triangle_order
