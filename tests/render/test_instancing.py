@@ -93,9 +93,22 @@ def test_instances_at_the_identity_render_the_flattened_picture_bit_for_bit(gpu_
     np.testing.assert_array_equal(renderer.image(), image(scene.flattened()))
 
 
+def turned_normal_map() -> Scene:
+    """The normal-mapped plane drawn by an instance turned about the view axis and shrunk: its
+    tangents (MikkTSpace's, in object space) must follow the transform as the flattened plane's do."""
+    scene = scene_by_name("normal_mapped_plane")
+    placed = shapes_as_instances(scene)
+    placed.instances[0].transform = model_matrix((0.1, -0.05, 0), (0, 0, 0.7), (0.9, 0.8, 1.0))
+    return placed
+
+
 @pytest.mark.slow
-def test_placed_instances_render_the_flattened_picture(gpu_context):
-    scene = instanced_cornell()
+@pytest.mark.parametrize(
+    "make",
+    [pytest.param(instanced_cornell, id="normals"), pytest.param(turned_normal_map, id="tangents")],
+)
+def test_placed_instances_render_the_flattened_picture(gpu_context, make):
+    scene = make()
     estimates = [
         Estimate.from_batches([image(s, seed=SEED + 100 * k, spp=BATCH_SPP) for k in range(BATCHES)])
         for s in (scene, scene.flattened())
