@@ -3,7 +3,7 @@ the GPU, its memory and time per sample beside the same instances flattened into
 where those fit.
 
     python -m bench.instancing
-    python -m bench.instancing --instances 100 10000 --unique 10 100 --size 128x128 --spp 2
+    python -m bench.instancing --instances 10 100 10000 --unique 10 100 --size 128x128 --spp 2
 
 The mesh is a wavy torus (`torus_mesh`) stored once; a square grid of instances, each turned and
 scaled, stands on a ground under a lamp (`instanced_field`), seen from above at an angle. Each
@@ -123,7 +123,7 @@ def plot(path, result: dict) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argument_parser(__doc__, size=(128, 128), spp=2, repeats=3)
-    parser.add_argument("--instances", type=int, nargs="+", default=[100, 10_000], help="instance counts drawn")
+    parser.add_argument("--instances", type=int, nargs="+", default=[10, 100, 10_000], help="instance counts drawn")
     parser.add_argument("--unique", type=int, nargs="+", default=[10, 100], help="instance counts flattened")
     parser.add_argument("--mesh-triangles", type=int, default=MESH_TRIANGLES, help="triangles of the mesh")
     args = parse(parser, argv, "instances", "unique", "mesh_triangles")
