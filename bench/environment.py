@@ -18,9 +18,7 @@ import json
 import statistics
 import subprocess
 import sys
-import tempfile
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +26,7 @@ import numpy as np
 from bench.charts import figure, save_figure
 from bench.command_line import argument_parser, log, parse
 from bench.error_curves import errors
-from bench.provenance import REPO_ROOT, Run, git
+from bench.provenance import REPO_ROOT, Run, worktree
 from bench.result_files import write_result
 from bench.timing import fresh_image
 from bench.validation import agreement, image_failures, sidak_critical_z
@@ -250,21 +248,6 @@ def cost_per_sample(texels: np.ndarray, size: int, spp: int, rounds: int) -> dic
 
 
 # -- 3. the Cornell box against the commit before the lights --------------------------------------
-
-
-@contextmanager
-def worktree(revision: str) -> Iterator[Path]:
-    """A detached checkout of `revision` in a temporary folder, removed afterwards."""
-    with tempfile.TemporaryDirectory(prefix="wgputrace-baseline-") as folder:
-        path = Path(folder) / revision
-        try:
-            git("worktree", "add", "--detach", str(path), revision)
-        except subprocess.CalledProcessError as error:
-            raise SystemExit(f"cannot check out {revision}: {error.stderr.strip()}") from None
-        try:
-            yield path
-        finally:
-            git("worktree", "remove", "--force", str(path))
 
 
 class CornellWorker:

@@ -8,8 +8,10 @@ import os
 import platform
 import subprocess
 import sys
+import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
@@ -38,6 +40,21 @@ def git_revision(repo: Path = REPO_ROOT) -> str:
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
     return f"{head}-dirty" if changes else head
+
+
+@contextmanager
+def worktree(revision: str) -> Iterator[Path]:
+    """A detached checkout of `revision` in a temporary folder, removed afterwards."""
+    with tempfile.TemporaryDirectory(prefix="wgputrace-baseline-") as folder:
+        path = Path(folder) / revision
+        try:
+            git("worktree", "add", "--detach", str(path), revision)
+        except subprocess.CalledProcessError as error:
+            raise SystemExit(f"cannot check out {revision}: {error.stderr.strip()}") from None
+        try:
+            yield path
+        finally:
+            git("worktree", "remove", "--force", str(path))
 
 
 def cpu_model() -> str:

@@ -1,6 +1,7 @@
 """Writes tests/shaders/data/principled_furnace_mitsuba.npz: Mitsuba 3's own white furnace for its
 `principled` BSDF, what a white (base colour 1) surface keeps of light arriving from outside, on a
-grid of roughness x metallic x spec_trans x incident angle: the mean of `sample`'s weights (eval /
+grid of roughness x metallic x spec_trans x incident angle x optional lobes (none, a clearcoat, a
+tinted sheen): the mean of `sample`'s weights (eval /
 pdf, cosine included, in radiance transport) over SAMPLES draws, with its standard error.
 `test_white_furnace_is_mitsubas` holds ours to these values, and to at most 1 wherever these are.
 
@@ -29,17 +30,21 @@ METALLIC = (0.0, 0.5, 1.0)
 SPEC_TRANS = (0.0, 0.5, 1.0)
 # down to grazing
 INCIDENT_COSINES = (0.9, 0.5, 0.1, 0.01)
-AXES = (ROUGHNESS, METALLIC, SPEC_TRANS, INCIDENT_COSINES)
+# Principled's optional lobes: none, a glossy clearcoat, a half-tinted sheen (parameter, value) pairs
+LOBES = ((), (("clearcoat", 1.0), ("clearcoat_gloss", 0.7)), (("sheen", 1.0), ("sheen_tint", 0.5)))
+AXES = (ROUGHNESS, METALLIC, SPEC_TRANS, INCIDENT_COSINES, tuple(range(len(LOBES))))
 
 
 def grid_point(index: tuple[int, ...]) -> tuple[float, ...]:
-    """(roughness, metallic, spec_trans, cos theta) at a grid index."""
+    """(roughness, metallic, spec_trans, cos theta, index into LOBES) at a grid index."""
     return tuple(axis[i] for axis, i in zip(AXES, index, strict=True))
 
 
-def furnace(mi, roughness: float, metallic: float, spec_trans: float, cos_theta: float, rng) -> tuple[float, float]:
-    """Mean and standard error of the sample weights of a white principled BSDF for wi at
-    `cos_theta` (azimuth 0: the BSDF is isotropic)."""
+def furnace(
+    mi, roughness: float, metallic: float, spec_trans: float, cos_theta: float, lobes: int, rng
+) -> tuple[float, float]:
+    """Mean and standard error of the sample weights of a white principled BSDF with LOBES[lobes]
+    for wi at `cos_theta` (azimuth 0: the BSDF is isotropic)."""
     import drjit as dr
 
     bsdf = mi.load_dict(
@@ -50,6 +55,7 @@ def furnace(mi, roughness: float, metallic: float, spec_trans: float, cos_theta:
             "roughness": roughness,
             "spec_trans": spec_trans,
             "eta": ETA,
+            **dict(LOBES[lobes]),
         }
     )
     # one vectorised call: a JIT variant (llvm_ad_rgb) draws them all at once
@@ -83,6 +89,8 @@ def main(argv: list[str] | None = None) -> None:
         metallic=np.array(METALLIC),
         spec_trans=np.array(SPEC_TRANS),
         cos_theta=np.array(INCIDENT_COSINES),
+        lobes=np.array([[value for _, value in lobes] for lobes in LOBES[1:]]),
+        lobe_names=np.array([[name for name, _ in lobes] for lobes in LOBES[1:]]),
         eta=ETA,
         samples=SAMPLES,
         mean=mean,
@@ -92,7 +100,7 @@ def main(argv: list[str] | None = None) -> None:
     )
     largest = np.unravel_index(np.argmax(mean), shape)
     print(
-        f"wrote {FURNACE}; largest {mean[largest]:.4f} +- {error[largest]:.1g} at roughness, metallic, spec_trans, cos "
+        f"wrote {FURNACE}; largest {mean[largest]:.4f} +- {error[largest]:.1g} at roughness, metallic, spec_trans, cos, lobes "
         f"{grid_point(largest)}"
     )
 

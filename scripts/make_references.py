@@ -10,9 +10,9 @@ Which references there are and how each is rendered is wgputrace.testing.referen
 REFERENCES, the registry the reference tests read their cases from.
 
 Each scene is built in Mitsuba from our own triangles, materials and camera
-(wgputrace.reference.mitsuba_scene) and rendered with Mitsuba's `path` integrator at the same
-max depth and a box pixel filter; its environment and lights become Mitsuba's `constant`,
-`envmap`, `point`, `spot` and `directional` emitters. Several passes with different seeds give a per-pixel mean and
+(wgputrace.reference.mitsuba_scene) and rendered with Mitsuba's `path` integrator (`volpath`
+where a material absorbs inside) at the same max depth and a box pixel filter; its environment
+and lights become Mitsuba's `constant`, `envmap`, `point`, `spot` and `directional` emitters. Several passes with different seeds give a per-pixel mean and
 its standard error; both are stored as float16 with the settings and versions used.
 
 The `llvm_ad_rgb` variant is much faster but needs LLVM 16 or newer (Debian: libllvm19; the stock

@@ -42,18 +42,24 @@ def render_matrix() -> dict[str, np.ndarray]:
     import wgputrace as wt
     from wgputrace.scenes import BUILTIN_SCENES
 
-    def mean(scene, **options) -> np.ndarray:
-        renderer = wt.Renderer(scene, *SIZE, seed=SEED, **options)
+    def mean(scene, **options) -> np.ndarray | None:
+        """The render, or None where the integrator refuses the scene (bdpt an absorbing material)."""
+        try:
+            renderer = wt.Renderer(scene, *SIZE, seed=SEED, **options)
+        except ValueError as refusal:
+            print(f"skipped: {refusal}", file=sys.stderr)
+            return None
         renderer.render(SPP)
         return renderer.image()
 
     integrators, samplers = methods()
-    images = {
+    renders = {
         f"{name}_{integrator}_{sampler}": mean(make(), integrator=integrator, sampler=sampler)
         for name, make in BUILTIN_SCENES.items()
         for integrator in integrators
         for sampler in samplers
     }
+    images = {name: image for name, image in renders.items() if image is not None}
     images["cornell_flat"] = mean(BUILTIN_SCENES["cornell"](), accel="flat")
     guided = wt.Renderer(BUILTIN_SCENES["textured_asset"](), *SIZE, seed=SEED, guides=True)
     guided.render(SPP)

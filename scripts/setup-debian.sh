@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set up wgputrace on a fresh Debian/Ubuntu machine: system packages (Mesa 25 on Debian 12), then a virtual
-# environment in .venv with the package and its test, bench, denoise, hdr, draco, ray and docs extras. Safe to run again.
+# environment in .venv with the package and its test, bench, denoise, hdr, draco, ktx2, ray and docs extras. Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -40,6 +40,7 @@ python3 -m venv .venv
 # denoise: Intel Open Image Denoise, so that its tests (tests/denoise) run rather than skip; hdr: the
 # Radiance .hdr reader, so that tests/scene/test_environment.py reads .hdr maps rather than skipping;
 # draco: the Draco decoder, so that tests/loaders/test_gltf_extensions.py loads a compressed box;
+# ktx2: the KTX2 transcoder, so that tests/loaders/test_gltf_ktx2.py reads the files alktx2 (test) makes;
 # ray: Ray, so that tests/cluster render on a two-node cluster rather than skipping; docs: Sphinx and
 # its extensions, which build the site (docs/conf.py)
-.venv/bin/python -m pip install -q ".[test,bench,denoise,hdr,draco,ray,docs]"
+.venv/bin/python -m pip install -q ".[test,bench,denoise,hdr,draco,ktx2,ray,docs]"

@@ -269,7 +269,7 @@ def _render(args: argparse.Namespace) -> int:
     textures = f", textures {renderer.gpu_texture_bytes:,} B" if renderer.gpu_texture_bytes else ""
     print(
         f"gpu memory       {renderer.gpu_bytes_per_triangle:.1f} B per triangle (triangles, BVH nodes, materials, "
-        f"lights; as allocated, spare capacity included){textures}"
+        f"lights, vertex attributes; as allocated, spare capacity included){textures}"
     )
     print(
         f"acceleration     {args.accel}: {acceleration.node_count:,} nodes, depth {acceleration.depth}, "

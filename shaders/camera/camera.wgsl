@@ -13,7 +13,10 @@
 //   (per steradian, or per unit area for a parallel camera; for a camera with a lens, given its
 //   point on the lens);
 // - camera_connection(p, lens): how light tracing joins point `p` to the camera at lens sample
-//   `lens` (CameraConnection).
+//   `lens` (CameraConnection);
+// - camera_raster(view, p): where point `p` lands in the image of the camera `view` (a Frame
+//   record: this frame's, or the previous frame's for motion vectors), seen from the lens's
+//   centre: the inverse of camera_ray at LENS_CENTRE (CameraRaster).
 
 // The lens sample of a ray through the lens's centre (sample_concentric_disk's centre).
 const LENS_CENTRE: vec2<f32> = vec2<f32>(0.5, 0.5);
@@ -52,6 +55,20 @@ fn ndc_pixel(ndc: vec2<f32>) -> ImagePixel {
     let column = min(u32(raster.x), frame.width - 1u);
     let row = min(u32(raster.y), frame.height - 1u);
     return ImagePixel(row * frame.width + column, true);
+}
+
+// A point in the image of a camera: its raster `position` in pixels (x right, y down, the centre of
+// pixel (i, j) at (i + 0.5, j + 0.5), not limited to the image), the distance the camera's ray
+// travels to it (the G-buffer's depth), and whether it lies in front of the camera.
+struct CameraRaster {
+    position: vec2<f32>,
+    distance: f32,
+    seen: bool,
+}
+
+// Raster position of the image point `ndc` (pixel_ndc's coordinates) in the image of `view`.
+fn ndc_raster(view: Frame, ndc: vec2<f32>) -> vec2<f32> {
+    return (ndc * 0.5 + 0.5) * vec2<f32>(f32(view.width), f32(view.height));
 }
 
 // The area of the image's rectangle spanned by frame's camera_right and camera_up (its half

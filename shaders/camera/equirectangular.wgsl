@@ -45,3 +45,13 @@ fn camera_connection(p: vec3<f32>, lens: vec2<f32>) -> CameraConnection {
     let row = min(u32(v * f32(frame.height)), frame.height - 1u);
     return CameraConnection(row * frame.width + column, equirectangular_pdf(sin_theta), frame.camera_position, true);
 }
+
+// camera_ray's angles of the direction to `p`; a point across the image's left and right edge
+// lands a whole image width away from its neighbours.
+fn camera_raster(view: Frame, p: vec3<f32>) -> CameraRaster {
+    let to_point = p - view.camera_position;
+    let local = vec3<f32>(dot(to_point, view.camera_right), dot(to_point, view.camera_up), dot(to_point, view.camera_forward));
+    let distance = length(local);
+    let uv = vec2<f32>(atan2(local.x, local.z) * (0.5 * INV_PI) + 0.5, acos(clamp(local.y / distance, -1.0, 1.0)) * INV_PI);
+    return CameraRaster(uv * vec2<f32>(f32(view.width), f32(view.height)), distance, distance > 0.0);
+}

@@ -41,3 +41,15 @@ fn image_plane_projection(to_point: vec3<f32>) -> ImagePlaneProjection {
 fn image_plane_direction(ndc: vec2<f32>) -> vec3<f32> {
     return frame.camera_forward + ndc.x * frame.camera_right - ndc.y * frame.camera_up;
 }
+
+// Where the point `p` lands in the image of the perspective camera `view`, seen from the lens's
+// centre (view's camera_position): image_plane_projection for any Frame record, in raster units.
+fn image_plane_raster(view: Frame, p: vec3<f32>) -> CameraRaster {
+    let to_point = p - view.camera_position;
+    let forward = dot(to_point, view.camera_forward);
+    let ndc = vec2<f32>(
+        dot(to_point, view.camera_right) / (forward * dot(view.camera_right, view.camera_right)),
+        -dot(to_point, view.camera_up) / (forward * dot(view.camera_up, view.camera_up)),
+    );
+    return CameraRaster(ndc_raster(view, ndc), length(to_point), forward > 0.0);
+}

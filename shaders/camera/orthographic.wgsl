@@ -31,3 +31,14 @@ fn camera_connection(p: vec3<f32>, lens: vec2<f32>) -> CameraConnection {
     let raster = ndc_pixel(ndc);
     return CameraConnection(raster.pixel, 1.0 / image_plane_area(), p - along_axis * frame.camera_forward, raster.seen);
 }
+
+// The rectangle's point straight behind `p`, and the distance along forward from it.
+fn camera_raster(view: Frame, p: vec3<f32>) -> CameraRaster {
+    let to_point = p - view.camera_position;
+    let along_axis = dot(to_point, view.camera_forward);
+    let ndc = vec2<f32>(
+        dot(to_point, view.camera_right) / dot(view.camera_right, view.camera_right),
+        -dot(to_point, view.camera_up) / dot(view.camera_up, view.camera_up),
+    );
+    return CameraRaster(ndc_raster(view, ndc), along_axis, along_axis > 0.0);
+}

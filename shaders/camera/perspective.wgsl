@@ -16,3 +16,7 @@ fn camera_connection(p: vec3<f32>, lens: vec2<f32>) -> CameraConnection {
     let projection = image_plane_projection(p - frame.camera_position);
     return CameraConnection(projection.pixel, image_plane_pdf(projection.cos_theta), frame.camera_position, projection.seen);
 }
+
+fn camera_raster(view: Frame, p: vec3<f32>) -> CameraRaster {
+    return image_plane_raster(view, p);
+}

@@ -35,3 +35,7 @@ fn camera_connection(p: vec3<f32>, lens: vec2<f32>) -> CameraConnection {
     let projection = image_plane_projection(in_focus - frame.camera_position);
     return CameraConnection(projection.pixel, image_plane_pdf(along_axis / length(to_point)), origin, projection.seen);
 }
+
+fn camera_raster(view: Frame, p: vec3<f32>) -> CameraRaster {
+    return image_plane_raster(view, p);
+}

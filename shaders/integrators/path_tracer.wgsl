@@ -9,7 +9,8 @@
 //! include "sampling/mis.wgsl"
 //! include "integrators/accumulate.wgsl"
 //! include "integrators/loop_budget.wgsl"
-// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in (path_guides_hook)
+// guide_vertex and accumulate_guides: empty unless the denoiser's guides are compiled in, and
+// write_gbuffer unless the G-buffer is (path_guides_hook)
 //! include "generated/path_guides.wgsl"
 // escaped_light and HAS_ESCAPED_LIGHT: what a ray leaving the scene sees (escaped_light_hook)
 //! include "generated/escaped_light.wgsl"
@@ -21,6 +22,8 @@
 //! include "generated/textures.wgsl"
 // vertex_colored: the material as it is unless the scene has vertex colours (vertex_colors_hook)
 //! include "generated/vertex_colors.wgsl"
+// segment_transmittance: 1 unless the scene has an absorbing material (absorption_hook)
+//! include "generated/absorption.wgsl"
 // samples_this_dispatch: 1, or this dispatch's count where paths regenerate (regeneration_hook)
 //! include "generated/regeneration.wgsl"
 //! include "generated/bindings/pixels.wgsl"
@@ -181,6 +184,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
     let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
     guide_vertex(material, shading, ray.direction);
+    (*path).throughput *= segment_transmittance(material, normal, ray.direction, hit.t);
     // emission shines from both sides (a single-sided surface's from its front only)
     let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, p, ray.direction);
     if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {
@@ -254,6 +258,8 @@ fn render_pixel(xy: vec2<u32>, samples: u32) {
         return;
     }
     let pixel = xy.y * frame.width + xy.x;
+    // before the sampler is seeded: the G-buffer's ray draws nothing of the pixel's sequence
+    write_gbuffer(xy, pixel);
     let owed = samples_owed(pixel);
     let count = select(owed + samples, min(owed, 1u), samples == 0u);
     if count == 0u {

@@ -1,6 +1,6 @@
-// Principled: Mitsuba 3's `principled` BSDF (Burley's Disney BSDF), less five of its parameters.
+// Principled: Mitsuba 3's `principled` BSDF (Burley's Disney BSDF), less three of its parameters.
 //
-// Without anisotropic, sheen, clearcoat, spec_tint and flatness: a Disney diffuse lobe with
+// Without anisotropic, spec_tint and flatness: a Disney diffuse lobe with
 // retro-reflection (weight (1 - metallic)(1 - spec_trans)), a GGX specular reflection whose Fresnel
 // mixes the exact dielectric one (eta) and Schlick's about base_color by metallic, and a rough
 // dielectric transmission (weight (1 - metallic) spec_trans, tinted sqrt(base_color)). With
@@ -9,102 +9,43 @@
 // dielectric reflects and transmits, weighted by (1 - metallic) spec_trans. eval, pdf and sample
 // transcribe Mitsuba's src/bsdfs/principled.cpp and principledhelpers.h for these parameters
 // (radiance transport), so that renders match Mitsuba's references. f includes |cos theta_o|.
+// From outside, the clearcoat and sheen lobes add to these where the scene uses them (their files,
+// or stubs that return nothing: generated/principled_lobes.wgsl).
 //! include "sampling/warps.wgsl"
 //! include "materials/bsdf_sample.wgsl"
 //! include "materials/glossy.wgsl"
 //! include "materials/glass.wgsl"
+//! include "materials/principled_parameters.wgsl"
+//! include "generated/principled_lobes.wgsl"
 
-// Mitsuba's calc_dist_params floors GGX alpha = roughness^2 here: roughness 0 is a near-mirror.
-const PRINCIPLED_ALPHA_MIN: f32 = 0.001;
-
-struct Principled {
-    base_color: vec3<f32>,
-    metallic: f32,
-    roughness: f32,
-    // index of refraction of the dielectric specular layer, outside 1
-    eta: f32,
-    spec_trans: f32,
-}
-
-// One reader per parameter, so that a textured parameter replaces its reader by a texture lookup.
-fn principled_base_color(material: Material) -> vec3<f32> {
-    return material.color;
-}
-
-fn principled_metallic(material: Material) -> f32 {
-    return material.metallic;
-}
-
-fn principled_roughness(material: Material) -> f32 {
-    return material.alpha;
-}
-
-fn principled_eta(material: Material) -> f32 {
-    return material.ior;
-}
-
-fn principled_spec_trans(material: Material) -> f32 {
-    return material.spec_trans;
-}
-
-fn principled_parameters(material: Material) -> Principled {
-    return Principled(
-        principled_base_color(material),
-        principled_metallic(material),
-        principled_roughness(material),
-        principled_eta(material),
-        principled_spec_trans(material),
-    );
-}
-
-// Weight of the reflective (diffuse) lobes
-fn principled_brdf_weight(p: Principled) -> f32 {
-    return (1.0 - p.metallic) * (1.0 - p.spec_trans);
-}
-
-// Weight of the transmissive lobe
-fn principled_bsdf_weight(p: Principled) -> f32 {
-    return (1.0 - p.metallic) * p.spec_trans;
-}
-
-fn principled_alpha(p: Principled) -> f32 {
-    return max(PRINCIPLED_ALPHA_MIN, p.roughness * p.roughness);
-}
-
-// (1 - cos)^5, the weight of Schlick's approximation
-fn schlick_weight(cos_theta: f32) -> f32 {
-    let m = clamp(1.0 - cos_theta, 0.0, 1.0);
-    let m2 = m * m;
-    return m2 * m2 * m;
-}
-
-// Mitsuba's calc_schlick for a microfacet seen from outside (cos_theta_i >= 0): Schlick's
-// approximation about r0, weighted by the angle on the denser side (the refracted one where eta < 1).
-fn principled_schlick(r0: vec3<f32>, cos_theta_i: f32, eta: f32) -> vec3<f32> {
-    let cos_t2 = 1.0 - (1.0 - cos_theta_i * cos_theta_i) / (eta * eta);
-    let cos_denser = select(sqrt(max(0.0, cos_t2)), cos_theta_i, eta > 1.0);
-    return mix(vec3<f32>(schlick_weight(cos_denser)), vec3<f32>(1.0), r0);
-}
-
-// The lobes' probabilities (Mitsuba's sampling rates, all 1), from the side of wi (outside: diffuse,
-// reflection and transmission; inside: the dielectric's reflection and transmission) and the
-// dielectric Fresnel reflectance at the microfacet; reflection takes what the others leave.
+// The lobes' probabilities (Mitsuba's sampling rates: 1, and 0.25 clearcoat for the clearcoat),
+// from the side of wi (outside: diffuse, reflection, transmission and clearcoat; inside: the
+// dielectric's reflection and transmission) and the dielectric Fresnel reflectance at the
+// microfacet; reflection takes what the others leave. Terms of the clearcoat come last in every sum,
+// where a scene without it adds a constant 0 that the compiler drops.
 struct PrincipledLobes {
     diffuse: f32,
     reflection: f32,
     transmission: f32,
+    clearcoat: f32,
 }
 
 fn principled_lobes(p: Principled, outside: bool, fresnel: f32) -> PrincipledLobes {
     let bsdf = principled_bsdf_weight(p);
-    var lobes = PrincipledLobes(0.0, fresnel, 1.0 - fresnel);
+    var lobes = PrincipledLobes(0.0, fresnel, 1.0 - fresnel, 0.0);
     if outside {
-        lobes = PrincipledLobes(principled_brdf_weight(p), 1.0 - bsdf * (1.0 - fresnel), bsdf * (1.0 - fresnel));
+        lobes = PrincipledLobes(
+            principled_brdf_weight(p),
+            1.0 - bsdf * (1.0 - fresnel),
+            bsdf * (1.0 - fresnel),
+            principled_clearcoat_rate(p),
+        );
     }
-    let total = lobes.diffuse + lobes.reflection + lobes.transmission;
+    let total = lobes.diffuse + lobes.reflection + lobes.transmission + lobes.clearcoat;
     let diffuse = lobes.diffuse / total;
     let transmission = lobes.transmission / total;
-    return PrincipledLobes(diffuse, 1.0 - diffuse - transmission, transmission);
+    let clearcoat = lobes.clearcoat / total;
+    return PrincipledLobes(diffuse, 1.0 - diffuse - transmission - clearcoat, transmission, clearcoat);
 }
 
 // eta of the medium wo enters over that of wi's (Mitsuba's eta_path): eta from outside, 1 / eta from inside.
@@ -157,16 +98,18 @@ fn principled_eval(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32
     let compatible = principled_compatible(h, wi, wo, reflects);
     if reflects {
         var diffuse = vec3<f32>(0.0);
+        var clearcoat = 0.0;
         // outside: dielectric and Schlick mixed by metallic; inside: the transmissive lobe's dielectric
         var fresnel = vec3<f32>(bsdf * dielectric);
         if outside {
-            diffuse = principled_diffuse(p, wi, wo, h);
+            diffuse = principled_diffuse(p, wi, wo, h) + principled_sheen(p, wo, h);
+            clearcoat = principled_clearcoat_eval(p, wi, wo, h);
             fresnel = mix(vec3<f32>(dielectric), principled_schlick(p.base_color, cos_ih, p.eta), p.metallic);
         }
         if !compatible {
             return diffuse;
         }
-        return fresnel * (ggx_d(h, alpha) * g / (4.0 * abs(wi.z))) + diffuse;
+        return fresnel * (ggx_d(h, alpha) * g / (4.0 * abs(wi.z))) + diffuse + vec3<f32>(clearcoat);
     }
     if !compatible {
         return vec3<f32>(0.0);
@@ -195,7 +138,9 @@ fn principled_pdf(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> f32 {
     let wi_up = select(wi, -wi, wi.z < 0.0);
     if reflects {
         let specular = select(0.0, pdf_ggx_reflection(wi_up, h, alpha), compatible);
-        return lobes.reflection * specular + lobes.diffuse * select(0.0, pdf_cosine_hemisphere(wo.z), outside);
+        let clearcoat = select(0.0, principled_clearcoat_pdf(p, wo, h), compatible);
+        return lobes.reflection * specular + lobes.diffuse * select(0.0, pdf_cosine_hemisphere(wo.z), outside)
+            + lobes.clearcoat * clearcoat;
     }
     if !compatible {
         return 0.0;
@@ -228,6 +173,9 @@ fn principled_sample(material: Material, wi: vec3<f32>, u: vec2<f32>, u_lobe: f3
         wo = fresnel.eta_ti * -wi + (fresnel.eta_ti * dot(wi, m) + fresnel.cos_theta_t) * m;
         eta = fresnel.eta_ti;
         refracts = true;
+    } else if lobes.clearcoat > 0.0 && u_lobe >= 1.0 - lobes.clearcoat {
+        // the clearcoat's share at the top, so that the others' draws are the same without it
+        wo = reflect(-wi, principled_clearcoat_normal(p, u));
     } else {
         wo = reflect(-wi, m);
     }

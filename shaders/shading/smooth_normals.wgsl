@@ -5,8 +5,14 @@
 // cannot make light leak; shading_weight guards the directions where the two disagree.
 
 //! include "geometry/barycentric.wgsl"
+//! include "shading/corner_vertices.wgsl"
 //! include "shading/shading_weight.wgsl"
 //! include "generated/instancing.wgsl"
+
+fn vertex_normal(vertex: u32) -> vec3<f32> {
+    let n = vertex_normals[vertex];
+    return vec3<f32>(n.x, n.y, n.z);
+}
 
 // The corner normals interpolated at `p` (barycentric), turned to the geometric side, unit length;
 // the geometric normal for flat triangles (zero corner normals), degenerate interpolations (opposite
@@ -15,12 +21,13 @@
 // horizon but above the geometric one (at silhouettes) thus shades with the geometric normal at that
 // point, so it is never black.
 fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32> {
-    let corners = corner_attributes[mesh_triangle(triangle_index)];
-    if all(corners.normal0 == vec3<f32>(0.0)) {
+    let v = corner_vertices(mesh_triangle(triangle_index));
+    let normal0 = vertex_normal(v.x);
+    if all(normal0 == vec3<f32>(0.0)) {
         return geometric;
     }
     let b = triangle_barycentric(triangle, p);
-    var n = world_normal(triangle_index, (1.0 - b.x - b.y) * corners.normal0 + b.x * corners.normal1 + b.y * corners.normal2);
+    var n = world_normal(triangle_index, (1.0 - b.x - b.y) * normal0 + b.x * vertex_normal(v.y) + b.y * vertex_normal(v.z));
     let n_length = length(n);
     // NaN too: a zero-area triangle's determinant is 0
     if !(n_length > SHADING_NORMAL_MIN_LENGTH) {

@@ -7,6 +7,7 @@
 // over the pixel's footprint, which filters minified textures as supersampling does.
 //! include "common/constants.wgsl"
 //! include "geometry/barycentric.wgsl"
+//! include "shading/corner_vertices.wgsl"
 //! include "generated/instancing.wgsl"
 
 const TEXTURE_COORDINATE_MAX: f32 = 16777216.0;
@@ -59,9 +60,9 @@ fn texture_sample(id: u32, uv: vec2<f32>) -> vec4<f32> {
 
 // The texture coordinates at `p` on triangle `triangle_index`, interpolated from its corners.
 fn surface_uv(triangle_index: u32, triangle: Triangle, p: vec3<f32>) -> vec2<f32> {
-    let corners = corner_uvs[mesh_triangle(triangle_index)];
+    let v = corner_vertices(mesh_triangle(triangle_index));
     let b = triangle_barycentric(triangle, p);
-    return (1.0 - b.x - b.y) * corners.uv0 + b.x * corners.uv1 + b.y * corners.uv2;
+    return (1.0 - b.x - b.y) * vertex_uvs[v.x].uv + b.x * vertex_uvs[v.y].uv + b.y * vertex_uvs[v.z].uv;
 }
 
 // The material at a hit with its textures applied, so that BSDF code reads constants. Only the

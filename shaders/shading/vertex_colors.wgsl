@@ -1,15 +1,16 @@
 // Vertex colours: vertex_color, interpolated at a hit, and what they do to the material there.
 //! include "generated/materials.wgsl"
 //! include "geometry/barycentric.wgsl"
+//! include "shading/corner_vertices.wgsl"
 //! include "generated/instancing.wgsl"
 
 // The linear RGBA vertex colour at `p` on triangle `triangle_index`, interpolated from its corners
 // (white for a triangle of a shape without colours). Zero-area triangles, whose barycentric
 // weights would be NaN, never reach the GPU (Scene.arrays leaves them out).
 fn vertex_color(triangle_index: u32, triangle: Triangle, p: vec3<f32>) -> vec4<f32> {
-    let corners = corner_colors[mesh_triangle(triangle_index)];
+    let v = corner_vertices(mesh_triangle(triangle_index));
     let b = triangle_barycentric(triangle, p);
-    return (1.0 - b.x - b.y) * corners.color0 + b.x * corners.color1 + b.y * corners.color2;
+    return (1.0 - b.x - b.y) * vertex_colors[v.x].color + b.x * vertex_colors[v.y].color + b.y * vertex_colors[v.z].color;
 }
 
 // The material with its colour (albedo, base colour, tint: Material.color) multiplied by the vertex

@@ -9,13 +9,15 @@ from dataclasses import fields, replace
 
 import pytest
 
-from wgputrace import Camera, Diffuse, PointLight, Scene, make_box
+from wgputrace import Camera, Diffuse, PointLight, Principled, Scene, make_box
 from wgputrace.integrators import integrator
 from wgputrace.kernels.compile import tracing_kernel
 from wgputrace.kernels.hooks import HOOKS
 from wgputrace.kernels.light_dispatch import LightFeatures
+from wgputrace.kernels.principled_lobes import GENERATED_PRINCIPLED_LOBES, LOBE_SHADERS
 from wgputrace.kernels.variant import DEFAULT_VARIANT, KernelVariant, SceneFeatures
 from wgputrace.render.scene_mirror import SceneMirror
+from wgputrace.scene.materials.principled import PRINCIPLED_LOBES
 
 MIS = KernelVariant(integrator=integrator("mis"))
 
@@ -99,9 +101,24 @@ def test_the_mirror_states_the_scenes_part():
     lamp = make_box((0, 1, 0), (0, 0, 0), (0.2, 0.01, 0.2), Diffuse("lamp"), "lamp")
     scene = Scene([lamp], Camera())
     features = SceneMirror(scene, "bvh").features
-    assert features.material_kinds == (Diffuse.kind,) and not features.lights.any
+    assert features.material_kinds == (Diffuse.kind,) and not features.lights.any and features.lobes == ()
     scene.add_light(PointLight((0, 2, 0), 1.0))
     assert SceneMirror(scene, "flat").features.lights.kinds == (PointLight.kind,)
+
+
+@pytest.mark.parametrize("lobe", PRINCIPLED_LOBES)
+def test_a_principled_lobe_is_compiled_only_for_scenes_that_use_it(lobe):
+    coated = Principled("coated", **{lobe: 0.5})
+    scene = Scene([make_box((0, 0, 0), (0, 0, 0), (1, 1, 1), coated, "box")], Camera())
+    used = KernelVariant(SceneMirror(scene, "bvh").features, integrator("mis"))
+    assert used.scene.lobes == (lobe,) and f"{lobe} lobe" in used.label
+    file = LOBE_SHADERS[lobe][0]
+    assert f'//! include "{file}"' in used.files()[GENERATED_PRINCIPLED_LOBES]
+    setattr(coated, lobe, 0.0)
+    unused = KernelVariant(SceneMirror(scene, "bvh").features, integrator("mis"))
+    assert file not in unused.files()[GENERATED_PRINCIPLED_LOBES] and f"{lobe} lobe" not in unused.label
+    with pytest.raises(ValueError, match="unknown material lobes"):
+        SceneFeatures(lobes=("iridescence",))
 
 
 @pytest.mark.gpu

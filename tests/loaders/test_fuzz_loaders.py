@@ -2,9 +2,13 @@
 included), truncated and garbled GLB (an embedded PNG texture included), PLY and STL files, and
 glTF JSON (materials, textures, samplers, images, nodes, vertex colours, perspective and orthographic
 cameras, KHR_lights_punctual lights and the extension lists) with random values in random places, and
-meshopt-compressed GLB (its bufferView and buffer JSON randomised, its compressed bytes garbled). Every
-input must end in a Scene or a SceneLoadError, within a time limit: no other exception, no hang, no
-NaN or infinity in a shape, a light or a camera. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
+meshopt-compressed GLB (its bufferView and buffer JSON randomised, its compressed bytes garbled). Then
+the fields the issue names, with values at and past their limits: camera yfov, aspectRatio, xmag,
+ymag, znear and zfar; meshopt filters, modes, strides, counts and truncated streams; COLOR_0
+accessors of wrong types, counts and values; and truncated or garbled KTX2 textures. Every input
+must end in a Scene or a one-line SceneLoadError (naming the JSON path where only the JSON was
+mutated), within a time limit: no other exception, no hang, no NaN or infinity in a shape, a light
+or a camera. Mutated Cornell boxes that load are rendered (4x4, one sample): no NaN reaches the image."""
 
 from __future__ import annotations
 
@@ -19,6 +23,7 @@ from hypothesis import strategies as st
 
 from wgputrace import Scene, SceneLoadError, load_scene, render
 from wgputrace.scene import DegenerateTrianglesWarning
+from wgputrace.testing.fuzz_loading import outcome
 from wgputrace.testing.fuzzing import fuzz_settings, time_limit
 from wgputrace.testing.gltf_files import (
     BOX,
@@ -37,6 +42,7 @@ from wgputrace.testing.gltf_files import (
     with_vertex_attribute,
     write_glb,
 )
+from wgputrace.testing.ktx2_files import encode_ktx2, ktx2_textured_square
 from wgputrace.testing.meshopt_files import KHR, meshopt_compressed
 
 # Examples per test, chosen so the whole file stays within ~20 s on a 2-core CI machine (JSON
@@ -47,6 +53,7 @@ JSON_EXAMPLES = 500
 TEXTURED_JSON_EXAMPLES = 200
 CAMERA_JSON_EXAMPLES = 100
 MESHOPT_EXAMPLES = 200
+FIELD_EXAMPLES = 100
 RENDER_SIZE = 4
 
 numbers = st.one_of(
@@ -80,25 +87,6 @@ mtl_line = st.one_of(
     st.sampled_from(["newmtl a", "newmtl b", "newmtl"]),
     st.text(max_size=20),
 )
-
-
-def outcome(path) -> Scene | SceneLoadError:
-    """Load `path` under the time limit: a Scene or the documented error, anything else fails."""
-    with time_limit(), warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # repairs and skips are warnings; here only errors matter
-        try:
-            scene = load_scene(path)
-        except SceneLoadError as error:
-            assert str(error).startswith(str(error.path)), error
-            return error
-    assert isinstance(scene, Scene) and scene.triangle_count > 0
-    for shape in scene.shapes:
-        assert np.all(np.isfinite(shape.world_vertices))
-        assert shape.uvs is None or np.all(np.isfinite(shape.uvs))
-    for item in [*scene.lights, *(camera for _, camera in scene.cameras)]:
-        values = [getattr(item, name) for name in item.parameter_names()]
-        assert all(np.all(np.isfinite(value)) for value in values if value is not None), item
-    return scene
 
 
 @pytest.fixture(scope="module")
@@ -257,7 +245,7 @@ def test_gltf_json_with_random_values_in_random_places(workdir, data):
     paths = list(json_paths(document))[1:]
     for _ in range(data.draw(st.integers(1, 3))):
         replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
-    outcome(write_glb(workdir / "mutated.glb", document, blob))
+    outcome(write_glb(workdir / "mutated.glb", document, blob), names_json_path=True)
 
 
 @fuzz_settings(TEXTURED_JSON_EXAMPLES)
@@ -267,7 +255,7 @@ def test_textured_gltf_json_with_random_values_in_random_places(workdir, data, h
     paths = [path for path in list(json_paths(document))[1:] if path[0] in TEXTURED_KEYS]
     for _ in range(data.draw(st.integers(1, 3))):
         replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
-    outcome(write_glb(workdir / "mutated_textured.glb", document, blob))
+    outcome(write_glb(workdir / "mutated_textured.glb", document, blob), names_json_path=True)
 
 
 @fuzz_settings(CAMERA_JSON_EXAMPLES)
@@ -285,7 +273,7 @@ def test_gltf_cameras_with_random_values_in_random_places(workdir, data, choice)
     for _ in range(data.draw(st.integers(1, 3))):
         replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
     path = write_glb(workdir / "mutated_cameras.glb", document, blob)
-    scene = outcome(path)
+    scene = outcome(path, names_json_path=True)
     if isinstance(scene, Scene) and choice is not None:
         with time_limit(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -315,7 +303,7 @@ def test_meshopt_gltf_json_with_random_values_in_random_places(workdir, meshopt_
     paths = [path for path in list(json_paths(document))[1:] if path[0] in MESHOPT_KEYS]
     for _ in range(data.draw(st.integers(1, 3))):
         replace_at(document, data.draw(st.sampled_from(paths)), data.draw(json_values))
-    outcome(write_glb(workdir / "mutated_meshopt.glb", document, blob))
+    outcome(write_glb(workdir / "mutated_meshopt.glb", document, blob), names_json_path=True)
 
 
 @fuzz_settings(MESHOPT_EXAMPLES)
@@ -326,3 +314,114 @@ def test_garbled_meshopt_streams(workdir, meshopt_boxes, flips):
     for where, value in flips:
         data[int(where * len(data))] = value
     outcome(write_glb(workdir / "garbled_meshopt.glb", document, bytes(data)))
+
+
+# Values at and past the limits of glTF's numeric fields, drawn far more often than random JSON
+# draws them, and a few of the wrong JSON type (None: the field removed).
+edge_numbers = st.sampled_from([0, -0.0, 5e-324, 1e-45, 0.5, 1, -1, 3.14159265, 3.2, 1e308, 2**31, 2**64]) | st.floats()
+field_values = edge_numbers | st.sampled_from([None, True, "1", [], {}])
+CAMERA_FIELDS = {
+    "perspective": ("yfov", "aspectRatio", "znear", "zfar"),
+    "orthographic": ("xmag", "ymag", "znear", "zfar"),
+}
+
+
+def set_field(block: dict, field: str, value) -> None:
+    if value is None:
+        block.pop(field, None)
+    else:
+        block[field] = value
+
+
+@fuzz_settings(FIELD_EXAMPLES)
+@given(data=st.data())
+def test_gltf_camera_fields_at_their_limits(workdir, data):
+    """Zero, negative, subnormal, huge and non-numeric yfov, aspectRatio, xmag, ymag, znear, zfar."""
+    document, blob = lit_boxes()
+    for _ in range(data.draw(st.integers(1, 3))):
+        camera = data.draw(st.sampled_from(document["cameras"]))
+        kind = camera["type"]
+        set_field(camera[kind], data.draw(st.sampled_from(CAMERA_FIELDS[kind])), data.draw(field_values))
+    outcome(write_glb(workdir / "camera_fields.glb", document, blob), names_json_path=True)
+
+
+MESHOPT_FIELDS = {
+    "filter": st.sampled_from(["NONE", "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL", "COLOR", "SMOOTH", "", 0]),
+    "mode": st.sampled_from(["ATTRIBUTES", "TRIANGLES", "INDICES", "VERTICES", "", 4]),
+    "byteStride": st.sampled_from([0, 1, 2, 3, 4, 6, 8, 12, 16, 256, 260, -4]),
+    "count": st.integers(-1, 80) | st.sampled_from([2**32, 3 * 2**60]),
+    "buffer": st.integers(-1, 2),
+}
+
+
+@fuzz_settings(FIELD_EXAMPLES)
+@given(data=st.data())
+def test_meshopt_blocks_with_wrong_filters_modes_strides_and_truncated_streams(workdir, meshopt_boxes, data):
+    """Each compressed view's block given a filter, mode, stride or count it may not have, or its
+    stream cut short (byteLength) or moved (byteOffset) within the compressed bytes."""
+    document, blob = json.loads(json.dumps(meshopt_boxes[0])), meshopt_boxes[1]
+    blocks = [view["extensions"][KHR] for view in document["bufferViews"] if KHR in view.get("extensions", {})]
+    for _ in range(data.draw(st.integers(1, 3))):
+        block = data.draw(st.sampled_from(blocks))
+        field = data.draw(st.sampled_from([*MESHOPT_FIELDS, "byteLength", "byteOffset"]))
+        if field in MESHOPT_FIELDS:
+            set_field(block, field, data.draw(MESHOPT_FIELDS[field] | st.none()))
+        else:  # a truncated or shifted stream
+            extent = block.get("byteOffset", 0) + block["byteLength"]
+            set_field(block, field, int(data.draw(st.floats(0, 1)) * extent))
+    outcome(write_glb(workdir / "meshopt_fields.glb", document, blob), names_json_path=True)
+
+
+@fuzz_settings(FIELD_EXAMPLES)
+@given(data=st.data())
+def test_color_0_accessors_of_wrong_types_counts_and_values(workdir, data):
+    """The first box's COLOR_0 accessor given another componentType, type, normalized flag, count or
+    byteOffset, its attribute another index, or its stored floats replaced by any float32."""
+    document, blob = lit_boxes()
+    attributes = document["meshes"][0]["primitives"][0]["attributes"]
+    accessor = document["accessors"][attributes["COLOR_0"]]
+    values = {
+        "componentType": st.sampled_from([5120, 5121, 5122, 5123, 5124, 5125, 5126, 0]),
+        "type": st.sampled_from(["SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT4", "vec4"]),
+        "normalized": st.sampled_from([True, False, 1]),
+        "count": st.sampled_from([0, 1, accessor["count"] - 1, accessor["count"] + 1, -1, 2**40]),
+        "byteOffset": st.sampled_from([1, 2, 4, 16, -4, 10**6]),
+    }
+    for _ in range(data.draw(st.integers(1, 3))):
+        field = data.draw(st.sampled_from([*values, "COLOR_0", "data"]))
+        if field == "COLOR_0":
+            attributes["COLOR_0"] = data.draw(st.sampled_from([-1, len(document["accessors"]), 0.5, "0"]))
+        elif field == "data":
+            view = document["bufferViews"][accessor["bufferView"]]
+            floats = data.draw(st.lists(st.floats(width=32), min_size=1, max_size=8))
+            start = view["byteOffset"] + 4 * data.draw(st.integers(0, view["byteLength"] // 4 - len(floats)))
+            blob = blob[:start] + np.array(floats, "<f4").tobytes() + blob[start + 4 * len(floats) :]
+        else:
+            set_field(accessor, field, data.draw(values[field] | st.none()))
+    outcome(write_glb(workdir / "color_fields.glb", document, blob), names_json_path=True)
+
+
+@pytest.fixture(scope="module")
+def ktx2_square() -> tuple[dict, bytes, int]:
+    """The textured square with its one image a UASTC KTX2: document, buffer and the image's view."""
+    pytest.importorskip("opengl_basisu")
+    pytest.importorskip("alktx2")
+    document, blob = ktx2_textured_square(encode_ktx2(marked_pixels(16), "uastc", srgb=True))
+    return document, blob, document["images"][0]["bufferView"]
+
+
+@fuzz_settings(FIELD_EXAMPLES)
+@given(
+    cut=st.floats(0.0, 1.0),
+    flips=st.lists(st.tuples(st.floats(0.0, 1.0, exclude_max=True), st.integers(0, 255)), max_size=6),
+)
+def test_truncated_and_garbled_ktx2_textures(workdir, ktx2_square, cut, flips):
+    document, blob, view_index = ktx2_square
+    document = json.loads(json.dumps(document))
+    view = document["bufferViews"][view_index]
+    data = bytearray(blob[view["byteOffset"] : view["byteOffset"] + view["byteLength"]])
+    for where, value in flips:
+        data[int(where * len(data))] = value
+    view["byteLength"] = int(cut * len(data)) if cut < 1.0 else len(data)
+    blob = blob[: view["byteOffset"]] + bytes(data) + blob[view["byteOffset"] + len(data) :]
+    outcome(write_glb(workdir / "garbled_ktx2.glb", document, blob), names_json_path=True)

@@ -32,14 +32,23 @@ def without_dracopy(monkeypatch):
     monkeypatch.setitem(sys.modules, "DracoPy", None)  # `import DracoPy` then raises ImportError
 
 
+@pytest.fixture
+def without_basisu(monkeypatch):
+    """KHR_texture_basisu unread, as without the `ktx2` extra: the example of a known extension refused."""
+    monkeypatch.setitem(sys.modules, "opengl_basisu", None)
+
+
 @pytest.mark.parametrize(
     "extension, said",
     [
-        ("KHR_texture_basisu", "KHR_texture_basisu (KTX2 textures): not decoded here"),
+        (
+            "KHR_texture_basisu",
+            'KHR_texture_basisu (KTX2 textures): needs opengl-basisu: pip install "wgputrace[ktx2]"',
+        ),
         ("EXT_made_up", "EXT_made_up"),
     ],
 )
-def test_a_required_extension_not_read_is_refused_by_name(tmp_path, extension, said):
+def test_a_required_extension_not_read_is_refused_by_name(tmp_path, without_basisu, extension, said):
     path = box_file(tmp_path / "box.glb", extensionsUsed=[extension], extensionsRequired=[extension])
     with pytest.raises(SceneLoadError, match="extensionsRequired") as caught:
         load_scene(path)
@@ -47,7 +56,7 @@ def test_a_required_extension_not_read_is_refused_by_name(tmp_path, extension, s
     assert said in str(caught.value)
 
 
-def test_every_required_extension_not_read_is_named_in_one_error(tmp_path):
+def test_every_required_extension_not_read_is_named_in_one_error(tmp_path, without_basisu):
     required = ["KHR_lights_punctual", "KHR_texture_basisu", "EXT_made_up"]
     path = box_file(tmp_path / "box.glb", extensionsUsed=required, extensionsRequired=required)
     with pytest.raises(SceneLoadError) as caught:
@@ -74,7 +83,7 @@ def test_extensions_the_loader_reads_may_be_required(tmp_path):
     assert len(scene.shapes) == 1
 
 
-def test_an_extension_only_used_is_ignored_with_a_warning_naming_it(tmp_path):
+def test_an_extension_only_used_is_ignored_with_a_warning_naming_it(tmp_path, without_basisu):
     path = box_file(tmp_path / "box.glb", extensionsUsed=["KHR_texture_basisu", "EXT_made_up", "KHR_lights_punctual"])
     with pytest.warns(SceneLoadWarning, match=r"KHR_texture_basisu \(KTX2 textures\), EXT_made_up not supported"):
         scene = load_scene(path)

@@ -13,7 +13,8 @@ import pytest
 
 from wgputrace import DirectionalLight
 from wgputrace.render.renderer import Renderer
-from wgputrace.render.scene_mirror import SceneMirror
+from wgputrace.render.scene_mirror import VERTEX_INDICES, VERTEX_TANGENTS, VERTEX_UVS, SceneMirror
+from wgputrace.render.shared_vertices import corner_values
 from wgputrace.scene import Camera, Principled, Scene, Shape, Texture
 from wgputrace.testing.scenes import uv_square
 
@@ -86,9 +87,9 @@ def test_the_scene_tangents_are_dp_du_with_the_bitangent_up_the_image():
     """u runs along +x and the image's top is +y: tangent +x; bitangent cross(-z, +x) * w = +y
     needs w = -1."""
     mirror = SceneMirror(scene_of(material(normal_texture=normal_texture((0.0, 0.0, 1.0)))), "bvh")
-    for corner in range(3):
-        np.testing.assert_allclose(mirror.corner_tangents[f"tangent{corner}"], [[1.0, 0.0, 0.0, -1.0]] * 2, atol=1e-6)
-    assert len(SceneMirror(scene_of(material()), "bvh").corner_tangents) == 1
+    tangents = corner_values(mirror.vertices[VERTEX_INDICES], mirror.vertices[VERTEX_TANGENTS])
+    np.testing.assert_allclose(tangents, [[[1.0, 0.0, 0.0, -1.0]] * 3] * 2, atol=1e-6)
+    assert len(SceneMirror(scene_of(material()), "bvh").vertices[VERTEX_TANGENTS]) == 1
 
 
 def test_grazing_views_noisy_maps_and_degenerate_uvs_give_no_nan():
@@ -113,7 +114,7 @@ def test_the_mitsuba_export_wraps_the_map_flipping_green_for_left_handed_tangent
 
 
 def test_a_normal_map_added_to_and_removed_from_a_live_renderer():
-    """Adding the map uploads one corner tangent record per triangle where there was one (and the
+    """Adding the map uploads a tangent record per vertex where there was one (and the
     map's texture), removing it shrinks them back; each picture is what a new Renderer draws (this
     scene's light is direct and smooth: means agree well within the noise allowance)."""
     bumpy = material()
@@ -121,13 +122,13 @@ def test_a_normal_map_added_to_and_removed_from_a_live_renderer():
     renderer.render(SPP)
     bumpy.normal_texture = normal_texture(TILTED)
     uploads = renderer.update()
-    assert {"corner tangents", "material textures"} <= set(uploads)
-    assert renderer._mirror.corner_tangents.shape == (2,)
+    assert {VERTEX_TANGENTS, "material textures"} <= set(uploads)
+    assert renderer._mirror.vertices[VERTEX_TANGENTS].shape == (len(renderer._mirror.vertices[VERTEX_UVS]),)
     renderer.render(SPP)
     fresh = render(scene_of(material(normal_texture=normal_texture(TILTED))))
     assert renderer.image().mean() == pytest.approx(fresh.mean(), rel=0.02)
     bumpy.normal_texture = None
     renderer.update()
-    assert renderer._mirror.corner_tangents.shape == (1,)
+    assert renderer._mirror.vertices[VERTEX_TANGENTS].shape == (1,)
     renderer.render(SPP)
     assert renderer.image().mean() == pytest.approx(render(scene_of(material())).mean(), rel=0.02)

@@ -11,10 +11,12 @@ import numpy as np
 import pytest
 
 from wgputrace import Environment
+from wgputrace.gpu.layout import TRIANGLE_VERTICES, VERTEX_NORMAL
 from wgputrace.kernels.bind_groups import SHADING_GROUP
 from wgputrace.kernels.shading_normals import shading_normals_hook
 from wgputrace.kernels.variant import KernelVariant, SceneFeatures
 from wgputrace.render.renderer import Renderer
+from wgputrace.render.scene_mirror import VERTEX_INDICES, VERTEX_NORMALS
 from wgputrace.scene import Camera, Diffuse, DirectionalLight, Scene, Shape
 from wgputrace.scene.shapes import make_icosphere, model_matrix
 
@@ -93,9 +95,11 @@ def test_flat_scenes_bind_and_compile_none_of_it():
     flat = Renderer(sphere_scene(1, smooth=False), 8, 8)
     smooth = Renderer(sphere_scene(1, smooth=True), 8, 8)
     assert not flat.smooth_shading and "shading" not in flat.bind_groups
-    assert "corner attributes" not in flat.gpu_scene_bytes
+    assert VERTEX_NORMALS not in flat.gpu_scene_bytes and VERTEX_INDICES not in flat.gpu_scene_bytes
     assert smooth.smooth_shading and "shading" in smooth.bind_groups
-    assert smooth.gpu_scene_bytes["corner attributes"] == 80 * 48
+    # the 80 triangles of the once-subdivided icosahedron share its 42 vertices
+    assert smooth.gpu_scene_bytes[VERTEX_INDICES] == 80 * TRIANGLE_VERTICES.size
+    assert smooth.gpu_scene_bytes[VERTEX_NORMALS] == 42 * VERTEX_NORMAL.size
     assert flat.kernel is not smooth.kernel
 
 
@@ -106,12 +110,13 @@ def test_edits_of_a_smooth_shape_are_counted_uploads_and_match_a_fresh_renderer(
     ball = scene.shapes[0]
     ball.transform = model_matrix((0.1, 0.0, 0.2), (0.0, 0.7, 0.0), 1.0)
     uploads = renderer.update()
-    assert 0 < uploads["corner attributes"].bytes <= 80 * 48
+    # a move keeps which corners share a vertex: the normals change, the triangles' vertices do not
+    assert 0 < uploads[VERTEX_NORMALS].bytes <= 42 * VERTEX_NORMAL.size and VERTEX_INDICES not in uploads
     renderer.render(2)
     fresh = Renderer(scene, 24, 24, seed=SEED)
     fresh.render(2)
     np.testing.assert_array_equal(renderer.image(), fresh.image())
-    # losing the normals: the flat kernel and no corner attributes, as a fresh renderer of the flat sphere
+    # losing the normals: the flat kernel and no vertex normals, as a fresh renderer of the flat sphere
     ball.normals = None
     renderer.update()
     assert not renderer.smooth_shading and "shading" not in renderer.bind_groups

@@ -14,7 +14,7 @@ import pytest
 from wgputrace import Environment
 from wgputrace.gpu.buffers import storage_buffer
 from wgputrace.gpu.float_texture import FloatTexture
-from wgputrace.gpu.layout import CORNER_TANGENTS, CORNER_UVS, MATERIAL_TEXTURES
+from wgputrace.gpu.layout import MATERIAL_TEXTURES, TRIANGLE_VERTICES, VERTEX_TANGENT, VERTEX_UV
 from wgputrace.kernels.bind_groups import shading_group
 from wgputrace.kernels.textures import textures_hook
 from wgputrace.kernels.variant import KernelVariant, SceneFeatures
@@ -83,8 +83,9 @@ def sample_on_gpu(gpu_context, textures: list[Texture], queries: np.ndarray) -> 
     """texture_sample of (u, v, texture index) queries, the textures packed as a Renderer packs them."""
     atlas = pack_atlas(textures, 8192)
     resources = {
-        "corner_uvs": storage_buffer(gpu_context, "corner uvs", CORNER_UVS.zeros(1)),
-        "corner_tangents": storage_buffer(gpu_context, "corner tangents", CORNER_TANGENTS.zeros(1)),
+        "triangle_vertices": storage_buffer(gpu_context, "triangle vertices", TRIANGLE_VERTICES.zeros(1)),
+        "vertex_uvs": storage_buffer(gpu_context, "vertex uvs", VERTEX_UV.zeros(1)),
+        "vertex_tangents": storage_buffer(gpu_context, "vertex tangents", VERTEX_TANGENT.zeros(1)),
         "texture_atlas": FloatTexture(gpu_context, "atlas", atlas.texels).resource,
         "textures": storage_buffer(gpu_context, "textures", atlas.records),
         "material_textures": storage_buffer(gpu_context, "material textures", MATERIAL_TEXTURES.zeros(1)),

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Principled, Renderer, Shape, save_image
-from wgputrace.render.scene_mirror import CORNER_COLORS
+from wgputrace.gpu.layout import VERTEX_COLOR
+from wgputrace.render.scene_mirror import VERTEX_COLORS
 from wgputrace.scene import cornell_box
 from wgputrace.testing.camera_rays import camera_rays
 from wgputrace.testing.scenes import ENCLOSURE_RADIANCE, inside_emitter
@@ -115,14 +116,15 @@ def test_vertex_alpha_cuts_out_a_masked_surface_where_it_falls_below_the_cutoff(
 
 def test_scenes_without_vertex_colours_compile_and_bind_none():
     plain = Renderer(cornell_box(), 8, 8, seed=SEED)
-    assert "vertex colours" not in plain.variant.label and CORNER_COLORS not in plain.gpu_scene_bytes
+    assert "vertex colours" not in plain.variant.label and VERTEX_COLORS not in plain.gpu_scene_bytes
     scene = cornell_box()
     shape = scene.shapes[0]
     shape.colors = np.ones((shape.triangle_count, 3, 4), np.float32)
     colored = Renderer(scene, 8, 8, seed=SEED)
     assert "vertex colours" in colored.variant.label
-    # 48 bytes per triangle (three RGBA float corners), spare rows aside
-    assert colored.gpu_scene_bytes[CORNER_COLORS] >= 48 * scene.triangle_count
+    # an RGBA float per vertex, spare rows aside: every corner of the cornell box shares its one white
+    vertex_count = len(colored.records.vertices[VERTEX_COLORS])
+    assert vertex_count == 1 and colored.gpu_scene_bytes[VERTEX_COLORS] >= VERTEX_COLOR.size * vertex_count
     shape.colors = None  # the edit rebuilds without them
     colored.render(1)
-    assert "vertex colours" not in colored.variant.label and CORNER_COLORS not in colored.gpu_scene_bytes
+    assert "vertex colours" not in colored.variant.label and VERTEX_COLORS not in colored.gpu_scene_bytes

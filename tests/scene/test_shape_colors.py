@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgputrace.render.scene_mirror import CORNER_COLORS, SceneMirror
+from wgputrace.render.scene_mirror import VERTEX_COLORS, VERTEX_INDICES, SceneMirror
+from wgputrace.render.shared_vertices import corner_values
 from wgputrace.scene import Diffuse, SceneError, Shape, make_box
 from wgputrace.testing.scenes import inside_emitter
 
@@ -66,13 +67,12 @@ def test_the_mirror_keeps_colours_in_bvh_order_white_for_shapes_without():
     box = colored_box()
     scene = inside_emitter(plain)
     mirror = SceneMirror(scene, "bvh")
-    assert mirror.corner_colors is None and not mirror.features.vertex_colors
+    assert VERTEX_COLORS not in mirror.vertices and not mirror.features.vertex_colors
     scene.add(box)
     changes = mirror.update()
-    assert mirror.features.vertex_colors and len(changes[CORNER_COLORS]) == len(mirror.triangles)
+    assert mirror.features.vertex_colors and len(changes[VERTEX_INDICES]) == len(mirror.triangles)
     # each triangle's colours, found by its corners: the box's own, white for the others
-    records = mirror.corner_colors
-    stored = np.stack([records[f"color{k}"] for k in range(3)], axis=1)
+    stored = corner_values(mirror.vertices[VERTEX_INDICES], mirror.vertices[VERTEX_COLORS])
     corners = np.stack([mirror.triangles[f"v{k}"] for k in range(3)], axis=1)
     rows = [int(np.flatnonzero((corners == triangle).all(axis=(1, 2)))[0]) for triangle in box.world_vertices]
     np.testing.assert_array_equal(stored[rows], box.colors)
@@ -80,7 +80,9 @@ def test_the_mirror_keeps_colours_in_bvh_order_white_for_shapes_without():
     # a mirroring move (a refit) reorders the box's corners and their colours with them
     box.transform = MIRROR
     changes = mirror.update()
-    assert mirror.refits == 1 and len(changes[CORNER_COLORS]) == box.triangle_count
+    assert mirror.refits == 1 and VERTEX_COLORS in changes
+    stored = corner_values(mirror.vertices[VERTEX_INDICES], mirror.vertices[VERTEX_COLORS])
+    np.testing.assert_array_equal(stored[rows], box.world_colors)
     box.colors = None
     mirror.update()
-    assert mirror.corner_colors is None and not mirror.features.vertex_colors
+    assert VERTEX_COLORS not in mirror.vertices and not mirror.features.vertex_colors

@@ -1,7 +1,8 @@
 """The principled material (`Principled`, WGSL `principled_eval`, `principled_pdf`, `principled_sample`)
 on the GPU: eval and pdf against Mitsuba 3's `principled` at random directions (FIXTURE, written by
 the make_principled_fixture script), chi-square tests of its sampling against its pdf over the
-parameter range (with transmission on a grid of both hemispheres), white furnaces (the integral of
+parameter range (with transmission on a grid of both hemispheres; with the clearcoat and sheen
+lobes), white furnaces (the integral of
 its eval; Mitsuba's own), and finite samples at the extremes of every parameter and at grazing angles.
 
 We reproduce Mitsuba's model (the lead's decision), which at metallic 0 and base colour 1 reflects
@@ -38,6 +39,8 @@ from wgputrace.testing.stats import MIN_EXPECTED, chi_square, sidak, z_limit
 
 pytestmark = pytest.mark.gpu
 
+# the clearcoat's and sheen's parameters, columns of FIXTURE
+LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint")
 FIXTURE = Path(__file__).parent / "data" / "principled_mitsuba.npz"
 MITSUBA_FURNACE = Path(__file__).parent / "data" / "principled_furnace_mitsuba.npz"
 # Samples per case of the furnace grid: a standard error of ~0.003 against Mitsuba's ~0.0005.
@@ -62,10 +65,23 @@ SPEC_TRANS = (0.5, 1.0)
 SPEC_TRANS_METALLIC = 0.25
 SPEC_TRANS_COSINES = (0.9, 0.2, -0.5, -0.9)
 # (roughness, metallic, spec_trans, cos theta_i)
-SAMPLING_CASES = [(r, m, 0.0, c) for r in ROUGHNESS for m in METALLIC for c in INCIDENT_COSINES] + [
-    (r, SPEC_TRANS_METALLIC, t, c) for r in ROUGHNESS for t in SPEC_TRANS for c in SPEC_TRANS_COSINES
+# the clearcoat (rough and glossy, over rough and smooth GGX, from near normal to grazing) and the
+# sheen (tinted, on a half metallic base), as (parameter, value) pairs
+LOBES = (
+    (("clearcoat", 1.0), ("clearcoat_gloss", 0.0)),
+    (("clearcoat", 0.5), ("clearcoat_gloss", 0.9)),
+    (("sheen", 1.0), ("sheen_tint", 0.5)),
+)
+LOBE_COSINES = (0.9, 0.2)
+# (roughness, metallic, spec_trans, cos theta_i, lobes)
+SAMPLING_CASES = [(r, m, 0.0, c, ()) for r in ROUGHNESS for m in METALLIC for c in INCIDENT_COSINES] + [
+    (r, SPEC_TRANS_METALLIC, t, c, ()) for r in ROUGHNESS for t in SPEC_TRANS for c in SPEC_TRANS_COSINES
 ]
-FURNACE_CASES = [(r, m) for r in (0.05, 0.5, 1.0) for m in (0.0, 0.5, 1.0)]
+SAMPLING_CASES += [(r, 0.5, 0.0, c, lobes) for r in (0.05, 1.0) for lobes in LOBES for c in LOBE_COSINES]
+SAMPLING_CASES += [(0.3, 0.0, 0.5, 0.9, LOBES[0] + LOBES[2])]
+# (roughness, metallic, lobes)
+FURNACE_CASES = [(r, m, ()) for r in (0.05, 0.5, 1.0) for m in (0.0, 0.5, 1.0)]
+FURNACE_CASES += [(r, m, lobes) for r in (0.05, 1.0) for m in (0.0, 1.0) for lobes in LOBES]
 FURNACE_COSINE = 0.5
 LEVEL = sidak(SIGNIFICANCE, len(SAMPLING_CASES) + len(FURNACE_CASES))
 # Quadrature of the pdf and eval over the grid moves no cell's expected count by more than this
@@ -73,20 +89,30 @@ LEVEL = sidak(SIGNIFICANCE, len(SAMPLING_CASES) + len(FURNACE_CASES))
 INTEGRATION_FRACTION = 0.1
 
 
-def white(roughness: float, metallic: float, spec_trans: float = 0.0) -> Principled:
+def white(roughness: float, metallic: float, spec_trans: float = 0.0, lobes=()) -> Principled:
     return Principled(
-        f"principled r{roughness:g} m{metallic:g} t{spec_trans:g}",
+        f"principled r{roughness:g} m{metallic:g} t{spec_trans:g}" + "".join(f" {k} {v:g}" for k, v in lobes),
         (1, 1, 1),
         metallic,
         roughness,
         spec_trans=spec_trans,
+        **dict(lobes),
     )
 
 
+def case_id(case) -> str:
+    *numbers, lobes = case
+    names = ("r", "m", "t", "cos")[: len(numbers)] if len(numbers) == 4 else ("r", "m")
+    return " ".join(f"{n}{v:g}" for n, v in zip(names, numbers, strict=True)) + "".join(f" {k}{v:g}" for k, v in lobes)
+
+
 def ggx_grid(material: Principled, wi: np.ndarray):
-    """The bsdf_grid cells of a GGX lobe of the principled material's alpha (crowded around the
-    mirror direction); its diffuse lobe is smooth over any grid."""
+    """The bsdf_grid cells of a GGX lobe of the principled material's alpha, or of its clearcoat's
+    where that is narrower (crowded around the mirror direction); its diffuse lobe and sheen are
+    smooth over any grid."""
     alpha = max(0.001, material.roughness**2)
+    if material.clearcoat > 0:
+        alpha = min(alpha, 0.1 + (0.001 - 0.1) * material.clearcoat_gloss)
     return lobe_grid(Glossy("grid", roughness=alpha), wi)
 
 
@@ -122,6 +148,7 @@ def test_eval_and_pdf_match_mitsuba(gpu_context):
             tuple(fixture["base_color"][i]),
             *(float(fixture[k][i]) for k in ("metallic", "roughness", "eta")),
             spec_trans=float(fixture["spec_trans"][i]),
+            **{name: float(fixture[name][i]) for name in LOBE_PARAMETERS},
         )
         for i in range(len(fixture["metallic"]))
     ]
@@ -136,13 +163,11 @@ def test_eval_and_pdf_match_mitsuba(gpu_context):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(
-    "case", SAMPLING_CASES, ids=[f"r{r:g} m{m:g} t{t:g} cos{c:g}" for r, m, t, c in SAMPLING_CASES]
-)
+@pytest.mark.parametrize("case", SAMPLING_CASES, ids=[case_id(case) for case in SAMPLING_CASES])
 def test_sampling_follows_pdf(gpu_context, case):
-    roughness, metallic, spec_trans, cos_theta = case
+    roughness, metallic, spec_trans, cos_theta, lobes = case
     rng = np.random.default_rng((SEED, SAMPLING_CASES.index(case)))
-    material = white(roughness, metallic, spec_trans)
+    material = white(roughness, metallic, spec_trans, lobes)
     wi = incident_directions(rng, np.array([cos_theta]))
     records = material_records([material])
     # wi's side (reflection), and the other side where the material transmits
@@ -173,15 +198,18 @@ def test_sampling_follows_pdf(gpu_context, case):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", FURNACE_CASES, ids=[f"r{r:g} m{m:g}" for r, m in FURNACE_CASES])
+@pytest.mark.parametrize("case", FURNACE_CASES, ids=[case_id(case) for case in FURNACE_CASES])
 def test_white_furnace_keeps_the_integral_of_eval(gpu_context, case):
     rng = np.random.default_rng((SEED, len(SAMPLING_CASES) + FURNACE_CASES.index(case)))
-    material = white(*case)
+    roughness, metallic, lobes = case
+    material = white(roughness, metallic, lobes=lobes)
     wi = incident_directions(rng, np.array([FURNACE_COSINE]))
     records = material_records([material])
     albedo = integrate_bsdf(gpu_context, records, wi, [ggx_grid(material, wi[0])], EVAL, quadrature_budget)
     kept = albedo.value.sum()
-    if material.metallic == 1.0:
+    # Mitsuba's clearcoat adds to the base without taking what it reflects from it: a white metal
+    # under a clearcoat keeps up to ~1.013 (cos 0.5, roughness 0.05), so only the bare metal is held to 1
+    if material.metallic == 1.0 and material.clearcoat == 0.0:
         assert kept <= 1.0 + albedo.error.sum() + 16 * UNIT_ROUNDOFF, f"{material.name} keeps {kept:.6f} > 1"
     samples = sample_bsdf(gpu_context, records, wi, rng.random((1, SAMPLES, 3), dtype=np.float32))[0]
     valid = samples[:, 3] > 0.0
@@ -198,20 +226,34 @@ def test_white_furnace_keeps_the_integral_of_eval(gpu_context, case):
 @pytest.mark.slow
 def test_white_furnace_is_mitsubas(gpu_context):
     """Mean sample weight (eval / pdf) of a white surface for light from outside, against Mitsuba's
-    on its grid: equal within both estimators' errors everywhere, and at most 1 wherever Mitsuba's is."""
+    on its grid (with and without a clearcoat or a sheen): equal within both estimators' errors
+    everywhere, and at most 1 wherever Mitsuba's is."""
     fixture = np.load(MITSUBA_FURNACE)
     axes = [fixture[name] for name in ("roughness", "metallic", "spec_trans", "cos_theta")]
+    # the last axis: no optional lobe, then each row of the fixture's lobe parameters
+    lobes = [{}] + [
+        dict(zip(names.tolist(), values.tolist(), strict=True))
+        for names, values in zip(fixture["lobe_names"], fixture["lobes"], strict=True)
+    ]
     grid = [
-        (index, tuple(float(axis[i]) for axis, i in zip(axes, index, strict=True)))
+        (index, (*(float(axis[i]) for axis, i in zip(axes, index, strict=False)), lobes[index[-1]]))
         for index in np.ndindex(fixture["mean"].shape)
     ]
     rng = np.random.default_rng((SEED, 1))
     materials = [
-        Principled(f"white r{r:g} m{m:g} t{t:g}", (1, 1, 1), m, r, float(fixture["eta"]), spec_trans=t)
-        for _, (r, m, t, _) in grid
+        Principled(
+            f"white r{r:g} m{m:g} t{t:g}" + "".join(f" {k} {v:g}" for k, v in extra.items()),
+            (1, 1, 1),
+            m,
+            r,
+            float(fixture["eta"]),
+            spec_trans=t,
+            **extra,
+        )
+        for _, (r, m, t, _, extra) in grid
     ]
     records = material_records(materials)
-    wi = incident_directions(rng, np.array([c for _, (*_, c) in grid]))
+    wi = incident_directions(rng, np.array([c for _, (*_, c, _) in grid]))
     samples = sample_bsdf(gpu_context, records, wi, rng.random((len(grid), FURNACE_SAMPLES, 3), dtype=np.float32))
     valid = samples[..., 3] > 0.0
     case = np.nonzero(valid)[0]
@@ -273,3 +315,9 @@ def test_parameters_are_checked_and_exported():
     # transmission: Mitsuba's lobe is on by the key's presence; not wrapped in `twosided` (its inside)
     assert Principled("p", spec_trans=0.25).mitsuba_bsdf()["spec_trans"] == 0.25
     assert eta_from_specular(0.5) == pytest.approx(1.5, rel=1e-12)
+    with pytest.raises(MaterialError, match=r"material 'p': clearcoat_gloss must be in \[0.0, 1.0\], got 2.0"):
+        Principled("p", clearcoat_gloss=2.0)
+    # the clearcoat and sheen likewise by their weights' keys, their other parameters with them
+    coated = Principled("p", clearcoat=0.5, clearcoat_gloss=0.25, sheen=0.75, sheen_tint=0.5).mitsuba_bsdf()
+    assert {k: coated[k] for k in LOBE_PARAMETERS} == dict(zip(LOBE_PARAMETERS, (0.5, 0.25, 0.75, 0.5), strict=True))
+    assert not set(LOBE_PARAMETERS) & set(Principled("p", clearcoat_gloss=0.5, sheen_tint=1.0).mitsuba_bsdf())

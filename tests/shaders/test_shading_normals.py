@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from wgputrace.gpu.buffers import storage_buffer
-from wgputrace.gpu.layout import CORNER_ATTRIBUTES
-from wgputrace.kernels.bind_groups import SHADING_GROUP
+from wgputrace.gpu.layout import VERTEX_NORMAL
+from wgputrace.kernels.bind_groups import shading_group
 from wgputrace.kernels.variant import KernelVariant, SceneFeatures
+from wgputrace.render.shared_vertices import triangle_vertex_records, vertex_records
 from wgputrace.testing.harness import run_per_case
 from wgputrace.testing.oracles import normalized
 
@@ -92,15 +93,20 @@ def test_shading_normal_and_weight_match_the_oracle(gpu_context):
     case = cases(np.random.default_rng(SEED))
     arguments = {f"corner{k}": case["corners"][:, k] for k in range(3)}
     arguments.update((name, case[name]) for name in ("p", "towards_viewer", "direction"))
-    records = CORNER_ATTRIBUTES.zeros(COUNT)
-    for k in range(3):
-        records[f"normal{k}"] = case["normals"][:, k]
+    # every corner its own vertex
+    vertices = triangle_vertex_records(np.arange(3 * COUNT).reshape(COUNT, 3))
+    normals = vertex_records(VERTEX_NORMAL, case["normals"].reshape(3 * COUNT, 3))
     result = run_per_case(
         gpu_context,
         INCLUDES,
         arguments,
         BODY,
-        groups={SHADING_GROUP: {"corner_attributes": storage_buffer(gpu_context, "corners", records)}},
+        groups={
+            shading_group(smooth=True, textured=False): {
+                "triangle_vertices": storage_buffer(gpu_context, "triangle vertices", vertices),
+                "vertex_normals": storage_buffer(gpu_context, "vertex normals", normals),
+            }
+        },
         variant=KernelVariant(SceneFeatures(smooth=True)),
     )
     assert np.isfinite(result).all()

@@ -109,9 +109,15 @@ MATERIAL = GpuStruct(
         ("ior", "f32"),
         ("metallic", "f32"),
         ("spec_trans", "f32"),
+        ("absorption", "vec3<f32>"),
+        ("clearcoat", "f32"),
+        ("clearcoat_gloss", "f32"),
+        ("sheen", "f32"),
+        ("sheen_tint", "f32"),
     ),
-    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans: "
-    "Principled's transmission.",
+    "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans, clearcoat, "
+    "clearcoat_gloss, sheen, sheen_tint: Principled's; absorption: sigma_a inside (`Material.absorption`), "
+    "read only in kernels for scenes with an absorbing material.",
 )
 FRAME = GpuStruct(
     "Frame",
@@ -137,6 +143,22 @@ ACCUMULATED_PIXEL = GpuStruct(
     (("sum", "vec4<f32>"), ("compensation", "vec4<f32>")),
     "Kahan-compensated sum of a pixel's samples; sum.w counts its non-finite samples, compensation.w "
     "those the driver's loop budget may have cut short (both dropped).",
+)
+GBUFFER_PIXEL = GpuStruct(
+    "GBufferPixel",
+    (
+        ("normal", "vec3<f32>"),
+        ("depth", "f32"),
+        ("albedo", "vec3<f32>"),
+        ("surface", "u32"),
+        ("motion", "vec2<f32>"),
+        ("previous_depth", "f32"),
+        ("previous_seen", "u32"),
+    ),
+    "What the ray through a pixel's centre first hits (write_gbuffer): the shading normal facing the "
+    "camera, the distance the camera's ray travels to it (0: nothing hit), the material's colour, the "
+    "surface (material index + 1; 0: nothing hit), the motion from this frame's raster position to "
+    "the previous frame's, and the distance from the previous camera and whether it saw the point.",
 )
 
 LIGHT = GpuStruct(
@@ -197,36 +219,39 @@ INSTANCE = GpuStruct(
     "One placement of a mesh: its matrices' rows, its bottom-level BVH's root record, its hit-word slot.",
 )
 
-# Per-corner attributes of a triangle, in the triangles' (BVH) order, bound only for scenes that
-# have some (`shading_group`): the shading normals, zero for a flat triangle. Texture
-# coordinates and tangents join as fields of their own.
-CORNER_ATTRIBUTES = GpuStruct(
-    "CornerAttributes",
-    (("normal0", "vec3<f32>"), ("normal1", "vec3<f32>"), ("normal2", "vec3<f32>")),
-    "A triangle's corner normals (unit length; all zero: shade it flat).",
+# Shading attributes are stored once per vertex, not per corner: a smooth mesh shares each vertex
+# among about six triangles, whose corners held a copy each (`python -m bench.attribute_memory`). A triangle names its three vertices (TRIANGLE_VERTICES, in
+# the triangles' BVH order); each attribute is its own array of vertex records, bound only for
+# scenes that have it (`shading_group`), so smooth scenes without textures and textured ones
+# without normals pay only for theirs. `shared_vertices` makes the vertices: corners whose
+# attributes are equal bit for bit are one vertex.
+TRIANGLE_VERTICES = GpuStruct(
+    "TriangleVertices",
+    (("v0", "u32"), ("v1", "u32"), ("v2", "u32")),
+    "The indices of a triangle's corners in the vertex arrays (VERTEX_NORMAL and its siblings).",
 )
-
-# A triangle's texture coordinates at its corners, in BVH order like CORNER_ATTRIBUTES but their own
-# array, so smooth scenes without textures and textured ones without normals pay only for theirs.
-CORNER_UVS = GpuStruct(
-    "CornerUvs",
-    (("uv0", "vec2<f32>"), ("uv1", "vec2<f32>"), ("uv2", "vec2<f32>")),
-    "A triangle's texture coordinates (glTF's: v down), zero where its shape has none.",
+# f32 components rather than a vec3, whose 16-byte alignment would pad every record by a third.
+VERTEX_NORMAL = GpuStruct(
+    "VertexNormal",
+    (("x", "f32"), ("y", "f32"), ("z", "f32")),
+    "A vertex's shading normal (unit length; zero: the triangles sharing it shade flat).",
 )
-# A triangle's tangents at its corners for normal maps (`corner_tangents`), in BVH order like
-# CORNER_UVS; bound in textured scenes, one zero record unless a material reads a normal map.
-CORNER_TANGENTS = GpuStruct(
-    "CornerTangents",
-    (("tangent0", "vec4<f32>"), ("tangent1", "vec4<f32>"), ("tangent2", "vec4<f32>")),
-    "A triangle's corner tangents: xyz along dP/du, w the bitangent's sign (glTF's TANGENT).",
+VERTEX_UV = GpuStruct(
+    "VertexUv",
+    (("uv", "vec2<f32>"),),
+    "A vertex's texture coordinates (glTF's: v down), zero where its shape has none.",
 )
-# A triangle's vertex colours (glTF's COLOR_0, OBJ's `v x y z r g b`) at its corners, in BVH order
-# like CORNER_UVS; bound only in scenes where some shape has them (`vertex_colors_hook`).
-CORNER_COLORS = GpuStruct(
-    "CornerColors",
-    (("color0", "vec4<f32>"), ("color1", "vec4<f32>"), ("color2", "vec4<f32>")),
-    "A triangle's linear RGBA vertex colours, which multiply its material's colour and alpha; white "
-    "where its shape has none.",
+# Bound in textured scenes, one zero record unless a material reads a normal map.
+VERTEX_TANGENT = GpuStruct(
+    "VertexTangent",
+    (("tangent", "vec4<f32>"),),
+    "A vertex's tangent for normal maps: xyz along dP/du, w the bitangent's sign (glTF's TANGENT).",
+)
+# glTF's COLOR_0, OBJ's `v x y z r g b`; bound only in scenes where some shape has them.
+VERTEX_COLOR = GpuStruct(
+    "VertexColor",
+    (("color", "vec4<f32>"),),
+    "A vertex's linear RGBA colour, which multiplies its material's colour and alpha; white where its shape has none.",
 )
 # One texture's rectangle in the texture atlas (`pack_atlas`) and how it is looked up.
 TEXTURE = GpuStruct(
@@ -266,4 +291,18 @@ MATERIAL_TEXTURES = GpuStruct(
     "normal texture's strength (`mapped_normal`), in the padding after `emitted`.",
 )
 
-ALL_STRUCTS = (TRIANGLE, BVH_NODE, WIDE_BVH_NODE, MATERIAL, FRAME, ACCUMULATED_PIXEL, LIGHT, LIGHT_SOURCE, LIGHTING)
+ALL_STRUCTS = (
+    TRIANGLE,
+    BVH_NODE,
+    WIDE_BVH_NODE,
+    MATERIAL,
+    FRAME,
+    ACCUMULATED_PIXEL,
+    GBUFFER_PIXEL,
+    LIGHT,
+    LIGHT_SOURCE,
+    LIGHTING,
+    TRIANGLE_VERTICES,
+)
+# The per-vertex attribute records, each declared by the hook that reads it.
+VERTEX_STRUCTS = (VERTEX_NORMAL, VERTEX_UV, VERTEX_TANGENT, VERTEX_COLOR)

@@ -12,6 +12,8 @@ descriptor, registered by name, that they ask instead of naming it.
 | the deepest path it can trace               | `max_depth`      | `check_depth`                               |
 | several samples per dispatch (regeneration) | `regenerates`    | `KernelVariant` (`check_regeneration`)      |
 | how many, by adapter type (measured)        | `dispatch_samples` | the Renderer (`samples_per_dispatch`)     |
+| absorption inside materials (`volume`)      | `absorbs`        | the Renderer (`check_materials`)            |
+| writes the G-buffer (`write_gbuffer`)       | `gbuffer`        | `KernelVariant` (`check_gbuffer`)           |
 
 A new integrator is one module in this package that registers an instance (`register`), plus its
 WGSL entry file: the renderer, the CLI's choices and the limits follow from the descriptor.
@@ -23,6 +25,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..gpu.bindings import Binding
+from ..scene.materials.volume import is_absorbing
 
 if TYPE_CHECKING:
     from ..kernels.variant import KernelVariant
@@ -56,6 +59,10 @@ class Integrator:
     # how many it takes by adapter type ("CPU", "DiscreteGPU", ...), as measured by
     # `python -m bench.regeneration`; 1 on the others
     dispatch_samples: tuple[tuple[str, int], ...] = ()
+    # whether its kernel multiplies its segments by their absorption (`segment_transmittance`)
+    absorbs: bool = False
+    # whether its kernel calls `write_gbuffer` for each pixel (temporal accumulation needs it)
+    gbuffer: bool = False
 
     def files(self, variant: KernelVariant) -> dict[str, str]:
         """Generated files of its own, for `variant`: none here."""
@@ -70,10 +77,28 @@ class Integrator:
         """Samples of each pixel a dispatch of its kernel takes on an adapter of `adapter_type`."""
         return dict(self.dispatch_samples).get(adapter_type, 1)
 
+    def check_materials(self, materials) -> None:
+        """ValueError naming the first of `materials` it cannot render (one that absorbs light,
+        where its kernel does not trace absorption)."""
+        if self.absorbs:
+            return
+        for material in materials:
+            if is_absorbing(material):
+                others = ", ".join(repr(m.name) for m in _registry.values() if m.absorbs)
+                raise ValueError(
+                    f"{material.label} absorbs the light inside it (attenuation_color, attenuation_distance), which the "
+                    f"{self.name} integrator does not trace; use {others}"
+                )
+
     def check_regeneration(self) -> None:
         """ValueError unless its kernel can take several samples of a pixel per dispatch."""
         if not self.regenerates:
             raise ValueError(f"the {self.name} integrator's kernel takes one sample of each pixel per dispatch")
+
+    def check_gbuffer(self) -> None:
+        """ValueError unless its kernel writes the G-buffer that temporal accumulation reads."""
+        if not self.gbuffer:
+            raise ValueError(f"the {self.name} integrator writes no G-buffer: temporal accumulation needs one")
 
     def check_rows(self) -> None:
         """ValueError unless it has a band-of-rows kernel for the viewer."""

@@ -23,5 +23,7 @@ for _index, _name in enumerate(ESTIMATORS):
             constants=(("INTEGRATOR", _index),),
             regenerates=True,
             dispatch_samples=(("CPU", 8),),
+            absorbs=True,
+            gbuffer=True,
         )
     )

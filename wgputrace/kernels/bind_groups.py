@@ -23,11 +23,8 @@ from ..gpu.bindings import (
 from ..gpu.layout import (
     ACCUMULATED_PIXEL,
     BVH_NODE,
-    CORNER_ATTRIBUTES,
-    CORNER_COLORS,
-    CORNER_TANGENTS,
-    CORNER_UVS,
     FRAME,
+    GBUFFER_PIXEL,
     INSTANCE,
     LIGHT,
     LIGHT_SOURCE,
@@ -35,6 +32,11 @@ from ..gpu.layout import (
     MATERIAL,
     MATERIAL_TEXTURES,
     TEXTURE,
+    TRIANGLE_VERTICES,
+    VERTEX_COLOR,
+    VERTEX_NORMAL,
+    VERTEX_TANGENT,
+    VERTEX_UV,
 )
 from ..scene.lights.environment import ENVIRONMENT_MAP
 from .light_dispatch import LightFeatures
@@ -84,6 +86,10 @@ PIXELS_GROUP = BindGroup(
 # The denoiser's guides: two Kahan sums per pixel, the albedo's at 2 * pixel and the normal's at
 # 2 * pixel + 1, bound only in the variants that make them.
 GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
+# The G-buffer of the pixels' centres and the previous frame's camera its motion vectors project
+# through, bound only in the variants that write it (`KernelVariant.gbuffer`).
+GBUFFER = Binding("gbuffer", STORAGE_READ_WRITE, GBUFFER_PIXEL)
+PREVIOUS_FRAME = Binding("previous_frame", UNIFORM, FRAME)
 
 # The viewer's band of rows: the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
@@ -131,26 +137,28 @@ def lights_group(features: LightFeatures) -> BindGroup:
     return group
 
 
-# The triangles' corner attributes (shading normals) in BVH order, for scenes with per-vertex normals.
+# Each triangle's vertices in BVH order (`triangle_vertices` reads them), in every shading group,
+# and the vertex normals of scenes with per-vertex normals.
 SHADING_GROUP_INDEX = 5
 SHADING_GROUP = BindGroup(
-    "shading", SHADING_GROUP_INDEX, (Binding("corner_attributes", STORAGE_READ, CORNER_ATTRIBUTES),)
+    "shading", SHADING_GROUP_INDEX, (Binding("triangle_vertices", STORAGE_READ, TRIANGLE_VERTICES),)
 )
-# What textured scenes add to it: the corner texture coordinates, the atlas (linear rgba32float
+_NORMAL_BINDINGS = (Binding("vertex_normals", STORAGE_READ, VERTEX_NORMAL),)
+# What textured scenes add to it: the vertex texture coordinates, the atlas (linear rgba32float
 # texels read with textureLoad and filtered by hand, as the environment map), the textures'
-# rectangles in it, each material's textures, the corner tangents of normal maps, and the light
+# rectangles in it, each material's textures, the vertex tangents of normal maps, and the light
 # table's weight per unit area of each triangle emitting through a texture record.
 _TEXTURE_BINDINGS = (
-    Binding("corner_uvs", STORAGE_READ, CORNER_UVS),
-    Binding("corner_tangents", STORAGE_READ, CORNER_TANGENTS),
+    Binding("vertex_uvs", STORAGE_READ, VERTEX_UV),
+    Binding("vertex_tangents", STORAGE_READ, VERTEX_TANGENT),
     Binding("texture_atlas", TEXTURE_F32),
     Binding("textures", STORAGE_READ, TEXTURE),
     Binding("material_textures", STORAGE_READ, MATERIAL_TEXTURES),
     Binding("triangle_light_densities", STORAGE_READ, "f32"),
 )
 
-# What scenes with vertex colours add: the corner colours.
-_VERTEX_COLOR_BINDINGS = (Binding("corner_colors", STORAGE_READ, CORNER_COLORS),)
+# What scenes with vertex colours add: the vertex colours.
+_VERTEX_COLOR_BINDINGS = (Binding("vertex_colors", STORAGE_READ, VERTEX_COLOR),)
 
 
 def shading_group(smooth: bool, textured: bool, vertex_colors: bool = False) -> BindGroup:
@@ -159,7 +167,8 @@ def shading_group(smooth: bool, textured: bool, vertex_colors: bool = False) -> 
     if not (smooth or textured or vertex_colors):
         raise ValueError("a flat, untextured scene without vertex colours binds no shading group")
     bindings = (
-        (SHADING_GROUP.bindings if smooth else ())
+        SHADING_GROUP.bindings
+        + (_NORMAL_BINDINGS if smooth else ())
         + (_TEXTURE_BINDINGS if textured else ())
         + (_VERTEX_COLOR_BINDINGS if vertex_colors else ())
     )

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ..gpu.texels import GENERATED_TEXEL_LOADERS, TEXEL_STRUCTS, texel_loaders
+from .absorption import GENERATED_ABSORPTION, absorption_hook
 from .alpha import GENERATED_ALPHA, alpha_hook
 from .camera import GENERATED_CAMERA, camera_hook
 from .emission import GENERATED_EMISSION, emission_hook
@@ -15,6 +16,7 @@ from .instancing import GENERATED_INSTANCING, instancing_hook
 from .light_dispatch import GENERATED_ESCAPED_LIGHT, GENERATED_LIGHTS, escaped_light_hook, lights_hook
 from .material_dispatch import GENERATED_MATERIALS, materials_hook
 from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
+from .principled_lobes import GENERATED_PRINCIPLED_LOBES, principled_lobes_hook
 from .ray_count import GENERATED_RAY_COUNT, ray_count_hook
 from .regeneration import GENERATED_REGENERATION, regeneration_hook
 from .sampler import GENERATED_SAMPLER, sampler_hook
@@ -40,12 +42,14 @@ HOOKS: dict[str, Callable[[KernelVariant], str]] = {
     GENERATED_CAMERA: camera_hook,
     GENERATED_TRAVERSAL_STACK: traversal_stack_hook,
     GENERATED_MATERIALS: materials_hook,
+    GENERATED_PRINCIPLED_LOBES: principled_lobes_hook,
     GENERATED_LIGHTS: lights_hook,
     GENERATED_ESCAPED_LIGHT: escaped_light_hook,
     GENERATED_SHADING_NORMALS: shading_normals_hook,
     GENERATED_TEXTURES: textures_hook,
     GENERATED_VERTEX_COLORS: vertex_colors_hook,
     GENERATED_ALPHA: alpha_hook,
+    GENERATED_ABSORPTION: absorption_hook,
     GENERATED_EMISSION: emission_hook,
     GENERATED_PATH_GUIDES: path_guides_hook,
     GENERATED_RAY_COUNT: ray_count_hook,

@@ -2,15 +2,15 @@
 `shading_weight` (what a direction keeps of the BSDF evaluated in that frame).
 
 For a scene without per-vertex normals it returns the geometric normal and weight 1, inlined away,
-and declares no binding. The smooth variant (`SceneFeatures.smooth`) declares the corner attributes
-(SHADING_GROUP) and brings in the shader that keeps shading and geometric normals from contradicting.
+and declares no binding. The smooth variant (`SceneFeatures.smooth`) declares the vertex normals
+(`shading_group`) and brings in the shader that keeps shading and geometric normals from contradicting.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..gpu.layout import CORNER_ATTRIBUTES
+from ..gpu.layout import VERTEX_NORMAL
 from .bind_groups import SHADING_GROUP
 
 if TYPE_CHECKING:
@@ -44,7 +44,7 @@ def shading_normals_hook(variant: KernelVariant) -> str:
     ]
     if smooth:
         lines += [
-            CORNER_ATTRIBUTES.wgsl(),
+            VERTEX_NORMAL.wgsl(),
             f'//! include "{SHADING_GROUP.file}"',
             '//! include "shading/smooth_normals.wgsl"',
         ]

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..gpu.layout import CORNER_TANGENTS, CORNER_UVS, MATERIAL_TEXTURES, TEXTURE
+from ..gpu.layout import MATERIAL_TEXTURES, TEXTURE, VERTEX_TANGENT, VERTEX_UV
 from ..scene.texture import WRAP_MODES
 from .bind_groups import SHADING_GROUP
 
@@ -37,8 +37,8 @@ def textures_hook(variant: KernelVariant) -> str:
     if variant.scene.textured:
         lines += [f"const WRAP_{mode.upper()}: u32 = {index}u;" for index, mode in enumerate(WRAP_MODES)]
         lines += [
-            CORNER_UVS.wgsl(),
-            CORNER_TANGENTS.wgsl(),
+            VERTEX_UV.wgsl(),
+            VERTEX_TANGENT.wgsl(),
             TEXTURE.wgsl(),
             MATERIAL_TEXTURES.wgsl(),
             f"const NO_TEXTURE: u32 = {NO_TEXTURE}u;",

@@ -15,8 +15,10 @@ from typing import TYPE_CHECKING
 from ..scene.materials import material_class, material_classes
 from .bind_groups import (
     BAND_GROUP,
+    GBUFFER,
     GUIDE_SUMS,
     PIXELS_GROUP,
+    PREVIOUS_FRAME,
     RAY_COUNT_GROUP,
     dispatch_group,
     lights_group,
@@ -26,6 +28,7 @@ from .bind_groups import (
 from .camera import DEFAULT_CAMERA, camera_label
 from .hooks import HOOKS
 from .light_dispatch import NO_LIGHTS, LightFeatures
+from .principled_lobes import LOBE_SHADERS, check_lobes
 from .sampler import DEFAULT_SAMPLER, check_sampler
 from .traversal import BVH_STACK_SIZE
 
@@ -61,6 +64,8 @@ class SceneFeatures:
     stack_size: int = BVH_STACK_SIZE
     # the material kinds whose BSDF code is compiled in
     material_kinds: tuple[int, ...] = ALL_KINDS
+    # the optional lobes of material kinds whose code is compiled in (`Material.lobes`)
+    lobes: tuple[str, ...] = tuple(LOBE_SHADERS)
     # the lights besides emissive triangles
     lights: LightFeatures = NO_LIGHTS
     # the camera kind (a registered kind's id): how camera rays are made and bdpt connects to the camera
@@ -75,6 +80,8 @@ class SceneFeatures:
     emissive_surfaces: bool = flag("emissive surfaces")
     # per-vertex colours multiplying the materials' colours (vertex_colors_hook)
     vertex_colors: bool = flag("vertex colours")
+    # materials that absorb the light inside them (absorption_hook)
+    absorbing: bool = flag("absorbing")
     # instances (two-level traversal, `instancing_hook`): the bits of a hit word that index the
     # triangle, the rest its instance's slot; 0: no instances
     instance_triangle_bits: int = 0
@@ -83,16 +90,14 @@ class SceneFeatures:
         scene_group(self.acceleration)  # refuses an unknown acceleration
         camera_label(self.camera)  # refuses an unregistered camera kind
         object.__setattr__(self, "material_kinds", shaded_kinds(self.material_kinds))
+        object.__setattr__(self, "lobes", check_lobes(self.lobes))
 
     @property
     def labels(self) -> list[str]:
+        lights = [self.lights.description] if self.lights.any else []
+        lobes = [f"{lobe} lobe" for lobe in self.lobes]
         instanced = ["instances"] if self.instance_triangle_bits else []
-        return (
-            ([self.lights.description] if self.lights.any else [])
-            + _flag_labels(self)
-            + instanced
-            + camera_label(self.camera)
-        )
+        return lights + lobes + _flag_labels(self) + instanced + camera_label(self.camera)
 
     def groups(self) -> tuple[BindGroup, ...]:
         """The bind groups a kernel tracing this scene declares besides its own: the scene group,
@@ -119,6 +124,9 @@ class KernelVariant:
     count_lanes: bool = flag("counting lanes")
     # the denoiser's albedo and normal guides
     guides: bool = flag("guides")
+    # the G-buffer of each pixel's centre and its motion since the previous frame's camera, for
+    # temporal accumulation (`write_gbuffer`)
+    gbuffer: bool = flag("G-buffer")
     # the adapter ends an invocation's loops after a budget of iterations (`loop_iteration_limit`),
     # which the samples of a regenerating invocation share
     loop_budget: bool = flag("loop budget")
@@ -139,6 +147,8 @@ class KernelVariant:
             object.__setattr__(self, "loop_budget", False)
         if self.samples_per_dispatch > 1:
             self.require_integrator().check_regeneration()
+        if self.gbuffer:
+            self.require_integrator().check_gbuffer()
         object.__setattr__(self, "overrides", tuple(sorted(dict(self.overrides).items())))
 
     def require_integrator(self) -> Integrator:
@@ -169,9 +179,12 @@ class KernelVariant:
         return {**dict(self.require_integrator().constants), **dict(self.overrides)}
 
     def pixels_group(self) -> BindGroup:
-        """The pixels group: the guide sums where guides are on, and the integrator's own arrays."""
-        extra = ((GUIDE_SUMS,) if self.guides else ()) + tuple(
-            array.binding for array in (self.integrator.pixel_arrays if self.integrator else ())
+        """The pixels group: the guide sums where guides are on, the G-buffer and the previous
+        frame's camera where it is written, and the integrator's own arrays."""
+        extra = (
+            ((GUIDE_SUMS,) if self.guides else ())
+            + ((GBUFFER, PREVIOUS_FRAME) if self.gbuffer else ())
+            + tuple(array.binding for array in (self.integrator.pixel_arrays if self.integrator else ()))
         )
         group = PIXELS_GROUP
         for binding in extra:
@@ -192,5 +205,5 @@ class KernelVariant:
         return files | (self.integrator.files(self) if self.integrator else {})
 
 
-# A kernel that draws no particular scene: every material kind, no lights, flat and untextured.
+# A kernel that draws no particular scene: every material kind and lobe, no lights, flat and untextured.
 DEFAULT_VARIANT = KernelVariant()

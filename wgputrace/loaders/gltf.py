@@ -10,7 +10,8 @@ material's textures need them (else MikkTSpace's tangents), integer ones (KHR_me
 dequantised by `vertex_attribute`, COLOR_0 its vertex colours (`vertex_colors`). Sparse accessors,
 skins, morph targets, TEXCOORD_1 and COLOR_1 and above are not read. A required extension outside
 READ_EXTENSIONS (and Draco's where DracoPy imports; meshopt's where the meshopt package does,
-`gltf_meshopt`) is refused by name; one that is only used is ignored with a warning.
+`gltf_meshopt`; KTX2 textures' where opengl-basisu does, `ktx2_images`) is refused by name; one
+that is only used is ignored with a warning.
 """
 
 from __future__ import annotations
@@ -50,6 +51,7 @@ from .gltf_compression import (
     draco_available,
 )
 from .gltf_instances import placed_meshes
+from .gltf_material_lobes import LOBE_EXTENSIONS, UNMAPPED_MATERIAL_EXTENSIONS
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
 from .gltf_meshopt import (
     MESHOPT_EXTENSIONS,
@@ -63,6 +65,9 @@ from .gltf_meshopt import (
     meshopt_extension,
 )
 from .gltf_quantization import QUANTIZATION_EXTENSION, vertex_attribute
+from .gltf_specular_glossiness import SPECULAR_GLOSSINESS
+from .gltf_volume import VOLUME_EXTENSION
+from .ktx2_images import BASISU_EXTENSION, KTX2_INSTALL_HINT, ktx2_available
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 GLB_JSON_CHUNK = 0x4E4F534A
@@ -76,14 +81,17 @@ LIGHTS_EXTENSION = "KHR_lights_punctual"
 LIGHTS = f"extensions.{LIGHTS_EXTENSION}.lights"  # the JSON path of the extension's light array
 # KHR_lights_punctual's defaults and limit for a spot's cones (radians)
 DEFAULT_INNER_CONE, DEFAULT_OUTER_CONE, MAX_OUTER_CONE = 0.0, math.pi / 4, math.pi / 2
-# The extensions whose data this module reads (Draco's and meshopt's only while their decoders import).
+# The extensions whose data this module reads (Draco's, meshopt's and KTX2's only while their decoders import).
 READ_EXTENSIONS = {
     LIGHTS_EXTENSION,
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    VOLUME_EXTENSION,
     TRANSFORM_EXTENSION,
     QUANTIZATION_EXTENSION,
+    *LOBE_EXTENSIONS,
+    SPECULAR_GLOSSINESS,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
 UNREAD_EXTENSIONS = {
@@ -92,7 +100,8 @@ UNREAD_EXTENSIONS = {
         name: ("meshoptimizer-compressed buffers", f"needs meshopt: {MESHOPT_INSTALL_HINT}")
         for name in MESHOPT_EXTENSIONS
     },
-    "KHR_texture_basisu": ("KTX2 textures", "not decoded here: save the file with PNG or JPEG textures"),
+    BASISU_EXTENSION: ("KTX2 textures", f"needs opengl-basisu: {KTX2_INSTALL_HINT}"),
+    **UNMAPPED_MATERIAL_EXTENSIONS,
 }
 
 
@@ -163,6 +172,7 @@ class _Reader:
             READ_EXTENSIONS
             | ({DRACO_EXTENSION} if draco_available() else set())
             | (set(MESHOPT_EXTENSIONS) if meshopt_available() else set())
+            | ({BASISU_EXTENSION} if ktx2_available() else set())
         )
         unread = [name for name in required if name not in readable]
         if unread:

@@ -3,9 +3,11 @@ tables: `GltfMaterials._mapped`), their textures decoded (images in a .glb's buf
 data URIs, or files beside the .gltf).
 
 A texture's `sampler` gives its wrap modes (WRAP_MODES, default repeat; its filters are ignored:
-textures are sampled bilinearly), `KHR_texture_transform` its offset, rotation and scale. Images
-with only a KTX2 or WebP source are refused by name; one that is missing, unreadable, corrupt, or
-0 or over 65,536 pixels a side is a SceneLoadError naming the file, the JSON path and the problem.
+textures are sampled bilinearly), `KHR_texture_transform` its offset, rotation and scale. A texture
+whose only source is KHR_texture_basisu's reads that KTX2 image where opengl-basisu imports
+(`ktx2_images`); one with only a WebP or DDS source, or a KTX2 one without it, is refused by name,
+saying how to get it. An image that is missing, unreadable, corrupt, or 0 or over 65,536 pixels a
+side is a SceneLoadError naming the file, the JSON path and the problem.
 """
 
 from __future__ import annotations
@@ -19,6 +21,10 @@ from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principle
 from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
+from .gltf_material_lobes import lobe_parameters
+from .gltf_specular_glossiness import SPECULAR_GLOSSINESS, converted_material
+from .gltf_volume import volume_parameters
+from .ktx2_images import BASISU_EXTENSION, KTX2_INSTALL_HINT, ktx2_available
 from .textures import ImageError, decode_image
 
 DEFAULT_DIFFUSE = 0.8
@@ -29,7 +35,7 @@ DEFAULT_ALPHA_CUTOFF = 0.5
 WRAP_MODES = {10497: "repeat", 33071: "clamp", 33648: "mirror"}
 TRANSFORM_EXTENSION = "KHR_texture_transform"
 # Texture sources in extensions we cannot decode, and what they are
-IMAGE_EXTENSIONS = {"KHR_texture_basisu": "KTX2/BasisU", "EXT_texture_webp": "WebP", "MSFT_texture_dds": "DDS"}
+IMAGE_EXTENSIONS = {BASISU_EXTENSION: "KTX2/BasisU", "EXT_texture_webp": "WebP", "MSFT_texture_dds": "DDS"}
 # the texture slots of a material: (JSON path below the material, Principled parameter, sRGB colour)
 TEXTURE_SLOTS = (
     ("pbrMetallicRoughness.baseColorTexture", "base_color_texture", True),
@@ -48,6 +54,8 @@ class GltfMaterials:
         self._materials: dict[int | None, Material] = {}
         self._textures: dict[tuple, Texture] = {}
         self._pixels: dict[int, object] = {}
+        # whether a material was converted from specular-glossiness (and the file warned of it)
+        self._converted = False
 
     def material(self, index, where: str) -> Material:
         """The material a primitive at `where` names by `index` (None: it names none)."""
@@ -73,9 +81,12 @@ class GltfMaterials:
         | `KHR_materials_emissive_strength.emissiveStrength`            | emission_strength |
         | `KHR_materials_ior.ior` (default 1.5)                         | eta |
         | `KHR_materials_transmission.transmissionFactor` (default 0)   | spec_trans (rough dielectric transmission, glTF's roughness) |
+        | `KHR_materials_volume` `attenuationColor`, `attenuationDistance` (with transmission) | attenuation_color, attenuation_distance (`volume_parameters`) |
         | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
+        | `KHR_materials_clearcoat`, `KHR_materials_sheen` (a factor above 0 makes a Principled) | clearcoat, clearcoat_gloss, sheen (`gltf_material_lobes`) |
 
-        Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
+        A material with `KHR_materials_pbrSpecularGlossiness` is converted to metallic-roughness first
+        (`gltf_specular_glossiness`). Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
         `transmissionTexture` (both with a warning). Any other material (the first rule that applies):
 
         | glTF material                                                          | wgputrace material |
@@ -90,6 +101,9 @@ class GltfMaterials:
             return Diffuse("default", color=(DEFAULT_DIFFUSE,) * 3)
         entry = reader.item("materials", index, f"{where}.material")
         where = f"materials[{index}]"
+        if SPECULAR_GLOSSINESS in reader.get(entry, "extensions", dict, where, {}):
+            entry = converted_material(reader, entry, where, self._converted)
+            self._converted = True
         name = entry.get("name") if isinstance(entry.get("name"), str) else f"material{index}"
         pbr = reader.get(entry, "pbrMetallicRoughness", dict, where, {})
         pbr_where = f"{where}.pbrMetallicRoughness"
@@ -117,10 +131,13 @@ class GltfMaterials:
         if alpha_mode not in ALPHA_MODES:
             raise reader.fail(f"{where}.alphaMode", f"must be one of {ALPHA_MODES}, got {alpha_mode!r:.40}")
         slots = [(path, parameter, srgb) for path, parameter, srgb in TEXTURE_SLOTS if _info(entry, path) is not None]
+        lobes = lobe_parameters(reader, extensions, f"{where}.extensions")
         try:
-            if slots or alpha_mode != "OPAQUE" or transmission > 0:
+            if slots or alpha_mode != "OPAQUE" or transmission > 0 or max(lobes.values(), default=0.0) > 0:
                 parameters = {parameter: self._texture(entry, path, srgb, where) for path, parameter, srgb in slots}
                 parameters |= self._set_values(entry, where, emissive, strength, alpha_mode)
+                if transmission > 0:
+                    parameters |= volume_parameters(reader, extensions, where)
                 return Principled(
                     name,
                     base_color=tuple(base[:3]),
@@ -130,6 +147,7 @@ class GltfMaterials:
                     eta=ior,
                     spec_trans=transmission,
                     **parameters,
+                    **lobes,
                 )
             if emissive.max() * strength > 0:
                 return Emitter(name, color=emissive.tolist(), emittance=strength)
@@ -179,14 +197,14 @@ class GltfMaterials:
             if code not in WRAP_MODES:
                 raise reader.fail(f"samplers[{entry['sampler']}].{axis}", f"must be 10497, 33071 or 33648, got {code}")
             wraps.append(WRAP_MODES[code])
-        source = self._source(entry, texture_where)
+        source, source_where = self._source(entry, texture_where)
         key = (source, srgb, *wraps, transform)
         if key not in self._textures:
-            image_name = reader.item("images", source, f"{texture_where}.source").get("name")
+            image_name = reader.item("images", source, source_where).get("name")
             name = image_name if isinstance(image_name, str) else f"image{source}"
             try:
                 self._textures[key] = Texture(
-                    self._image(source, f"{texture_where}.source"),
+                    self._image(source, source_where),
                     srgb=srgb,
                     wrap_s=wraps[0],
                     wrap_t=wraps[1],
@@ -216,15 +234,23 @@ class GltfMaterials:
             scale=tuple(reader.numbers(block, "scale", 2, where, [1.0, 1.0]).tolist()),
         )
 
-    def _source(self, texture: dict, where: str) -> int:
-        """The image index of a texture, or the refusal of a source only an extension we lack gives."""
+    def _source(self, texture: dict, where: str) -> tuple[int, str]:
+        """The image index of a texture and the JSON path that gives it (its own `source`, a PNG or
+        JPEG fallback where it has one, else KHR_texture_basisu's), or the refusal of a source
+        only an extension we cannot decode gives."""
+        reader = self.reader
         if "source" in texture:
-            return self.reader.get(texture, "source", int, where)
-        extensions = self.reader.get(texture, "extensions", dict, where, {})
+            return reader.get(texture, "source", int, where), f"{where}.source"
+        extensions = reader.get(texture, "extensions", dict, where, {})
+        if BASISU_EXTENSION in extensions and ktx2_available():
+            block = reader.get(extensions, BASISU_EXTENSION, dict, f"{where}.extensions")
+            block_where = f"{where}.extensions.{BASISU_EXTENSION}"
+            return reader.get(block, "source", int, block_where), f"{block_where}.source"
         named = [f"{name} ({IMAGE_EXTENSIONS[name]})" for name in extensions if name in IMAGE_EXTENSIONS]
         if named:
-            raise self.reader.fail(where, f"its image is only given as {', '.join(named)}, which is not decoded here")
-        raise self.reader.fail(where, "'source' is missing")
+            hint = f" (KTX2 needs opengl-basisu: {KTX2_INSTALL_HINT})" if BASISU_EXTENSION in extensions else ""
+            raise reader.fail(where, f"its image is only given as {', '.join(named)}, which is not decoded here{hint}")
+        raise reader.fail(where, "'source' is missing")
 
     def _image(self, index: int, where: str):
         """Image `index`'s pixels, decoded once however many textures use it."""

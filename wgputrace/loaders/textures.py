@@ -1,5 +1,5 @@
-"""Textures for the scene loaders: image bytes (PNG, JPEG or anything else Pillow reads) decoded
-into the uint8 pixel arrays a Texture takes, with a one-line reason where they cannot be; and which
+"""Textures for the scene loaders: image bytes (PNG, JPEG or anything else Pillow reads, and KTX2
+through `ktx2_images`) decoded into the uint8 pixel arrays a Texture takes, with a one-line reason where they cannot be; and which
 of a material's parameters are textures (a shape then needs texture coordinates).
 
 The size is checked from the image's header (read here for PNG and JPEG, else Pillow's), before
@@ -18,6 +18,7 @@ import numpy as np
 from PIL import Image, UnidentifiedImageError
 
 from ..scene.texture import MAX_TEXTURE_SIDE
+from .ktx2_images import Ktx2Error, Ktx2Missing, decode_ktx2, is_ktx2, ktx2_size
 
 # Pillow modes kept as they are; any other is converted to RGBA (palettes, CMYK, 16-bit grey...)
 KEPT_MODES = ("L", "LA", "RGB", "RGBA")
@@ -35,6 +36,8 @@ class ImageError(Exception):
 
 def decode_image(data: bytes) -> np.ndarray:
     """uint8 (H, W, C) pixels, C in 1..4, of an encoded image, or ImageError."""
+    if is_ktx2(data):
+        return _ktx2_pixels(data)
     size = _png_size(data) or _jpeg_size(data)
     if size:  # before Pillow, which calls a 0-pixel PNG unidentified and a huge one a bomb
         _check_size(*size)
@@ -50,6 +53,16 @@ def decode_image(data: bytes) -> np.ndarray:
     except (OSError, SyntaxError, ValueError, EOFError, struct.error, zlib.error) as error:
         # Pillow reports corrupt and truncated files through all of these
         raise ImageError(f"not a readable image: {error or type(error).__name__}") from None
+
+
+def _ktx2_pixels(data: bytes) -> np.ndarray:
+    size = ktx2_size(data)
+    if size:
+        _check_size(*size)
+    try:
+        return decode_ktx2(data)
+    except (Ktx2Error, Ktx2Missing) as error:
+        raise ImageError(str(error)) from None
 
 
 def _png_size(data: bytes) -> tuple[int, int] | None:

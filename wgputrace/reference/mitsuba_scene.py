@@ -7,9 +7,12 @@ test references (`python scripts/make_references.py`) and `python -m bench.versu
     image = mi.render(scene, spp=64, seed=1)
 
 Each material becomes one mesh (`mitsuba_mesh`) with the BSDF and emitter its class maps it to
-(`bsdf_dict`, `emitter_dict`), flat unless its shapes have corner normals; each light brings its
-own `mitsuba_emitter()`, the environment is a `constant` or an `envmap` (`environment_dict`). The
-integrator is `path` at our max depth, the pixel filter a box. `llvm_ad_rgb` is much faster than
+(`bsdf_dict`, `emitter_dict`) and, where it absorbs, an interior `homogeneous` medium
+(`mitsuba_medium`), flat unless its shapes have corner normals, its colour read from the vertex
+colours where its triangles have any (`vertex_colored`); each light brings its own
+`mitsuba_emitter()`, the environment is a `constant` or an `envmap` (`environment_dict`). The
+integrator is `path` at our max depth (`volpath` where a material absorbs, which traces the
+media; otherwise the same), the pixel filter a box. `llvm_ad_rgb` is much faster than
 `scalar_rgb` but needs LLVM 16 or newer (`libllvm_path`).
 """
 
@@ -23,8 +26,9 @@ import numpy as np
 
 from wgputrace.scene import Light, Material, Scene, Sensor
 from wgputrace.scene.lights.environment import Environment
+from wgputrace.scene.materials.volume import mitsuba_medium
 from wgputrace.scene.registry import mitsuba_rgb
-from wgputrace.scene.shapes import corner_normals, corner_uvs
+from wgputrace.scene.shapes import corner_colors, corner_normals, corner_uvs
 from wgputrace.scene.tangents import corner_tangents
 
 # Debian's libllvm19: drjit aborts with the stock LLVM 15, and 14 is too old.
@@ -42,6 +46,8 @@ EMITTER_BACK_OFFSET_RELATIVE = 1e-4
 # keep every surface in view.
 NEAR_CLIP_RELATIVE = 1e-6
 FAR_CLIP_RELATIVE = 1e3
+# The per-vertex mesh attribute our corner colours become, which Mitsuba's `mesh_attribute` texture reads
+VERTEX_COLOR_ATTRIBUTE = "vertex_color"
 
 
 def sensor_dict(mi: ModuleType, camera: Sensor, width: int, height: int) -> dict:
@@ -94,17 +100,19 @@ def load_mitsuba(variant: str) -> ModuleType:
     return mi
 
 
-def bsdf_dict(material: Material, tangents: np.ndarray | None = None) -> dict:
+def bsdf_dict(material: Material, tangents: np.ndarray | None = None, colored: bool = False) -> dict:
     """Our material as a Mitsuba BSDF: its class's mapping (`mitsuba_bsdf`), in `twosided` where ours
     is two-sided; black where it reflects nothing (an emitter). A normal-mapped material is given
     the handedness of its triangles' corner `tangents` (one for all: Mitsuba's `normalmap` has one
-    texture per BSDF)."""
+    texture per BSDF); a `colored` one reads its colour from VERTEX_COLOR_ATTRIBUTE."""
     if material.shader is None:
         return {"type": "diffuse", "reflectance": mitsuba_rgb((0.0, 0.0, 0.0))}
     if "normal" not in material.textures():
         bsdf = material.mitsuba_bsdf()
     else:
         bsdf = material.mitsuba_bsdf(tangent_handedness=uniform_handedness(material, tangents))
+    if colored:
+        bsdf = bsdf | {material.mitsuba_color: {"type": "mesh_attribute", "name": VERTEX_COLOR_ATTRIBUTE}}
     if not material.two_sided or transmits(bsdf):
         return bsdf
     if bsdf["type"] == "mask":  # Mitsuba's twosided refuses a BSDF that transmits: it goes inside
@@ -132,6 +140,25 @@ def uniform_handedness(material: Material, tangents: np.ndarray | None) -> float
             "Mitsuba's normalmap export needs one (+1 or -1)"
         )
     return float(signs[0])
+
+
+def vertex_colored(material: Material, colors: np.ndarray) -> np.ndarray | None:
+    """The (n, 3, 3) values of VERTEX_COLOR_ATTRIBUTE for `material`'s triangles of (n, 3, 4) corner
+    `colors`: their RGB times the material's colour, whose BSDF parameter (`mitsuba_color`) then
+    reads them; None where they are all white or the material reflects nothing (vertex colours
+    leave an emitter alone). The export's meshes share no vertices, so a corner colour is a vertex
+    colour there, interpolated over the triangle as ours; and the product of a constant and an
+    interpolation is the interpolation of the products. ValueError for a material whose colour
+    is no plain BSDF parameter (textured, or of a kind without `mitsuba_color`) or whose vertex
+    alpha would matter."""
+    if material.shader is None or np.all(colors == 1.0):
+        return None
+    if material.mitsuba_color is None or material.textures():
+        raise ValueError(f"{material.label}: vertex colours on a {type(material).__name__} have no Mitsuba 3 export")
+    if material.lets_rays_through() and np.any(colors[..., 3] != 1.0):
+        raise ValueError(f"{material.label}: vertex alpha has no Mitsuba 3 export")
+    color = material.mitsuba_bsdf()[material.mitsuba_color]["value"]
+    return colors[..., :3] * np.asarray(color, np.float32)
 
 
 def emitter_dict(material: Material) -> dict | None:
@@ -208,11 +235,17 @@ def mitsuba_mesh(
     emitter: dict | None,
     normals: np.ndarray | None = None,
     uvs: np.ndarray | None = None,
+    colors: np.ndarray | None = None,
+    interior: dict | None = None,
 ):
     """A Mitsuba mesh of (n, 3, 3) float32 triangles, corners not shared: flat shaded, or smooth
-    with (n, 3, 3) corner `normals`; (n, 3, 2) corner `uvs` become its texture coordinates."""
+    with (n, 3, 3) corner `normals`; (n, 3, 2) corner `uvs` become its texture coordinates,
+    (n, 3, 3) corner `colors` its VERTEX_COLOR_ATTRIBUTE, and `interior` its interior medium (the
+    side its normals point away from)."""
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(with_mitsuba_objects(mi, bsdf))
+    if interior is not None:
+        props["interior"] = mi.load_dict(interior)
     if emitter is not None:
         props["emitter"] = mi.load_dict(with_mitsuba_objects(mi, emitter))
     smooth = normals is not None
@@ -231,6 +264,8 @@ def mitsuba_mesh(
     if textured:
         params["vertex_texcoords"] = type(params["vertex_texcoords"])(np.ascontiguousarray(uvs, np.float32).ravel())
     params.update()
+    if colors is not None:
+        mesh.add_attribute(VERTEX_COLOR_ATTRIBUTE, 3, np.ascontiguousarray(colors, np.float32).ravel())
     return mesh
 
 
@@ -259,8 +294,8 @@ def rewound(corners: np.ndarray | None) -> np.ndarray | None:
 
 
 def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_depth: int):
-    """`scene` as a loaded Mitsuba scene: `path` integrator at `max_depth`, box-filtered width x height film;
-    its instances flattened into triangles of their own."""
+    """`scene` as a loaded Mitsuba scene: `path` integrator (`volpath` with media) at `max_depth`,
+    box-filtered width x height film; its instances flattened into triangles of their own."""
     if scene.instances:
         scene = scene.flattened()
     arrays = scene.arrays()
@@ -270,8 +305,9 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
     all_normals = corner_normals(scene.shapes, arrays.shape_index, arrays.local_index)
     all_uvs = corner_uvs(scene.shapes, arrays.shape_index, arrays.local_index)
     all_tangents = corner_tangents(scene.shapes, arrays.shape_index, arrays.local_index)
+    all_colors = corner_colors(scene.shapes, arrays.shape_index, arrays.local_index)
     shapes = {}
-    emitting = False
+    emitting = absorbing = False
     for index, material in enumerate(arrays.materials):
         mine = arrays.material_index == index
         triangles = arrays.vertices[mine]
@@ -279,18 +315,26 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
         if all_normals is not None and all_normals[mine].any():
             normals = face_normals_where_flat(triangles, all_normals[mine])
         uvs = None if all_uvs is None else all_uvs[mine]
-        bsdf, emitter = bsdf_dict(material, all_tangents[mine]), emitter_dict(material)
+        colors = None if all_colors is None else vertex_colored(material, all_colors[mine])
+        bsdf = bsdf_dict(material, all_tangents[mine], colored=colors is not None)
+        emitter = emitter_dict(material)
+        interior = mitsuba_medium(material.absorption())
+        absorbing = absorbing or interior is not None
+        if emitter is not None and interior is not None:
+            raise ValueError(
+                f"material {material.name!r} both emits and absorbs: its export has two meshes, one medium"
+            )
         if emitter is not None:
             emitting = True
-            front = mitsuba_mesh(mi, f"{material.name}_front", triangles, bsdf, emitter, normals, uvs)
+            front = mitsuba_mesh(mi, f"{material.name}_front", triangles, bsdf, emitter, normals, uvs, colors)
             back = behind(triangles, EMITTER_BACK_OFFSET_RELATIVE * magnitude)
             back_normals = None if normals is None else -rewound(normals)
             shapes[f"{index}_front"] = front
             shapes[f"{index}_back"] = mitsuba_mesh(
-                mi, f"{material.name}_back", back, bsdf, emitter, back_normals, rewound(uvs)
+                mi, f"{material.name}_back", back, bsdf, emitter, back_normals, rewound(uvs), rewound(colors)
             )
         else:
-            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs)
+            shapes[f"{index}"] = mitsuba_mesh(mi, material.name, triangles, bsdf, None, normals, uvs, colors, interior)
     lights, hide_emitters = emitters(mi, scene, emitting)
     sensor = {
         **sensor_dict(mi, scene.camera, width, height),
@@ -306,5 +350,5 @@ def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_dep
         },
         "sampler": {"type": "independent"},
     }
-    integrator = {"type": "path", "max_depth": max_depth, "hide_emitters": hide_emitters}
+    integrator = {"type": "volpath" if absorbing else "path", "max_depth": max_depth, "hide_emitters": hide_emitters}
     return mi.load_dict({"type": "scene", "integrator": integrator, "sensor": sensor, **shapes, **lights})

@@ -24,10 +24,6 @@ from ..gpu.float_texture import FloatTexture
 from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from .scene_mirror import (
-    CORNER_ATTRIBUTES,
-    CORNER_COLORS,
-    CORNER_TANGENTS,
-    CORNER_UVS,
     ENVIRONMENT_TABLES,
     ENVIRONMENT_TEXELS,
     INSTANCES,
@@ -41,6 +37,11 @@ from .scene_mirror import (
     TEXTURES,
     TRIANGLE_LIGHT_DENSITIES,
     TRIANGLES,
+    VERTEX_COLORS,
+    VERTEX_INDICES,
+    VERTEX_NORMALS,
+    VERTEX_TANGENTS,
+    VERTEX_UVS,
 )
 
 # COPY_SRC: what was uploaded can be read back and checked against the host records
@@ -72,10 +73,11 @@ RECORD_ARRAYS = (
     RecordArray(LIGHT_SOURCES, "lights", "light_sources"),
     RecordArray(ENVIRONMENT_TEXELS, "lights", "environment_map"),
     RecordArray(ENVIRONMENT_TABLES, "lights", "environment_tables", spare=False),
-    RecordArray(CORNER_ATTRIBUTES, "shading", "corner_attributes"),
-    RecordArray(CORNER_UVS, "shading", "corner_uvs"),
-    RecordArray(CORNER_TANGENTS, "shading", "corner_tangents"),
-    RecordArray(CORNER_COLORS, "shading", "corner_colors"),
+    RecordArray(VERTEX_INDICES, "shading", "triangle_vertices"),
+    RecordArray(VERTEX_NORMALS, "shading", "vertex_normals"),
+    RecordArray(VERTEX_UVS, "shading", "vertex_uvs"),
+    RecordArray(VERTEX_TANGENTS, "shading", "vertex_tangents"),
+    RecordArray(VERTEX_COLORS, "shading", "vertex_colors"),
     RecordArray(TEXTURE_ATLAS, "shading", "texture_atlas"),
     RecordArray(TEXTURES, "shading", "textures"),
     RecordArray(MATERIAL_TEXTURES, "shading", "material_textures"),

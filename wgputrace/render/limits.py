@@ -20,12 +20,13 @@ from ..gpu.float_texture import require_float_texture
 from ..gpu.layout import (
     ACCUMULATED_PIXEL,
     BVH_NODE,
-    CORNER_ATTRIBUTES,
-    CORNER_COLORS,
     LIGHT,
     LIGHT_SOURCE,
     MATERIAL,
     TRIANGLE,
+    TRIANGLE_VERTICES,
+    VERTEX_COLOR,
+    VERTEX_NORMAL,
     WIDE_BVH_NODE,
 )
 from ..gpu.texels import require_texels
@@ -221,9 +222,9 @@ class SceneCounts:
     environment: bool = False
     # an environment map's width and height (0 x 0: none, or a constant)
     environment_map: tuple[int, int] = (0, 0)
-    # triangles of shapes with per-vertex normals (their corner attributes: `shading_normals_hook`)
+    # triangles of shapes with per-vertex normals (their vertex normals: `shading_normals_hook`)
     smooth_triangles: int = 0
-    # triangles of shapes with vertex colours (their corner colours: `vertex_colors_hook`)
+    # triangles of shapes with vertex colours (their vertex colours: `vertex_colors_hook`)
     colored_triangles: int = 0
 
     @property
@@ -291,12 +292,15 @@ def check_scene_counts(context: GpuContext, counts: SceneCounts, acceleration: s
         context.require(
             "max-bind-groups", SHADING_GROUP_INDEX + 1, f"the shading group (bind group {SHADING_GROUP_INDEX})"
         )
+    if counts.smooth_triangles or counts.colored_triangles:
+        # every triangle names its vertices, of which there are at most three per triangle (fewer
+        # where corners share them: `shared_vertices`); every triangle has vertices once one shape
+        # is smooth (a flat one's, zero normals) or has colours (a shape without, white)
+        require_records(context, "triangle vertices", counts.triangles, TRIANGLE_VERTICES.size, storage)
     if counts.smooth_triangles:
-        # every triangle has a record once one shape is smooth (a flat one, zeros: its face normal)
-        require_records(context, "corner attributes", counts.triangles, CORNER_ATTRIBUTES.size, storage)
+        require_records(context, "vertex normals", 3 * counts.triangles, VERTEX_NORMAL.size, storage)
     if counts.colored_triangles:
-        # likewise once one shape has vertex colours (a shape without, white)
-        require_records(context, "corner colors", counts.triangles, CORNER_COLORS.size, storage)
+        require_records(context, "vertex colors", 3 * counts.triangles, VERTEX_COLOR.size, storage)
     width, height = counts.environment_map
     if width:
         require_float_texture(context, "environment map", width, height)

@@ -18,10 +18,17 @@ import numpy as np
 import wgpu
 
 from ..denoise import denoise
-from ..gpu.buffers import PARAMETER_BINDING_LIMIT, PARAMETER_USAGE, read_buffer, storage_buffer, write_buffer
+from ..gpu.buffers import (
+    PARAMETER_BINDING_LIMIT,
+    PARAMETER_USAGE,
+    read_buffer,
+    storage_buffer,
+    uniform_buffer,
+    write_buffer,
+)
 from ..gpu.device import DeviceLimitError, gpu
 from ..gpu.kernel import ComputeKernel, Pass, submit
-from ..gpu.layout import ACCUMULATED_PIXEL, FRAME
+from ..gpu.layout import ACCUMULATED_PIXEL, FRAME, GBUFFER_PIXEL
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from ..integrators import Integrator
 from ..integrators import integrator as _integrator
@@ -38,6 +45,8 @@ from .rng_seed import pixel_rng_states
 from .scene_mirror import TEXTURE_ATLAS, TRIANGLES, SceneMirror
 from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
+from .svgf_filter import VarianceGuidedFilter
+from .temporal_accumulation import TemporalAccumulation
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -142,6 +151,7 @@ class Renderer:
                 f"max_depth must be from 1 to {_UNLIMITED_DEPTH_GPU - 1:,} (or -1 for no limit), got {max_depth}"
             )
         method.check_depth(max_depth)
+        method.check_materials(scene.materials)
         # the variant without its scene: checks the sampler and the overrides before anything is allocated
         variant = KernelVariant(
             integrator=method,
@@ -207,6 +217,11 @@ class Renderer:
             "owed_total": storage_buffer(self.context, "owed total", np.zeros(1, np.uint32), read_back=True),
         }
         self._submits = SubmitPlan(self.samples_per_dispatch)
+        # what render_frame keeps from frame to frame, made by its first call
+        self._temporal: TemporalAccumulation | None = None
+        self._gbuffer: wgpu.GPUBuffer | None = None
+        self._previous_frame: wgpu.GPUBuffer | None = None
+        self._filter: VarianceGuidedFilter | None = None
         self._bind()
 
     @property
@@ -258,8 +273,13 @@ class Renderer:
     @property
     def gpu_image_bytes(self) -> dict[str, int]:
         """Bytes allocated on the GPU for the image, by buffer: they grow with the pixels, not the
-        scene (the frame uniform is a fixed 80 bytes)."""
+        scene (the frame uniforms are a fixed 80 bytes); render_frame's G-buffer and histories too
+        once it has run."""
         buffers = (self._frame.buffer, self._rng, self._rng_at_seed, *self._sums.values())
+        if self._temporal is not None:
+            buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers)
+        if self._filter is not None:
+            buffers += self._filter.buffers
         return {buffer.label: buffer.size for buffer in buffers}
 
     @property
@@ -270,7 +290,7 @@ class Renderer:
 
     @property
     def gpu_bytes_per_triangle(self) -> float:
-        """Scene bytes on the GPU (triangles, BVH nodes, materials, lights, per-corner attributes;
+        """Scene bytes on the GPU (triangles, BVH nodes, materials, lights, per-vertex attributes;
         not the texture atlas: gpu_texture_bytes) per triangle."""
         return (sum(self.gpu_scene_bytes.values()) - self.gpu_texture_bytes) / self.triangle_count
 
@@ -278,7 +298,14 @@ class Renderer:
         """Bring the GPU up to date with the scene: upload only the records that changed, refit or
         rebuild the BVH, switch to the kernel variant for the scene's features, and restart
         accumulation if anything the GPU reads changed. Returns `upload_stats`."""
+        if self._sync():
+            self.restart()
+        return self.upload_stats
+
+    def _sync(self) -> bool:
+        """`update` without the restart: whether anything the GPU reads changed."""
         self._frame.uploads = UploadCount()
+        self.variant.require_integrator().check_materials(self.scene.materials)
         fit_environment(self.context, self.scene)
         changes = self._mirror.update()
         variant = self.variant.with_scene(self._mirror.features)
@@ -297,9 +324,7 @@ class Renderer:
         if new_variant or regrouped:
             self._bind()
         # a new variant with no record changed still changes the picture: normals or textures dropped
-        if changes or frame_changed or new_variant:
-            self.restart()
-        return self.upload_stats
+        return bool(changes or frame_changed or new_variant)
 
     def _bind(self) -> None:
         """Every bind group of the kernel: made again when the variant changes or an edit
@@ -311,7 +336,8 @@ class Renderer:
     def _bound_in(self, group: str) -> dict[str, object]:
         """What the renderer binds in `group`, by binding name."""
         if group == "pixels":
-            return {"rng_states": self._rng, **self._sums}
+            frames = {"gbuffer": self._gbuffer, "previous_frame": self._previous_frame} if self.variant.gbuffer else {}
+            return {"rng_states": self._rng, **self._sums, **frames}
         if group == "dispatch":
             return {"dispatch_samples": self._dispatch_samples, **(self._owed if self.variant.loop_budget else {})}
         extra = {"frame": self._frame.buffer} if group == "scene" else {}
@@ -363,6 +389,8 @@ class Renderer:
         self.context.submit(encoder, "restarting accumulation")
         self._replicate = 0
         self.stats = RenderStats()
+        if self._temporal is not None:
+            self._temporal.restart()
 
     def _sampler_states(self, replicate: int) -> np.ndarray:
         """Every pixel's sampler state at the seed: a xoshiro128** state, or a Sobol seed for
@@ -579,6 +607,73 @@ class Renderer:
             self._replicate += 1
             write_buffer(self.context, self._rng, 0, self._sampler_states(self._replicate))
         self.stats = RenderStats()
+        if self._temporal is not None:
+            self._temporal.restart()
+
+    def render_frame(self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False) -> np.ndarray:
+        """One frame of a moving picture: look through `camera` (None: the scene's camera as it
+        is, after any edits to the scene), trace `spp` samples per pixel and add them to every
+        pixel's history (TemporalAccumulation). Returns the history's mean: float32 (height,
+        width, 3), linear radiance, row 0 on top.
+
+        While the camera and the scene stay as they were, a frame adds its samples as `render`
+        does: N frames at rest are bit for bit the mean of a fresh Renderer's `render(N * spp)`
+        (with one sample per frame). When something changed, each pixel takes the previous
+        history where its first hit was seen before (motion vectors), rejects what was hidden
+        then, and keeps at most MOVING_HISTORY_FRAMES frames of it. `restart` and `reset` start
+        every history again. The first call compiles the G-buffer variant of the kernel (the
+        path tracers have one: ValueError for the others) and allocates the history.
+
+        `filtered`: the history's picture through SVGF's variance-guided filter instead
+        (VarianceGuidedFilter); the history itself stays unfiltered."""
+        if spp < 1:
+            raise ValueError(f"spp must be >= 1, got {spp}")
+        if self._temporal is None:
+            self._start_frames()
+        if camera is not None:
+            self.scene.camera = camera
+        moving = self._sync()
+        # this frame's own samples, the pixels' sequences going on from the last frame's
+        encoder = self.context.device.create_command_encoder()
+        for buffer in self._sums.values():
+            encoder.clear_buffer(buffer)
+        self.context.submit(encoder, "starting a frame")
+        self.stats = RenderStats()
+        self.render(spp)
+        self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+        write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
+        if not filtered:
+            return self._temporal.image()
+        if self._filter is None:
+            self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
+        return self._filter.filter(self._temporal.history, self._gbuffer, spp)
+
+    def _start_frames(self) -> None:
+        """What render_frame needs: the G-buffer variant, the G-buffer, the previous frame's camera
+        (this one's, as the first frame has no history to move) and the history."""
+        variant = replace(self.variant, gbuffer=True)
+        pixels = self.width * self.height
+        self._gbuffer = storage_buffer(self.context, "G-buffer", GBUFFER_PIXEL.zeros(pixels), read_back=True)
+        self._previous_frame = uniform_buffer(
+            self.context, "previous frame", np.frombuffer(self._frame_bytes, np.uint8).copy()
+        )
+        self.variant = variant
+        self.kernel = tracing_kernel(self.context, variant)
+        self._bind()
+        self._temporal = TemporalAccumulation(self.context, self.width, self.height)
+
+    def gbuffer(self) -> dict[str, np.ndarray]:
+        """The last frame's G-buffer (render_frame), what the ray through each pixel's centre first
+        hit: "depth" (the camera ray's distance to it; 0 where nothing was hit), "normal" (shading,
+        facing the camera), "albedo" (in [0, 1]), "surface" (material index + 1; 0: nothing hit),
+        "motion" (from this frame's raster position to the previous camera's, in pixels, x right and
+        y down), "previous_depth" and "previous_seen" (the previous camera's distance to the point,
+        and whether it had it in front); arrays of (height, width) or (height, width, n)."""
+        if self._gbuffer is None:
+            raise ValueError("no frame has been rendered yet: call render_frame first")
+        records = read_buffer(self.context, self._gbuffer, GBUFFER_PIXEL.dtype, self.width * self.height)
+        fields = ("depth", "normal", "albedo", "surface", "motion", "previous_depth", "previous_seen")
+        return {name: records[name].reshape(self.height, self.width, *records[name].shape[1:]) for name in fields}
 
 
 def render(scene: Scene, spp: int = 64, width: int = 512, height: int = 512, **options) -> np.ndarray:

@@ -4,7 +4,7 @@ doing only the work each edit needs and reporting which rows changed, so only th
 Rows are compared as bytes before they count as changed (`changed_rows`), so an edit that restores
 a value uploads nothing and does not restart accumulation; and the records after an edit are those
 a fresh mirror of the edited scene makes (up to exact ties of two hit distances), so the picture
-after an edit is a fresh Renderer's. Arrays a scene does not use (corner normals, texture records,
+after an edit is a fresh Renderer's. Arrays a scene does not use (vertex normals, texture records,
 light sources, an environment map) are not kept.
 """
 
@@ -13,11 +13,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..bvh import BVH, Refitter
-from ..gpu.layout import LIGHT_SOURCE, LIGHTING
+from ..gpu.layout import LIGHT_SOURCE, LIGHTING, VERTEX_COLOR, VERTEX_NORMAL, VERTEX_TANGENT, VERTEX_UV
 from ..kernels.light_dispatch import LightFeatures
 from ..kernels.traversal import BVH_STACK_SIZE, traversal_stack_size
 from ..kernels.variant import SceneFeatures
 from ..scene import Scene, SceneError, Shape
+from ..scene.materials.volume import is_absorbing
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_colors, corner_normals, corner_uvs
 from ..scene.tangents import corner_tangents
@@ -28,15 +29,12 @@ from .lights import LUMINANCE_WEIGHTS, LightTable, emitting, light_table
 from .scene_records import (
     SceneRecords,
     build_acceleration,
-    corner_attribute_records,
-    corner_color_records,
-    corner_tangent_records,
-    corner_uv_records,
     gpu_node_records,
     material_records,
     set_wide_bounds,
     triangle_records,
 )
+from .shared_vertices import shared_vertices, triangle_vertex_records, vertex_records
 from .texture_atlas import light_density, material_texture_records, needs_material_record, pack_atlas, used_textures
 
 # Rebuild the BVH when refits have made its SAH cost this many times the cost it had when built
@@ -47,10 +45,28 @@ from .texture_atlas import light_density, material_texture_records, needs_materi
 REBUILD_DEGRADATION = 1.2
 
 TRIANGLES, NODES, MATERIALS, LIGHTS = "triangles", "bvh nodes", "materials", "lights"
-CORNER_ATTRIBUTES = "corner attributes"
-CORNER_UVS, TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "corner uvs", "texture atlas", "textures", "material textures"
-CORNER_TANGENTS = "corner tangents"
-CORNER_COLORS = "corner colors"
+TEXTURE_ATLAS, TEXTURES, MATERIAL_TEXTURES = "texture atlas", "textures", "material textures"
+# The shading attributes per vertex (`shared_vertices`) and each triangle's vertices, in BVH order.
+VERTEX_INDICES = "triangle vertices"
+VERTEX_NORMALS, VERTEX_UVS, VERTEX_TANGENTS, VERTEX_COLORS = (
+    "vertex normals",
+    "vertex uvs",
+    "vertex tangents",
+    "vertex colors",
+)
+# A vertex's attribute where its side of an instanced scene has none (`_instanced_vertices`): flat, white.
+_MISSING_VERTEX = {
+    VERTEX_NORMALS: np.zeros(3, np.float32),
+    VERTEX_UVS: np.zeros(2, np.float32),
+    VERTEX_TANGENTS: np.zeros(4, np.float32),
+    VERTEX_COLORS: np.ones(4, np.float32),
+}
+VERTEX_ARRAYS = {
+    VERTEX_NORMALS: VERTEX_NORMAL,
+    VERTEX_UVS: VERTEX_UV,
+    VERTEX_TANGENTS: VERTEX_TANGENT,
+    VERTEX_COLORS: VERTEX_COLOR,
+}
 INSTANCES = "instances"
 # the top level's changed rows inside `update` before `_assemble` makes them rows of NODES
 _TOP_NODES = "top-level nodes"
@@ -80,18 +96,16 @@ class SceneMirror:
     def __init__(self, scene: Scene, acceleration: str, texture_side: int = DEFAULT_TEXTURE_SIDE) -> None:
         self.scene, self.acceleration_kind = scene, acceleration
         self.triangles = self.nodes = self.materials = None
-        # CORNER_ATTRIBUTES records in BVH order, None for a scene without per-vertex normals
-        self.corner_attributes: np.ndarray | None = None
-        # for a scene with textures (else None): CORNER_UVS records in BVH order, the atlas's texels
-        # (float32 (H, W, 4), at most texture_side per side), TEXTURE and MATERIAL_TEXTURES records
+        # the shading attributes by name (VERTEX_ARRAYS: their records) and TRIANGLE_VERTICES
+        # records in BVH order (VERTEX_INDICES), only those the scene has (`_update_vertices`):
+        # normals where a shape has them, uvs and tangents with textures (tangents one zero record
+        # unless a material reads a normal map), colours where a shape has them
+        self.vertices: dict[str, np.ndarray] = {}
+        # for a scene with textures (else None): the atlas's texels (float32 (H, W, 4), at most
+        # texture_side per side), TEXTURE and MATERIAL_TEXTURES records
         self.texture_side = texture_side
-        self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
-        # CORNER_TANGENTS records in BVH order while a material reads a normal map, else one zero
-        # record (the binding exists in every textured scene)
-        self.corner_tangents: np.ndarray | None = None
+        self.atlas_texels = self.texture_records = self.material_textures = None
         self._normal_mapped = False
-        # CORNER_COLORS records in BVH order, None for a scene without vertex colours
-        self.corner_colors: np.ndarray | None = None
         self._textures: list = []
         # float32 in BVH order: each triangle's light table weight per unit area from what it emits
         # through a texture record (`footprint_means`); one zero where none emits so
@@ -118,7 +132,7 @@ class SceneMirror:
     @property
     def records(self) -> SceneRecords:
         return SceneRecords(
-            self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.corner_attributes, self.lights.entries
+            self.triangles, self.nodes, self.materials, self.bvh, self.wide, self.lights.entries, dict(self.vertices)
         )
 
     @property
@@ -138,10 +152,7 @@ class SceneMirror:
             LIGHT_SOURCES: self.sources,
             ENVIRONMENT_TEXELS: self.environment_texels,
             ENVIRONMENT_TABLES: self.environment_tables,
-            CORNER_ATTRIBUTES: self.corner_attributes,
-            CORNER_UVS: self.corner_uvs,
-            CORNER_TANGENTS: self.corner_tangents,
-            CORNER_COLORS: self.corner_colors,
+            **{name: self.vertices.get(name) for name in (VERTEX_INDICES, *VERTEX_ARRAYS)},
             TEXTURE_ATLAS: self.atlas_texels,
             TEXTURES: self.texture_records,
             MATERIAL_TEXTURES: self.material_textures,
@@ -156,13 +167,15 @@ class SceneMirror:
             acceleration=self.acceleration_kind,
             stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self._stack_entries),
             material_kinds=self.material_kinds,
+            lobes=tuple(set().union(*(material.lobes() for material in self.scene.materials))),
             lights=self.light_features,
             camera=self.scene.camera.kind,
-            smooth=self.arrays[CORNER_ATTRIBUTES] is not None,
+            smooth=self.arrays[VERTEX_NORMALS] is not None,
             textured=self.textured,
             see_through=self.see_through,
             emissive_surfaces=self.emissive_surfaces,
-            vertex_colors=self.arrays[CORNER_COLORS] is not None,
+            vertex_colors=self.arrays[VERTEX_COLORS] is not None,
+            absorbing=any(is_absorbing(material) for material in self.scene.materials),
             instance_triangle_bits=0 if self.instancing is None else self.instancing.triangle_bits,
         )
 
@@ -202,7 +215,7 @@ class SceneMirror:
         | edit                                        | work                                          | rows that change                     |
         |---------------------------------------------|-----------------------------------------------|--------------------------------------|
         | material parameter                          | that material's record                        | one material record                  |
-        | shape transform (same zero-area triangles)  | its world triangles (and corner normals), BVH refit | its triangles, nodes whose bounds moved |
+        | shape transform (same zero-area triangles)  | its world triangles (and vertices), BVH refit | its triangles and vertices, nodes whose bounds moved |
         | shape material reassigned                   | material list and every triangle's index      | materials and triangles whose index moved |
         | shapes added/removed, vertices or normals replaced | arrays, BVH build                      | whatever differs (nearly all)        |
 
@@ -263,9 +276,10 @@ class SceneMirror:
             or ((TRIANGLES in changes or placed) and self._has_distant_lights())
         ):
             changes.update(self._update_lights())
-        changes.update(self._update_textures(geometry_moved=bool(moved)))
-        if moved:  # a mirroring transform reorders corners
-            changes.update(self._update_corner_colors())
+        shading = (self.textured, self._normal_mapped)
+        changes.update(self._update_textures())
+        if (moved and self._moves_vertices(moved)) or shading != (self.textured, self._normal_mapped):
+            changes.update(self._update_vertices())
         self._snapshot()
         return {name: rows for name, rows in self._assemble(changes).items() if rows.size}
 
@@ -290,26 +304,12 @@ class SceneMirror:
             self._assembled = {}
             return changes
         world = self._world_arrays
-        counts = (len(self.triangles), len(instancing.triangles))
         assembled = {
             TRIANGLES: joined([self.triangles, instancing.triangles]),
             NODES: instancing.nodes(self.nodes),
             INSTANCES: instancing.records,
-            CORNER_ATTRIBUTES: _appended(
-                world[CORNER_ATTRIBUTES], instancing.corner_values("normals"), corner_attribute_records, 0.0, counts
-            ),
-            CORNER_COLORS: _appended(
-                world[CORNER_COLORS], instancing.corner_values("colors"), corner_color_records, 1.0, counts
-            ),
+            **self._instanced_vertices(instancing),
         }
-        if self.textured:
-            assembled[CORNER_UVS] = _appended(
-                world[CORNER_UVS], instancing.corner_values("uvs"), corner_uv_records, 0.0, counts
-            )
-        if self._normal_mapped:
-            assembled[CORNER_TANGENTS] = _appended(
-                world[CORNER_TANGENTS], instancing.corner_values("tangents"), corner_tangent_records, 0.0, counts
-            )
         densities = world[TRIANGLE_LIGHT_DENSITIES]
         if len(densities) > 1:  # the meshes emit nothing (InstanceRecords refuses emitting meshes)
             assembled[TRIANGLE_LIGHT_DENSITIES] = np.concatenate(
@@ -322,11 +322,48 @@ class SceneMirror:
         for name, array in assembled.items():  # an attribute the meshes' side gained, or grew
             if array is not None and (before.get(name) is None or len(before[name]) != len(array)):
                 changes[name] = np.arange(len(array))
+            elif name in (VERTEX_INDICES, *VERTEX_ARRAYS):  # the meshes' indices follow the world's vertex count
+                changes[name] = np.union1d(changes.get(name, []), changed_rows(before[name], array)).astype(np.int64)
         top = changes.pop(_TOP_NODES, np.zeros(0, np.int64))
         if NODES in changes:
             changes[NODES] = changes[NODES] + instancing.top_records
         changes[NODES] = np.union1d(top, changes.get(NODES, [])).astype(np.int64)
         return changes
+
+    def _instanced_vertices(self, instancing: InstanceRecords) -> dict[str, np.ndarray]:
+        """The vertex arrays with the meshes' vertices after the world's (`shared_vertices` of their
+        corners, object space) and their triangles' vertex indices offset past the world's; an
+        attribute one side lacks takes its default there (_MISSING_VERTEX). Empty where neither side
+        has an attribute. A textured scene without a normal map keeps the world's one zero tangent."""
+        kinds = {VERTEX_NORMALS: "normals", VERTEX_COLORS: "colors"}
+        if self.textured:
+            kinds[VERTEX_UVS] = "uvs"
+            if self._normal_mapped:
+                kinds[VERTEX_TANGENTS] = "tangents"
+        meshes = {name: instancing.corner_values(kind) for name, kind in kinds.items()}
+        names = [name for name in kinds if name in self.vertices or meshes[name] is not None]
+        if not names:
+            return {}
+        if VERTEX_INDICES in self.vertices:
+            world_indices = self.vertices[VERTEX_INDICES]
+            world_count = next(len(self.vertices[name]) for name in names if name in self.vertices)
+        else:  # every world triangle names one default vertex
+            world_indices, world_count = triangle_vertex_records(np.zeros((len(self.triangles), 3), np.uint32)), 1
+        mesh_count = len(instancing.triangles)
+        mesh_corners = {
+            name: np.broadcast_to(_MISSING_VERTEX[name], (mesh_count, 3, len(_MISSING_VERTEX[name])))
+            if meshes[name] is None
+            else meshes[name]
+            for name in names
+        }
+        indices, values = shared_vertices(mesh_corners)
+        vertices = {VERTEX_INDICES: joined([world_indices, triangle_vertex_records(indices + np.uint32(world_count))])}
+        for name in names:
+            world = self.vertices.get(name)
+            if world is None:
+                world = vertex_records(VERTEX_ARRAYS[name], np.tile(_MISSING_VERTEX[name], (world_count, 1)))
+            vertices[name] = joined([world, vertex_records(VERTEX_ARRAYS[name], values[name])])
+        return vertices
 
     def _snapshot(self) -> None:
         self._instances, self._placements = self._instance_state(), self._instance_placements()
@@ -351,25 +388,19 @@ class SceneMirror:
             or (environment is not None and environment.generation != self._environment_generation)
         )
 
-    def _update_textures(self, geometry_moved: bool) -> dict[str, np.ndarray]:
+    def _update_textures(self) -> dict[str, np.ndarray]:
         """The texture records of the scene's materials, repacking the atlas where the set of textures
-        changed (a texture swapped for one of its size and kind keeps the others' rectangles) and the
-        corner coordinates where geometry moved; their changed rows. A scene without textures keeps
-        none of them, whatever UVs its shapes have.
+        changed (a texture swapped for one of its size and kind keeps the others' rectangles); their
+        changed rows. A scene without textures keeps none of them, whatever UVs its shapes have.
         """
         materials = self.scene.materials
         textures = used_textures(materials)
         if not textures and not any(needs_material_record(material) for material in materials):
-            self.corner_uvs = self.atlas_texels = self.texture_records = self.material_textures = None
-            self.corner_tangents = None
-            self._textures = []
+            self.atlas_texels = self.texture_records = self.material_textures = None
+            self._textures, self._normal_mapped = [], False
             return {}
         changes = {}
-        if geometry_moved or self.corner_uvs is None:
-            changes[CORNER_UVS] = self._update_corner_uvs()
-        normal_mapped = any("normal" in material.textures() for material in materials)
-        if geometry_moved or self.corner_tangents is None or normal_mapped != self._normal_mapped:
-            changes[CORNER_TANGENTS] = self._update_corner_tangents(normal_mapped)
+        self._normal_mapped = any("normal" in material.textures() for material in materials)
         if [id(t) for t in textures] != [id(t) for t in self._textures] or self.atlas_texels is None:
             atlas = pack_atlas(textures, self.texture_side)
             changes[TEXTURE_ATLAS] = _changed_texel_rows(self.atlas_texels, atlas.texels)
@@ -383,46 +414,58 @@ class SceneMirror:
         self.material_textures = records
         return changes
 
-    def _update_corner_uvs(self) -> np.ndarray:
-        """The corner texture coordinates in BVH order from the shapes as they are; the changed rows."""
+    def _moves_vertices(self, moved: list[int]) -> bool:
+        """Whether moving the shapes `moved` (indices) can change a vertex: one with attributes of its
+        own (a turn turns its normals, a mirror swaps its corners), or any under a normal map
+        (MikkTSpace's tangents follow the positions). Moving the others leaves the vertices as they
+        are, which spares a large smooth mesh's table when something beside it moves."""
+        if self._normal_mapped:
+            return True
+        shapes = [self.scene.shapes[index] for index in moved]
+        return any(
+            attribute is not None
+            for shape in shapes
+            for attribute in (shape.normals, shape.uvs, shape.tangents, shape.colors)
+        )
+
+    def _corner_attributes(self) -> dict[str, np.ndarray]:
+        """The shading attributes the scene has, per corner (n, 3, k) float32 in BVH order, from the
+        shapes as they are: normals (zero for shapes without: flat), texture coordinates with
+        textures (zero for shapes without) and tangents where a material reads a normal map,
+        colours (white for shapes without)."""
         shapes = self.scene.shapes
         shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
-        uvs = np.zeros((len(self._position), 3, 2), np.float32)
-        scene_uvs = corner_uvs(shapes, shape_index, self._local_index)
-        uvs[self._position] = 0.0 if scene_uvs is None else scene_uvs
-        records = corner_uv_records(uvs)
-        old = self.corner_uvs
-        self.corner_uvs = records
-        return np.arange(len(records)) if old is None else changed_rows(old, records)
+        scene_order = {VERTEX_NORMALS: corner_normals(shapes, shape_index, self._local_index)}
+        if self.textured:
+            uvs = corner_uvs(shapes, shape_index, self._local_index)
+            scene_order[VERTEX_UVS] = np.zeros((len(shape_index), 3, 2), np.float32) if uvs is None else uvs
+            if self._normal_mapped:
+                scene_order[VERTEX_TANGENTS] = corner_tangents(shapes, shape_index, self._local_index)
+        scene_order[VERTEX_COLORS] = corner_colors(shapes, shape_index, self._local_index)
+        corners = {}
+        for name, values in scene_order.items():
+            if values is not None:
+                corners[name] = np.empty_like(values)
+                corners[name][self._position] = values
+        return corners
 
-    def _update_corner_colors(self) -> dict[str, np.ndarray]:
-        """The corner vertex colours in BVH order from the shapes as they are (None where no shape
-        has any); their changed rows."""
-        shapes = self.scene.shapes
-        shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
-        colors = corner_colors(shapes, shape_index, self._local_index)
-        if colors is None:
-            self.corner_colors = None
-            return {}
-        ordered = np.empty_like(colors)
-        ordered[self._position] = colors
-        records = corner_color_records(ordered)
-        old = self.corner_colors
-        self.corner_colors = records
-        return {CORNER_COLORS: np.arange(len(records)) if old is None else changed_rows(old, records)}
-
-    def _update_corner_tangents(self, normal_mapped: bool) -> np.ndarray:
-        """The corner tangents in BVH order from the shapes as they are (one zero record where no
-        material reads a normal map); the changed rows."""
-        tangents = np.zeros((len(self._position) if normal_mapped else 1, 3, 4), np.float32)
-        if normal_mapped:
-            shapes = self.scene.shapes
-            shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
-            tangents[self._position] = corner_tangents(shapes, shape_index, self._local_index)
-        records = corner_tangent_records(tangents)
-        old = self.corner_tangents
-        self.corner_tangents, self._normal_mapped = records, normal_mapped
-        return np.arange(len(records)) if old is None or len(old) != len(records) else changed_rows(old, records)
+    def _update_vertices(self) -> dict[str, np.ndarray]:
+        """The shading attributes per vertex and each triangle's vertices (`shared_vertices`), from
+        the shapes as they are (none where the scene has no attribute); their changed rows. A
+        textured scene without a normal map binds one zero tangent."""
+        corners = self._corner_attributes()
+        vertices = {}
+        if corners:
+            indices, values = shared_vertices(corners)
+            vertices[VERTEX_INDICES] = triangle_vertex_records(indices)
+            vertices |= {name: vertex_records(VERTEX_ARRAYS[name], v) for name, v in values.items()}
+        if self.textured and not self._normal_mapped:
+            vertices[VERTEX_TANGENTS] = VERTEX_TANGENT.zeros(1)
+        old, self.vertices = self.vertices, vertices
+        return {
+            name: np.arange(len(records)) if name not in old else changed_rows(old[name], records)
+            for name, records in vertices.items()
+        }
 
     def _triangle_light_densities(self) -> np.ndarray:
         """Each triangle's light table weight per unit area, in scene order, from what its material
@@ -506,26 +549,16 @@ class SceneMirror:
         order = bvh.triangle_order
         vertices = arrays.vertices[order]
         nodes, wide = gpu_node_records(bvh)
-        normals = corner_normals(self.scene.shapes, arrays.shape_index, arrays.local_index)
         new = {
             TRIANGLES: triangle_records(vertices, arrays.material_index[order]),
             NODES: nodes,
             MATERIALS: material_records(arrays.materials),
-            CORNER_ATTRIBUTES: None if normals is None else corner_attribute_records(normals[order]),
         }
-        old = {
-            TRIANGLES: self.triangles,
-            NODES: self.nodes,
-            MATERIALS: self.materials,
-            CORNER_ATTRIBUTES: self.corner_attributes,
-        }
+        old = {TRIANGLES: self.triangles, NODES: self.nodes, MATERIALS: self.materials}
         changes = {
-            name: np.arange(len(new[name])) if old[name] is None else changed_rows(old[name], new[name])
-            for name in new
-            if new[name] is not None
+            name: np.arange(len(new[name])) if old[name] is None else changed_rows(old[name], new[name]) for name in new
         }
         self.triangles, self.nodes, self.materials = new[TRIANGLES], new[NODES], new[MATERIALS]
-        self.corner_attributes = new[CORNER_ATTRIBUTES]
         self.bvh: BVH = bvh
         self.wide = wide
         self.refitter = Refitter(bvh, vertices)
@@ -543,10 +576,8 @@ class SceneMirror:
         self._position = np.empty(len(order), np.int64)
         self._position[order] = np.arange(len(order))
         changes.update(self._update_lights())
-        self.corner_uvs = self.corner_tangents = None  # new triangles: every row is new
-        changes.update(self._update_textures(geometry_moved=True))
-        self.corner_colors = None  # new triangles: every row is new
-        changes.update(self._update_corner_colors())
+        changes.update(self._update_textures())
+        changes.update(self._update_vertices())
         self.rebuilds += 1
         self._needs_rebuild = False
         self._snapshot()
@@ -556,7 +587,7 @@ class SceneMirror:
     def _refit(self, moved: list[int]) -> dict[str, np.ndarray] | None:
         """New world triangles of the moved shapes and a refit BVH; None where only a rebuild will do
         (a triangle turned zero-area or back, or the refit tree got too slow)."""
-        positions, corners, normals = [], [], []
+        positions, corners = [], []
         for index in moved:
             shape = self.scene.shapes[index]
             span = slice(self._input_start[index], self._input_start[index + 1])
@@ -566,12 +597,9 @@ class SceneMirror:
                 return None
             positions.append(self._position[span])
             corners.append(world[kept])
-            if shape.world_normals is not None:
-                normals.append((self._position[span], shape.world_normals[kept]))
         positions, corners = np.concatenate(positions), np.concatenate(corners)
         order = np.argsort(positions)
         positions, corners = positions[order], corners[order]
-        changes = self._move_corner_normals(normals)
         touched = self.refitter.move(positions, corners)
         if self.bvh.kind == "bvh" and self.refitter.degradation > REBUILD_DEGRADATION:
             return None
@@ -581,18 +609,7 @@ class SceneMirror:
             triangles[f"v{corner}"] = corners[:, corner]
         rows = positions[changed_rows(self.triangles[positions], triangles)]
         self.triangles[positions] = triangles
-        return {**changes, TRIANGLES: rows, NODES: self._refit_nodes(touched)}
-
-    def _move_corner_normals(self, moved: list[tuple[np.ndarray, np.ndarray]]) -> dict[str, np.ndarray]:
-        """Write the (BVH positions, world corner normals) of moved shapes with normals into the
-        corner attributes; their changed rows."""
-        if not moved:
-            return {}
-        positions = np.concatenate([position for position, _ in moved])
-        records = corner_attribute_records(np.concatenate([normals for _, normals in moved]))
-        rows = positions[changed_rows(self.corner_attributes[positions], records)]
-        self.corner_attributes[positions] = records
-        return {CORNER_ATTRIBUTES: rows}
+        return {TRIANGLES: rows, NODES: self._refit_nodes(touched)}
 
     def _refit_nodes(self, touched: np.ndarray) -> np.ndarray:
         """Bring the GPU node records up to date with the refit `touched` binary nodes; the rows that
@@ -702,22 +719,6 @@ def _changed_texel_rows(old: np.ndarray | None, new: np.ndarray) -> np.ndarray:
     if old is None or old.shape != new.shape or old.dtype != new.dtype:
         return np.arange(len(new))
     return np.flatnonzero((old != new).reshape(len(new), -1).any(axis=1))
-
-
-def _appended(
-    world: np.ndarray | None, meshes: np.ndarray | None, records, missing: float, counts
-) -> np.ndarray | None:
-    """A corner attribute's records: the world's (`counts[0]` triangles), then the meshes' values
-    (`counts[1]` triangles, (n, 3, k)) made into records by `records`, `missing` for the side that
-    has none; None where neither has any."""
-    if world is None and meshes is None:
-        return None
-    width = meshes.shape[-1] if meshes is not None else world.dtype[0].shape[-1]
-    if world is None:
-        world = records(np.full((counts[0], 3, width), missing, np.float32))
-    if meshes is None:
-        meshes = np.full((counts[1], 3, width), missing, np.float32)
-    return joined([world, records(meshes)])
 
 
 def _union(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -7,7 +7,7 @@ together, for the renderer and (`scene_records`) for tests alike.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -15,10 +15,6 @@ from ..bvh import BVH, build_bvh, build_flat
 from ..bvh.wide import BUILD_MAX_DEPTH, WideBVH, collapse
 from ..gpu.layout import (
     BVH_NODE,
-    CORNER_ATTRIBUTES,
-    CORNER_COLORS,
-    CORNER_TANGENTS,
-    CORNER_UVS,
     MATERIAL,
     TRIANGLE,
     WIDE_BVH_NODE,
@@ -35,15 +31,16 @@ class SceneRecords:
     materials: np.ndarray  # MATERIAL.dtype
     acceleration: BVH  # the canonical binary tree (or flat list)
     wide: WideBVH | None = None  # a BVH's 4-wide form, whose records `nodes` holds
-    corner_attributes: np.ndarray | None = None  # CORNER_ATTRIBUTES.dtype like `triangles`; None: no normals
     lights: np.ndarray | None = None  # LIGHT.dtype: the light sampler's alias table
+    # the shading attributes per vertex and each triangle's vertices, by array name (SceneMirror.vertices)
+    vertices: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def material_records(materials: list[Material]) -> np.ndarray:
-    """MATERIAL records: each material's kind, and the fields its class fills."""
+    """MATERIAL records: each material's kind and absorption, and the fields its class fills."""
     records = MATERIAL.zeros(len(materials))
     for record, material in zip(records, materials, strict=True):
-        record["kind"] = material.kind
+        record["kind"], record["absorption"] = material.kind, material.absorption()
         material.fill_record(record)
     return records
 
@@ -96,31 +93,3 @@ def triangle_records(vertices: np.ndarray, material_index: np.ndarray) -> np.nda
     triangles["v0"], triangles["v1"], triangles["v2"] = vertices[:, 0], vertices[:, 1], vertices[:, 2]
     triangles["material"] = material_index
     return triangles
-
-
-def corner_attribute_records(normals: np.ndarray) -> np.ndarray:
-    """CORNER_ATTRIBUTES records of (n, 3, 3) corner normals, in the given order."""
-    records = CORNER_ATTRIBUTES.zeros(len(normals))
-    records["normal0"], records["normal1"], records["normal2"] = normals[:, 0], normals[:, 1], normals[:, 2]
-    return records
-
-
-def corner_uv_records(uvs: np.ndarray) -> np.ndarray:
-    """CORNER_UVS records of (n, 3, 2) corner texture coordinates, in the given order."""
-    records = CORNER_UVS.zeros(len(uvs))
-    records["uv0"], records["uv1"], records["uv2"] = uvs[:, 0], uvs[:, 1], uvs[:, 2]
-    return records
-
-
-def corner_tangent_records(tangents: np.ndarray) -> np.ndarray:
-    """CORNER_TANGENTS records of (n, 3, 4) corner tangents, in the given order."""
-    records = CORNER_TANGENTS.zeros(len(tangents))
-    records["tangent0"], records["tangent1"], records["tangent2"] = tangents[:, 0], tangents[:, 1], tangents[:, 2]
-    return records
-
-
-def corner_color_records(colors: np.ndarray) -> np.ndarray:
-    """CORNER_COLORS records of (n, 3, 4) corner vertex colours, in the given order."""
-    records = CORNER_COLORS.zeros(len(colors))
-    records["color0"], records["color1"], records["color2"] = colors[:, 0], colors[:, 1], colors[:, 2]
-    return records

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from functools import partial
 
 from ..scene import Scene
+from .absorbing_glass import absorbing_glass
 from .alpha_cutout import alpha_blend, alpha_cutout
 from .axis_aligned import axis_boxes
 from .camera_views import depth_of_field, orthographic_boxes
@@ -20,13 +21,14 @@ from .glossy import glossy_spheres
 from .glossy_through_glossy import glossy_through_glossy
 from .instanced import instanced_cornell
 from .normal_mapped import normal_mapped_plane
-from .principled import principled_spheres, principled_transmission
+from .principled import principled_clearcoat, principled_sheen, principled_spheres, principled_transmission
 from .punctual import point_spot_directional
 from .slivers import slivers
 from .smooth_sphere import smooth_sphere
 from .sunlit import sunlit_spheres
 from .textured import textured_quads
 from .textured_asset import textured_asset
+from .vertex_colored import vertex_colored_triangles
 
 BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "cornell": cornell,
@@ -37,6 +39,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "glossy_spheres": glossy_spheres,
     "principled_spheres": principled_spheres,
     "principled_transmission": principled_transmission,
+    "principled_clearcoat": principled_clearcoat,
+    "principled_sheen": principled_sheen,
     "slivers": slivers,
     "axis_boxes": axis_boxes,
     "env_sun_spheres": env_sun_spheres,
@@ -58,6 +62,10 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "sunlit_spheres": sunlit_spheres,
     # instances (issue 25)
     "instanced_cornell": instanced_cornell,
+    # vertex colours (issue 25)
+    "vertex_colored_triangles": vertex_colored_triangles,
+    # KHR_materials_volume (issue 25)
+    "absorbing_glass": absorbing_glass,
 }
 DEFAULT_SCENE = "cornell"
 

@@ -45,6 +45,8 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "glossy_spheres": ReferenceSettings(max_depth=6),
     "principled_spheres": ReferenceSettings(max_depth=6),
     "principled_transmission": ReferenceSettings(max_depth=10),
+    "principled_clearcoat": ReferenceSettings(max_depth=6),
+    "principled_sheen": ReferenceSettings(max_depth=6),
     "textured_quads": ReferenceSettings(max_depth=6),
     "textured_asset": ReferenceSettings(max_depth=6),
     "alpha_cutout": ReferenceSettings(max_depth=6),
@@ -67,6 +69,10 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "orthographic_boxes": ReferenceSettings(max_depth=6),
     # instances (issue 25): Mitsuba draws them flattened
     "instanced_cornell": ReferenceSettings(max_depth=9),
+    # vertex colours (issue 25): Mitsuba's `mesh_attribute` texture
+    "vertex_colored_triangles": ReferenceSettings(max_depth=6),
+    # absorption inside glass and rough transmission (issue 25's KHR_materials_volume): Mitsuba's volpath
+    "absorbing_glass": ReferenceSettings(max_depth=10),
 }
 
 
@@ -194,6 +200,10 @@ MATERIAL_CASES = (
     _materials("textured_asset", seed=20261204),
     _materials("principled_transmission", seed=20261209),
     _materials("alpha_blend", seed=20261206),
+    # absorbing glass and rough transmission (`volume`): Mitsuba's interior `homogeneous` media under `volpath`
+    _materials("absorbing_glass", seed=20261210),
+    _materials("principled_clearcoat", seed=20261401),
+    _materials("principled_sheen", seed=20261402),
 )
 
 # --- Shading normals without our terms -------------------------------------------------------
@@ -261,8 +271,24 @@ CAMERA_CASES = (
     _cameras_bdpt("orthographic_boxes", seed=20261304),
 )
 
+# --- Vertex colours ----------------------------------------------------------------------------
+# Issue 25's glTF COLOR_0 (Shape.colors) multiplying a diffuse and a glossy colour, interpolated per
+# vertex and per corner (wgputrace.scenes.vertex_colored says what each shape catches), against
+# Mitsuba's `mesh_attribute` texture (`mitsuba_scene.vertex_colored`). A family of its own, so that
+# the other families' bounds stay as they were; 8 batches of 16 spp, the price of CI time: the
+# colours differ between shapes and corners by far more than these blocks' noise.
+VERTEX_COLOR_CASES = (
+    ReferenceCase("vertex_colored_triangles", family="vertex_colors", size=64, batches=8, spp=16, seed=20261401),
+)
+
 CASES: tuple[ReferenceCase, ...] = (
-    PATH_TRACER_CASES + LIGHT_CASES + MATERIAL_CASES + SHADING_NORMAL_CASES + BDPT_CASES + CAMERA_CASES
+    PATH_TRACER_CASES
+    + LIGHT_CASES
+    + MATERIAL_CASES
+    + SHADING_NORMAL_CASES
+    + BDPT_CASES
+    + CAMERA_CASES
+    + VERTEX_COLOR_CASES
 )
 
 

@@ -3,7 +3,7 @@ Glass and glossy surfaces
 =========================
 
 Scenes of delta and near-delta lobes: grazing glass, a roughness sweep, a caustic and glossy
-reflections seen in a glossy panel.
+reflections seen in a glossy panel, and coloured glass that absorbs.
 """
 
 import wgputrace as wt
@@ -27,3 +27,8 @@ wt.save_image("caustic.png", wt.render(wt.load_scene("caustic"), **SETTINGS))
 # %%
 # ``glossy_through_glossy``: glossy spheres reflecting a small lamp, seen in a glossy panel.
 wt.save_image("glossy_through_glossy.png", wt.render(wt.load_scene("glossy_through_glossy"), **SETTINGS))
+
+# %%
+# ``absorbing_glass``: coloured glass that absorbs inside (KHR_materials_volume): a long smooth
+# block, bluer where light crossed more of it, and a rough amber sphere.
+wt.save_image("absorbing_glass.png", wt.render(wt.load_scene("absorbing_glass"), **SETTINGS))

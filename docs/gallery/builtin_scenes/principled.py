@@ -16,3 +16,11 @@ wt.save_image("principled_spheres.png", wt.render(wt.load_scene("principled_sphe
 # %%
 # ``principled_transmission``: spheres that transmit (``spec_trans`` 0.5 and 1), rough and smooth.
 wt.save_image("principled_transmission.png", wt.render(wt.load_scene("principled_transmission"), **SETTINGS))
+
+# %%
+# ``principled_clearcoat``: rough red spheres under a clearcoat from rough to glossy.
+wt.save_image("principled_clearcoat.png", wt.render(wt.load_scene("principled_clearcoat"), **SETTINGS))
+
+# %%
+# ``principled_sheen``: cloth-like spheres with a white, half-tinted and tinted sheen at their rims.
+wt.save_image("principled_sheen.png", wt.render(wt.load_scene("principled_sheen"), **SETTINGS))

@@ -1,8 +1,9 @@
 """
-Textures, alpha and normal maps
-===============================
+Textures, alpha, normal maps and vertex colours
+===============================================
 
-The Principled material's textures, its alpha modes and normal maps, made in Python (no files).
+The Principled material's textures, its alpha modes and normal maps, and vertex colours, made in
+Python (no files).
 """
 
 import wgputrace as wt
@@ -29,3 +30,8 @@ wt.save_image("alpha_blend.png", wt.render(wt.load_scene("alpha_blend"), **SETTI
 # %%
 # ``normal_mapped_plane``: a normal-mapped square under a light grazing it.
 wt.save_image("normal_mapped_plane.png", wt.render(wt.load_scene("normal_mapped_plane"), **SETTINGS))
+
+# %%
+# ``vertex_colored_triangles``: vertex colours multiplying a diffuse and a glossy colour, per vertex
+# (the backdrop, the triangle) and per corner (the quad's hard diagonal).
+wt.save_image("vertex_colored_triangles.png", wt.render(wt.load_scene("vertex_colored_triangles"), **SETTINGS))

@@ -5,7 +5,7 @@
 | color     | RGB in [0, 1]  | 0.5     | albedo: the fraction of light reflected   |
 
 GPU record: color. WGSL: `diffuse_sample`, `diffuse_eval`, `diffuse_pdf`.
-Mitsuba 3: `twosided` `diffuse` with `reflectance` = color.
+Mitsuba 3: `twosided` `diffuse` with `reflectance` = color (times vertex colours: `mitsuba_color`).
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ class Diffuse(Material):
     color: tuple[float, float, float] = (0.5, 0.5, 0.5)
 
     kind = 2
+    mitsuba_color = "reflectance"
     shader = MaterialShader(
         "materials/diffuse.wgsl",
         sample="diffuse_sample(material.color, wi, u)",

@@ -9,7 +9,8 @@ Sampling draws visible normals (Heitz 2018); shadowing is Smith's separable G1(w
 Lobes narrower than GLOSSY_LIGHT_SAMPLING_MIN_ROUGHNESS (a WGSL override) skip light sampling.
 GPU record: color, alpha = roughness. WGSL: `glossy_sample`, `glossy_eval`, `glossy_pdf`.
 Mitsuba 3: `twosided` `roughconductor`, `material`=`none`, `distribution`=`ggx`,
-`alpha` = roughness, `specular_reflectance` = color, `sample_visible` = true.
+`alpha` = roughness, `specular_reflectance` = color (times vertex colours: `mitsuba_color`),
+`sample_visible` = true.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ class Glossy(Material):
     roughness: float = 0.1
 
     kind = 4
+    mitsuba_color = "specular_reflectance"
     shader = MaterialShader(
         "materials/glossy.wgsl",
         sample="glossy_sample(material.color, material.alpha, wi, u)",

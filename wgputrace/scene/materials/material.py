@@ -10,10 +10,12 @@ pbrt-v4's `BxDF::Flags()` it answers what the integrator asks.
 | parameters and their checks             | dataclass fields, `checked_parameters` | editing re-checks (`__setattr__`)          |
 | its GPU record                          | `fill_record`                    | `material_records`                              |
 | its BSDF code (sample, eval, pdf)       | `shader`                         | `material_dispatch`: generated dispatch         |
+| optional lobes it uses (clearcoat, ...) | `lobes`                          | `SceneFeatures.lobes`: their code compiled in   |
 | every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
 | can a light sample land in its lobe?    | `samples_lights` (WGSL)          | `material_samples_lights`: next-event estimation |
 | the same BSDF seen from both sides?     | `two_sided`                      | `material_is_two_sided`; the Mitsuba `twosided` wrapper |
 | the radiance it emits                   | `emission_wgsl`, `record_radiance` | `material_emitted`, `light_table`             |
+| absorption of the light inside it       | `absorption`                     | its record's absorption, `segment_transmittance` |
 | its Mitsuba 3 equivalent                | `mitsuba_bsdf`, `mitsuba_emitter` | `mitsuba_scene`                                |
 
 A class registers itself as a kind when its body sets `kind`; subclassing a kind without setting
@@ -89,6 +91,9 @@ class Material(Kind):
     two_sided_wgsl: ClassVar[str | None] = None
     # WGSL vec3<f32> over `material`: the radiance it emits; None: it emits nothing
     emission_wgsl: ClassVar[str | None] = None
+    # the parameter of `mitsuba_bsdf()` that its colour (the record's `color`, which vertex colours
+    # multiply) fills, for the export of vertex-coloured triangles; None: not exported with them
+    mitsuba_color: ClassVar[str | None] = None
 
     @property
     def label(self) -> str:
@@ -127,6 +132,11 @@ class Material(Kind):
         `shader` and `emission_wgsl` read them. `kind` is written by the caller; other fields stay zero."""
         raise NotImplementedError
 
+    def lobes(self) -> frozenset[str]:
+        """The optional lobes of its kind that it uses, whose code is compiled only into kernels of
+        scenes that use them (`SceneFeatures.lobes`): none here."""
+        return frozenset()
+
     def textures(self) -> dict[str, Texture]:
         """The textures it reads, by MATERIAL_TEXTURES slot ("base_color", "normal", ...): none here."""
         return {}
@@ -144,6 +154,10 @@ class Material(Kind):
     def emits(self) -> bool:
         """Whether it sends any light, through its kind's emission or its texture record."""
         return max(self.surface_emission()) > 0
+
+    def absorption(self) -> tuple[float, float, float]:
+        """sigma_a per channel (1 / scene units) of the light travelling inside it (`volume`): none here."""
+        return (0.0, 0.0, 0.0)
 
     def fill_texture_record(self, record: np.void) -> None:
         """Write the parameters of its MATERIAL_TEXTURES record (the texture slots are the caller's):

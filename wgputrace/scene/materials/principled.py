@@ -19,20 +19,32 @@ need (transmission included).
 | emission   | RGB >= 0      | 0       | emitted radiance (glTF emissiveFactor), on both sides unless single-sided |
 | emission_texture | Texture (sRGB) or None | None | RGB x emission (glTF emissiveTexture) |
 | emission_strength | float >= 0 | 1    | x emission (KHR_materials_emissive_strength)                     |
+| attenuation_color | RGB in [0, 1] | 1  | with spec_trans > 0, Beer-Lambert absorption inside: white light has this colour ... |
+| attenuation_distance | float > 0 | inf | ... after this distance inside (KHR_materials_volume; `volume`)  |
+| clearcoat  | float [0, 1]  | 0       | weight of a second, colourless GTR1 reflection (Schlick Fresnel of normal reflectance 0.04) on top |
+| clearcoat_gloss | float [0, 1] | 0   | the clearcoat's GTR1 alpha = lerp(0.1, 0.001, clearcoat_gloss)   |
+| sheen      | float [0, 1]  | 0       | weight of Disney's sheen: Schlick's (1 - cos_d)^5 retro-reflection at grazing angles, x (1 - metallic) |
+| sheen_tint | float [0, 1]  | 0       | blends the sheen's colour from white to base_color's hue (base_color / its luminance) |
 
 A Disney diffuse lobe with retro-reflection, weighted by (1 - metallic)(1 - spec_trans), plus GGX
 reflection whose Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic
 Schlick(base_color), plus rough dielectric transmission weighted by (1 - metallic) spec_trans and
-tinted sqrt(base_color). Sampling picks the diffuse lobe with probability (1 - metallic)(1 -
-spec_trans) / (2 - metallic - (1 - metallic) spec_trans), else a visible GGX normal that reflects
-or refracts as its Fresnel and the weights say. Without transmission the material is the same on
-both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
-GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans. Textures, alpha
+tinted sqrt(base_color), plus from outside Mitsuba's clearcoat (0.25 clearcoat F D G cos_o: no
+1 / (4 cos_i cos_o), as Mitsuba's has none) and sheen (sampled by the other lobes). Sampling picks
+the diffuse lobe, the clearcoat (a GTR1 normal) and the GGX lobes at the rates (1 - metallic)(1 -
+spec_trans), 0.25 clearcoat and 1 (the GGX one split into reflection and refraction by its Fresnel
+and spec_trans: a visible GGX normal reflects or refracts). Without transmission the material is
+the same on both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
+GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans, clearcoat,
+clearcoat_gloss, sheen, sheen_tint, absorption
+(sigma_a, 0 without transmission: nothing goes inside); the clearcoat and sheen code is compiled only into kernels of
+scenes with a material that uses it (`lobes`, `principled_lobes_hook`). Textures, alpha
 and normal_scale are in its MATERIAL_TEXTURES record, applied at the hit (`resolve_material`) so
 the BSDF code sees constants; alpha modes and sidedness act in the traversal's triangle test
 (`surface_blocks`), compiled only for scenes with such a material. WGSL: `principled_sample`,
 `principled_eval`, `principled_pdf`. Mitsuba 3: `principled` with the same values, in `twosided`
-without transmission.
+without transmission; an interior `homogeneous` medium where it absorbs (`mitsuba_medium`).
+Mitsuba's anisotropic, spec_tint and flatness are not here.
 """
 
 from __future__ import annotations
@@ -47,7 +59,11 @@ from ..texture import Texture
 from .emitter import RADIANCE_MAX
 from .glass import IOR_MAX
 from .material import ALPHA_MODES, Material, MaterialError, MaterialShader
+from .volume import absorption_coefficients, checked_attenuation
 
+# the optional lobes (each switched on by its weight's parameter) and the parameters of their records
+PRINCIPLED_LOBES = ("clearcoat", "sheen")
+_LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint")
 # the texture parameters, `<slot>_texture` for each MATERIAL_TEXTURES slot Principled reads
 _TEXTURE_SLOTS = ("base_color", "metallic_roughness", "normal", "emission")
 # glTF sets no bound on a normal map's scale; beyond this its bumps are all slope (a typo, surely)
@@ -78,6 +94,12 @@ class Principled(Material):
     emission: tuple[float, float, float] = (0.0, 0.0, 0.0)
     emission_texture: Texture | None = None
     emission_strength: float = 1.0
+    attenuation_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    attenuation_distance: float = math.inf
+    clearcoat: float = 0.0
+    clearcoat_gloss: float = 0.0
+    sheen: float = 0.0
+    sheen_tint: float = 0.0
 
     kind = 5
     shader = MaterialShader(
@@ -125,12 +147,24 @@ class Principled(Material):
             "normal_scale": self.check_number(
                 "normal_scale", self.normal_scale, low=-NORMAL_SCALE_MAX, high=NORMAL_SCALE_MAX
             ),
+            **checked_attenuation(self, self.attenuation_color, self.attenuation_distance),
+            **{name: self.check_number(name, getattr(self, name), low=0.0, high=1.0) for name in _LOBE_PARAMETERS},
         }
 
     def fill_record(self, record) -> None:
         record["color"], record["alpha"] = self.base_color, self.roughness
         record["ior"], record["metallic"] = self.eta, self.metallic
         record["spec_trans"] = self.spec_trans
+        for name in _LOBE_PARAMETERS:
+            record[name] = getattr(self, name)
+
+    def lobes(self) -> frozenset[str]:
+        return frozenset(lobe for lobe in PRINCIPLED_LOBES if getattr(self, lobe) > 0)
+
+    def absorption(self) -> tuple[float, float, float]:
+        if self.spec_trans == 0.0:
+            return super().absorption()
+        return absorption_coefficients(self.attenuation_color, self.attenuation_distance)
 
     def textures(self) -> dict[str, Texture]:
         slots = {slot: getattr(self, f"{slot}_texture") for slot in _TEXTURE_SLOTS}
@@ -162,8 +196,15 @@ class Principled(Material):
             "roughness": self.roughness,
             "eta": self.eta,
         }
-        if self.spec_trans > 0:  # Mitsuba switches its transmission lobe on by the key's presence
+        # Mitsuba switches its transmission, clearcoat, sheen and sheen tint on by their keys' presence
+        if self.spec_trans > 0:
             bsdf["spec_trans"] = self.spec_trans
+        if self.clearcoat > 0:
+            bsdf |= {"clearcoat": self.clearcoat, "clearcoat_gloss": self.clearcoat_gloss}
+        if self.sheen > 0:
+            bsdf["sheen"] = self.sheen
+            if self.sheen_tint > 0:
+                bsdf["sheen_tint"] = self.sheen_tint
         base, metallic_roughness = self.base_color_texture, self.metallic_roughness_texture
         if base is not None:
             bsdf["base_color"] = base.mitsuba_bitmap(base.linear_texels[..., :3] * self.base_color)

@@ -1,0 +1,43 @@
+// A frame's pixels and their neighbours in the G-buffer, as the temporal passes read them: bounds, indices, demodulation, the depth's gradient.
+//! include "generated/structs.wgsl"
+//! include "generated/view_structs.wgsl"
+//! include "common/constants.wgsl"
+//
+// The including kernel binds `params` (with the image's width and height) and `gbuffer`.
+
+// Radiance over this is what the filters move about; albedo channels below FILTER_ALBEDO_MIN
+// (black materials, nothing hit) divide by it instead of by ~0.
+fn demodulation(albedo: vec3<f32>) -> vec3<f32> {
+    return max(albedo, vec3<f32>(FILTER_ALBEDO_MIN));
+}
+
+fn inside(xy: vec2<i32>) -> bool {
+    return all(xy >= vec2<i32>(0)) && xy.x < i32(params.width) && xy.y < i32(params.height);
+}
+
+fn pixel_index(xy: vec2<i32>) -> u32 {
+    return u32(xy.y) * params.width + u32(xy.x);
+}
+
+// How much the depth changes per pixel along x and y on the surface the pixel at `xy` sees: per
+// axis the smaller of the two one-sided differences to neighbours on the same surface, so a
+// silhouette beside the pixel does not count as its surface's slope.
+fn depth_gradient(xy: vec2<i32>, here: GBufferPixel) -> vec2<f32> {
+    var gradient = vec2<f32>(0.0);
+    for (var axis = 0; axis < 2; axis++) {
+        var smallest = FLOAT_MAX;
+        for (var side = -1; side <= 1; side += 2) {
+            var step = vec2<i32>(0);
+            step[axis] = side;
+            let neighbour = xy + step;
+            if inside(neighbour) {
+                let there = gbuffer[pixel_index(neighbour)];
+                if there.surface == here.surface {
+                    smallest = min(smallest, abs(there.depth - here.depth));
+                }
+            }
+        }
+        gradient[axis] = select(0.0, smallest, smallest < FLOAT_MAX);
+    }
+    return gradient;
+}

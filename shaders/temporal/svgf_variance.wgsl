@@ -1,0 +1,48 @@
+// The variance-guided filter's input: each pixel's demodulated history and the variance of its luminance.
+//! include "temporal/svgf_common.wgsl"
+//! include "generated/bindings/svgf_variance.wgsl"
+//! include "generated/workgroup.wgsl"
+//
+// A history of SVGF_TEMPORAL_FRAMES frames or more has its own moments (TemporalAccumulation);
+// a younger one, whose moments are too few to trust, takes them over its 7x7 neighbourhood
+// instead, weighted by the geometry, as SVGF does after a disocclusion.
+
+fn illumination(pixel: u32) -> vec3<f32> {
+    let old = history[pixel];
+    let mean = (old.sum.xyz - old.compensation.xyz) / max(old.length, 1.0);
+    return mean / demodulation(gbuffer[pixel].albedo);
+}
+
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let xy = vec2<i32>(id.xy);
+    let pixel = pixel_index(xy);
+    let old = history[pixel];
+    var moments = old.moments;
+    if old.length < params.temporal_length {
+        let here = gbuffer[pixel];
+        let gradient = depth_gradient(xy, here);
+        var sums = vec2<f32>(0.0);
+        var weights = 0.0;
+        for (var dy = -3; dy <= 3; dy++) {
+            for (var dx = -3; dx <= 3; dx++) {
+                let tap = xy + vec2<i32>(dx, dy);
+                if !inside(tap) {
+                    continue;
+                }
+                let index = pixel_index(tap);
+                let expected = dot(gradient, abs(vec2<f32>(f32(dx), f32(dy))));
+                let weight = geometry_weight(here, gbuffer[index], expected);
+                sums += weight * history[index].moments;
+                weights += weight;
+            }
+        }
+        // the pixel itself has weight 1: weights never vanish
+        moments = sums / weights;
+    }
+    let variance = max(moments.y - moments.x * moments.x, 0.0);
+    illuminated[pixel] = vec4<f32>(illumination(pixel), variance);
+}

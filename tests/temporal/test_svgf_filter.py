@@ -1,0 +1,94 @@
+"""SVGF's variance-guided filter (`render_frame(filtered=True)`, VarianceGuidedFilter): it keeps a
+flat wall's energy (its radiance in closed form: albedo times the sky), keeps a lit card's light on
+the card (its radiance in closed form: a point light's), and makes no NaN or infinity of black
+surfaces, the sky, noiseless pixels or a young history."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wgputrace import Diffuse, Emitter, PointLight, Renderer
+from wgputrace.testing.reprojection import (
+    CARD_DISTANCE,
+    SIZE,
+    WHITE,
+    card_scene,
+    centre_hits,
+    pinhole,
+    wall_scene,
+)
+
+pytestmark = pytest.mark.gpu
+
+FRAMES = 8
+SKY = 0.5
+# the filtered mean may differ from the truth by this many standard errors of the unfiltered mean
+Z_BOUND = 4.0
+CARD_BLUR_BOUND = 0.01
+LIGHT_POSITION = (-0.6, 0.0, 0.0)
+LIGHT_INTENSITY = 3.0
+
+
+# the box filter's footprint of a pixel, as a grid of points per axis
+SUBPIXELS = (np.arange(8) + 0.5) / 8
+
+
+def _card_radiance(within: tuple[float, float]) -> np.ndarray:
+    """The card's radiance through the point `within` each pixel: its front sees nothing but the
+    point light, so a diffuse surface's radiance under it (SIZE, SIZE)."""
+    points, _ = centre_hits(pinhole(0.0), within)
+    distance_squared = ((np.asarray(LIGHT_POSITION) - points) ** 2).sum(-1)
+    cosine = CARD_DISTANCE / np.sqrt(distance_squared)
+    return WHITE[0] / np.pi * LIGHT_INTENSITY * cosine / distance_squared
+
+
+def _frames(renderer: Renderer) -> tuple[np.ndarray, np.ndarray]:
+    """The filtered picture and the history's mean after FRAMES frames at rest."""
+    for _ in range(FRAMES):
+        filtered = renderer.render_frame(filtered=True)
+    return filtered, renderer._temporal.image()
+
+
+def _standard_error(values: np.ndarray) -> float:
+    return float(values.std() / np.sqrt(values.size))
+
+
+def test_a_flat_wall_keeps_its_energy():
+    filtered, unfiltered = _frames(Renderer(wall_scene(sky=SKY), SIZE, SIZE, seed=11))
+    truth = WHITE[0] * SKY
+    assert abs(unfiltered.mean() - truth) < Z_BOUND * _standard_error(unfiltered)
+    assert abs(filtered.mean() - truth) < Z_BOUND * _standard_error(unfiltered)
+    # and it did filter: the pixels spread far less than the history's
+    assert filtered.std() < unfiltered.std() / 3
+
+
+def test_a_lit_card_keeps_its_light_and_the_wall_its_own():
+    scene = card_scene(sky=0.0).add_light(PointLight(position=LIGHT_POSITION, intensity=LIGHT_INTENSITY))
+    filtered, unfiltered = _frames(Renderer(scene, SIZE, SIZE, seed=11))
+    _, on_card = centre_hits(pinhole(0.0))
+    radiance = np.mean([_card_radiance((x, y)) for x in SUBPIXELS for y in SUBPIXELS], axis=0)
+    # the card's pixels whose whole footprint is on it
+    inner = (
+        on_card & np.roll(on_card, 1, 0) & np.roll(on_card, -1, 0) & np.roll(on_card, 1, 1) & np.roll(on_card, -1, 1)
+    )
+    error = _standard_error(unfiltered[inner] - radiance[inner, None])
+    assert abs(unfiltered[inner].mean() - radiance[inner].mean()) < Z_BOUND * error
+    # The filter blurs the card's own falloff a little (0.2% measured); taking even 2% of its
+    # taps from the wall, ten times darker, would lower it by nearly 2%.
+    np.testing.assert_allclose(filtered[inner].mean(), radiance[inner].mean(), rtol=CARD_BLUR_BOUND)
+    # the wall, ten times darker, is not lifted by the card beside it
+    wall = ~on_card
+    assert abs(filtered[wall].mean() - unfiltered[wall].mean()) < Z_BOUND * _standard_error(unfiltered[wall])
+
+
+def test_black_surfaces_the_sky_and_young_histories_stay_finite():
+    # max_depth 1: a black wall (albedo 0), a lamp card and the sky, each without noise (variance 0)
+    scene = card_scene(wall=Diffuse("black", color=(0.0, 0.0, 0.0)), card=Emitter("lamp", emittance=2.0))
+    renderer = Renderer(scene, SIZE, SIZE, max_depth=1)
+    for camera in (pinhole(0.0), pinhole(0.5, 40.0), pinhole(-0.5, 75.0)):
+        filtered = renderer.render_frame(camera, filtered=True)
+        assert np.isfinite(filtered).all()
+        # the sky passes through as it is
+        sky = renderer.gbuffer()["surface"] == 0
+        np.testing.assert_allclose(filtered[sky], renderer._temporal.image()[sky], rtol=1e-6)
