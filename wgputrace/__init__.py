@@ -16,7 +16,7 @@ from .image_io import load_image, load_layers, save_image, tonemap
 from .loaders import SceneLoadError, SceneLoadWarning, load_scene
 from .provenance import read_metadata
 from .render import UNLIMITED_DEPTH, Renderer, render
-from .scene import Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
+from .scene import Instance, Scene, Shape, Texture, TextureTransform, make_box, make_icosphere, make_plane, model_matrix
 from .scene.cameras import KINDS as CAMERA_KINDS
 from .scene.cameras import Sensor
 from .scene.lights import KINDS as LIGHT_KINDS
@@ -41,6 +41,7 @@ __all__ = [
     "DeviceLimitError",
     "Environment",
     "GpuFailure",
+    "Instance",
     "Renderer",
     "Scene",
     "Sensor",

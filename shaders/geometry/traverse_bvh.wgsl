@@ -3,33 +3,12 @@
 //! include "geometry/intersect_box.wgsl"
 //! include "geometry/hit_queries.wgsl"
 //! include "generated/texel_loaders.wgsl"
-//! include "geometry/bvh_child_order.wgsl"
+//! include "geometry/wide_children.wgsl"
 //! include "generated/traversal_stack.wgsl"
 
 // The scene group's `nodes` are texels of 4-wide records here (scene_group): texture
 // loads are the fast kind on lavapipe, and four children's boxes a record save steps
 // (bench/README.md's optimization log).
-
-// Child k's (entry distance bits, child word): the shipped box test, FLOAT_MAX for an empty slot.
-fn wide_child(ray: Ray, inverse_direction: vec3<f32>, wide: WideBvhNode, k: u32, t_max: f32) -> vec2<u32> {
-    let bounds_min = vec3<f32>(wide.min_x[k], wide.min_y[k], wide.min_z[k]);
-    let bounds_max = vec3<f32>(wide.max_x[k], wide.max_y[k], wide.max_z[k]);
-    let t = intersect_box(ray.origin, inverse_direction, bounds_min, bounds_max, t_max);
-    return vec2<u32>(bitcast<u32>(select(t, FLOAT_MAX, wide.children[k] == WIDE_EMPTY)), wide.children[k]);
-}
-
-fn is_hit(child: vec2<u32>) -> bool {
-    return bitcast<f32>(child.x) != FLOAT_MAX;
-}
-
-// Leaves a, b in the order nearer first (an exact tie keeps them as they are).
-fn order_pair(a: ptr<function, vec2<u32>>, b: ptr<function, vec2<u32>>) {
-    let first = *a;
-    let second = *b;
-    let keep = bitcast<f32>(first.x) <= bitcast<f32>(second.x);
-    *a = select(second, first, keep);
-    *b = select(first, second, keep);
-}
 
 // A triangle along the ray closer than t_max, ignoring `skip_triangle` (the surface the ray
 // leaves): the nearest one, or with `any_hit` the first one found. Misses return NO_TRIANGLE.

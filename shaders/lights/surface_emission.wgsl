@@ -21,7 +21,7 @@ fn surface_emission(material_index: u32, triangle_index: u32, triangle: Triangle
 // its footprint in the emission texture: footprint_means), for the density with
 // which the light sampler picks its points.
 fn surface_light_density(triangle_index: u32) -> f32 {
-    return triangle_light_densities[triangle_index];
+    return triangle_light_densities[mesh_triangle(triangle_index)];
 }
 
 // Whether triangles of material `material_index` emit from their back (the side

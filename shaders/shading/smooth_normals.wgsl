@@ -7,6 +7,7 @@
 //! include "geometry/barycentric.wgsl"
 //! include "shading/corner_vertices.wgsl"
 //! include "shading/shading_weight.wgsl"
+//! include "generated/instancing.wgsl"
 
 fn vertex_normal(vertex: u32) -> vec3<f32> {
     let n = vertex_normals[vertex];
@@ -20,13 +21,13 @@ fn vertex_normal(vertex: u32) -> vec3<f32> {
 // horizon but above the geometric one (at silhouettes) thus shades with the geometric normal at that
 // point, so it is never black.
 fn shading_normal(triangle_index: u32, triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32> {
-    let v = corner_vertices(triangle_index);
+    let v = corner_vertices(mesh_triangle(triangle_index));
     let normal0 = vertex_normal(v.x);
     if all(normal0 == vec3<f32>(0.0)) {
         return geometric;
     }
     let b = triangle_barycentric(triangle, p);
-    var n = (1.0 - b.x - b.y) * normal0 + b.x * vertex_normal(v.y) + b.y * vertex_normal(v.z);
+    var n = world_normal(triangle_index, (1.0 - b.x - b.y) * normal0 + b.x * vertex_normal(v.y) + b.y * vertex_normal(v.z));
     let n_length = length(n);
     // NaN too: a zero-area triangle's determinant is 0
     if !(n_length > SHADING_NORMAL_MIN_LENGTH) {

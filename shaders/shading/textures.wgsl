@@ -8,6 +8,7 @@
 //! include "common/constants.wgsl"
 //! include "geometry/barycentric.wgsl"
 //! include "shading/corner_vertices.wgsl"
+//! include "generated/instancing.wgsl"
 
 const TEXTURE_COORDINATE_MAX: f32 = 16777216.0;
 
@@ -59,7 +60,7 @@ fn texture_sample(id: u32, uv: vec2<f32>) -> vec4<f32> {
 
 // The texture coordinates at `p` on triangle `triangle_index`, interpolated from its corners.
 fn surface_uv(triangle_index: u32, triangle: Triangle, p: vec3<f32>) -> vec2<f32> {
-    let v = corner_vertices(triangle_index);
+    let v = corner_vertices(mesh_triangle(triangle_index));
     let b = triangle_barycentric(triangle, p);
     return (1.0 - b.x - b.y) * vertex_uvs[v.x].uv + b.x * vertex_uvs[v.y].uv + b.y * vertex_uvs[v.z].uv;
 }

@@ -2,12 +2,13 @@
 //! include "generated/materials.wgsl"
 //! include "geometry/barycentric.wgsl"
 //! include "shading/corner_vertices.wgsl"
+//! include "generated/instancing.wgsl"
 
 // The linear RGBA vertex colour at `p` on triangle `triangle_index`, interpolated from its corners
 // (white for a triangle of a shape without colours). Zero-area triangles, whose barycentric
 // weights would be NaN, never reach the GPU (Scene.arrays leaves them out).
 fn vertex_color(triangle_index: u32, triangle: Triangle, p: vec3<f32>) -> vec4<f32> {
-    let v = corner_vertices(triangle_index);
+    let v = corner_vertices(mesh_triangle(triangle_index));
     let b = triangle_barycentric(triangle, p);
     return (1.0 - b.x - b.y) * vertex_colors[v.x].color + b.x * vertex_colors[v.y].color + b.y * vertex_colors[v.z].color;
 }

@@ -112,7 +112,7 @@ def corrupt(document: dict, change) -> dict:
         (lambda d: d["accessors"][1].update(componentType=5126), r"indices -> accessors\[1\]: must be"),
         (lambda d: d["meshes"][0]["primitives"][0].pop("attributes"), r"primitives\[0\]: 'attributes' is missing"),
         (lambda d: d["meshes"][0]["primitives"][0].update(indices=99), r"accessors index 99 out of range"),
-        (lambda d: d["nodes"][0].update(children=[0]), r"nodes\[0\]: is reached twice"),
+        (lambda d: d["nodes"][0].update(children=[0]), r"nodes\[0\]\.children\[0\]: is node 0, its own ancestor"),
         (lambda d: d["nodes"][0].update(matrix=[1] * 15), r"nodes\[0\].matrix: must be 16 numbers"),
         (lambda d: d["nodes"][0].update(scale=[0, 0, 0]), "determinant 0.0"),
         (lambda d: d["accessors"][0].update(sparse={}), "sparse accessors are not supported"),

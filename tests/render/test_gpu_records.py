@@ -17,6 +17,7 @@ RENDERER_BINDINGS = {("scene", "frame")}
 EVERY_GROUP = (
     scene_group("bvh"),
     scene_group("flat"),
+    scene_group("bvh", instanced=True),
     lights_group(LightFeatures((PointLight.kind,), ENVIRONMENT_MAP)),
     shading_group(smooth=True, textured=True, vertex_colors=True),
 )

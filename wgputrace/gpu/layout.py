@@ -204,6 +204,21 @@ LIGHTING = GpuStruct(
     "bounding sphere where distant lights need it (their power crosses it, light paths start on it).",
 )
 
+# An instance as the two-level traversal reads it (`render/instance_records.py`), in the top-level
+# BVH's order: world to object (the rays going in) and object to world (hit triangles, normals and
+# tangents coming out) as the rows of 3x4 matrices, its mesh's bottom-level root record, and the
+# slot its triangles' hit words carry (0 for the scene's own shapes, whose matrices are unused).
+INSTANCE = GpuStruct(
+    "Instance",
+    (
+        *((f"world_to_object{row}", "vec4<f32>") for row in range(3)),
+        *((f"object_to_world{row}", "vec4<f32>") for row in range(3)),
+        ("root", "u32"),
+        ("slot", "u32"),
+    ),
+    "One placement of a mesh: its matrices' rows, its bottom-level BVH's root record, its hit-word slot.",
+)
+
 # Shading attributes are stored once per vertex, not per corner: a smooth mesh shares each vertex
 # among about six triangles, whose corners held a copy each (`python -m bench.attribute_memory`). A triangle names its three vertices (TRIANGLE_VERTICES, in
 # the triangles' BVH order); each attribute is its own array of vertex records, bound only for

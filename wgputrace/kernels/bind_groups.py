@@ -25,6 +25,7 @@ from ..gpu.layout import (
     BVH_NODE,
     FRAME,
     GBUFFER_PIXEL,
+    INSTANCE,
     LIGHT,
     LIGHT_SOURCE,
     LIGHTING,
@@ -58,11 +59,18 @@ _NODES = {"bvh": Binding("nodes", TEXELS), "flat": Binding("nodes", STORAGE_READ
 ACCELERATIONS = tuple(_NODES)
 
 
-def scene_group(acceleration: str) -> BindGroup:
-    """The scene group with the nodes as `acceleration`'s traversal reads them."""
+# A scene with instances adds their records (`render/instance_records.py`), read by the two-level
+# traversal and by whatever takes a hit triangle to the world (`generated/instancing.wgsl`).
+_INSTANCES = Binding("instances", STORAGE_READ, INSTANCE)
+
+
+def scene_group(acceleration: str, instanced: bool = False) -> BindGroup:
+    """The scene group with the nodes as `acceleration`'s traversal reads them, and the instances'
+    records where `instanced`."""
     if acceleration not in _NODES:
         raise ValueError(f"acceleration must be one of {ACCELERATIONS}, got {acceleration!r}")
-    return SCENE_GROUP.with_binding(_NODES[acceleration])
+    group = SCENE_GROUP.with_binding(_NODES[acceleration])
+    return group.extended(_INSTANCES) if instanced else group
 
 
 # Each pixel's random state and running sum: what every integrator writes. An integrator's own

@@ -12,6 +12,7 @@ from .absorption import GENERATED_ABSORPTION, absorption_hook
 from .alpha import GENERATED_ALPHA, alpha_hook
 from .camera import GENERATED_CAMERA, camera_hook
 from .emission import GENERATED_EMISSION, emission_hook
+from .instancing import GENERATED_INSTANCING, instancing_hook
 from .light_dispatch import GENERATED_ESCAPED_LIGHT, GENERATED_LIGHTS, escaped_light_hook, lights_hook
 from .material_dispatch import GENERATED_MATERIALS, materials_hook
 from .path_guides import GENERATED_PATH_GUIDES, path_guides_hook
@@ -37,6 +38,7 @@ HOOKS: dict[str, Callable[[KernelVariant], str]] = {
     GENERATED_STRUCTS: structs_hook,
     GENERATED_TEXEL_LOADERS: _texel_loaders_hook,
     GENERATED_ACCELERATION: acceleration_hook,
+    GENERATED_INSTANCING: instancing_hook,
     GENERATED_CAMERA: camera_hook,
     GENERATED_TRAVERSAL_STACK: traversal_stack_hook,
     GENERATED_MATERIALS: materials_hook,

@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ..bvh.wide import STACK_SIZE as WIDE_STACK_SIZE
+from .instancing import traversal_file
 
 if TYPE_CHECKING:
     from .variant import KernelVariant
@@ -36,7 +37,7 @@ def traversal_stack(entries: int = BVH_STACK_SIZE) -> str:
 
 
 def acceleration_hook(variant: KernelVariant) -> str:
-    return f'//! include "geometry/traverse_{variant.scene.acceleration}.wgsl"\n'
+    return f'//! include "geometry/traverse_{traversal_file(variant)}.wgsl"\n'
 
 
 def traversal_stack_hook(variant: KernelVariant) -> str:

@@ -82,6 +82,9 @@ class SceneFeatures:
     vertex_colors: bool = flag("vertex colours")
     # materials that absorb the light inside them (absorption_hook)
     absorbing: bool = flag("absorbing")
+    # instances (two-level traversal, `instancing_hook`): the bits of a hit word that index the
+    # triangle, the rest its instance's slot; 0: no instances
+    instance_triangle_bits: int = 0
 
     def __post_init__(self) -> None:
         scene_group(self.acceleration)  # refuses an unknown acceleration
@@ -92,7 +95,9 @@ class SceneFeatures:
     @property
     def labels(self) -> list[str]:
         lights = [self.lights.description] if self.lights.any else []
-        return lights + [f"{lobe} lobe" for lobe in self.lobes] + _flag_labels(self) + camera_label(self.camera)
+        lobes = [f"{lobe} lobe" for lobe in self.lobes]
+        instanced = ["instances"] if self.instance_triangle_bits else []
+        return lights + lobes + _flag_labels(self) + instanced + camera_label(self.camera)
 
     def groups(self) -> tuple[BindGroup, ...]:
         """The bind groups a kernel tracing this scene declares besides its own: the scene group,
@@ -100,7 +105,7 @@ class SceneFeatures:
         lights = (lights_group(self.lights),) if self.lights.any else ()
         shaded = self.smooth or self.textured or self.vertex_colors
         shading = (shading_group(self.smooth, self.textured, self.vertex_colors),) if shaded else ()
-        return (scene_group(self.acceleration), *lights, *shading)
+        return (scene_group(self.acceleration, self.instance_triangle_bits > 0), *lights, *shading)
 
 
 @dataclass(frozen=True)

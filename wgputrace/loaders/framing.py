@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from ..scene import Camera, Scene
+from ..scene.scene import instance_corners
 
 FRAMING_VFOV_DEGREES = 40.0
 LOOK_ALONG_PLUS_Z = (0.0, 0.0, 1.0)
@@ -23,8 +24,9 @@ LOOK_ALONG_MINUS_Z = (0.0, 0.0, -1.0)
 
 
 def framing_camera(scene: Scene, forward=LOOK_ALONG_PLUS_Z) -> Camera:
-    low = np.min([shape.world_vertices.min(axis=(0, 1)) for shape in scene.shapes if shape.triangle_count], axis=0)
-    high = np.max([shape.world_vertices.max(axis=(0, 1)) for shape in scene.shapes if shape.triangle_count], axis=0)
+    corners = [shape.world_vertices.reshape(-1, 3) for shape in scene.shapes if shape.triangle_count]
+    corners += [instance_corners(instance) for instance in scene.instances]
+    low, high = (np.min([c.min(axis=0) for c in corners], axis=0), np.max([c.max(axis=0) for c in corners], axis=0))
     centre = (low.astype(np.float64) + high) / 2.0
     radius = float(np.linalg.norm(high.astype(np.float64) - low)) / 2.0
     # a scene flat in every direction (one point) still gets a camera at a usable distance

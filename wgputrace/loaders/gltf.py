@@ -4,7 +4,8 @@
 Not trimesh's glTF reader: its PBRMaterial drops keys it does not know (KHR_materials_transmission,
 KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each mesh instance in
 the default scene's node tree becomes one Shape per triangle primitive, the node's world matrix its
-`transform`, NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
+`transform` (a mesh that several nodes share: one Shape per primitive placed by an Instance per node,
+`placed_meshes`), NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
 material's textures need them (else MikkTSpace's tangents), integer ones (KHR_mesh_quantization)
 dequantised by `vertex_attribute`, COLOR_0 its vertex colours (`vertex_colors`). Sparse accessors,
 skins, morph targets, TEXCOORD_1 and COLOR_1 and above are not read. A required extension outside
@@ -36,6 +37,7 @@ from ..scene import (
     Shape,
     SpotLight,
 )
+from ..scene.instances import Instance
 from .errors import SceneLoadError, SceneLoadWarning
 from .gltf_cameras import node_camera
 from .gltf_colors import vertex_colors, warn_unread_colors
@@ -48,6 +50,7 @@ from .gltf_compression import (
     decode_draco,
     draco_available,
 )
+from .gltf_instances import placed_meshes
 from .gltf_material_lobes import LOBE_EXTENSIONS, UNMAPPED_MATERIAL_EXTENSIONS
 from .gltf_materials import TRANSFORM_EXTENSION, GltfMaterials
 from .gltf_meshopt import (
@@ -417,6 +420,7 @@ class GltfContents(NamedTuple):
     shapes: list[Shape]
     cameras: list[tuple[str, Sensor]]
     lights: list[Light]
+    instances: list[Instance]  # nodes sharing a mesh (`placed_meshes`)
 
 
 def read_gltf(path: Path) -> GltfContents:
@@ -432,21 +436,24 @@ def read_gltf(path: Path) -> GltfContents:
         roots = [i for i in range(len(nodes)) if i not in children]
     materials = GltfMaterials(reader)
     warn_unread_colors(reader)
-    shapes: list[Shape] = []
+    placements: list[tuple[int, np.ndarray, str]] = []
     lights: list[Light] = []
     cameras: list[tuple[str, Sensor]] = []
-    stack = [(root, np.eye(4), "scene") for root in reversed(roots)]
+    # (node, parent's world matrix, JSON path that reached it, its ancestors)
+    stack = [(root, np.eye(4), "scene", ()) for root in reversed(roots)]
     visited: set[int] = set()
     while stack:
-        index, parent, where = stack.pop()
-        node = reader.item("nodes", index, where)
+        index, parent, reached, ancestors = stack.pop()
+        if index in ancestors:
+            raise reader.fail(reached, f"is node {index}, its own ancestor: the node graph has a cycle")
+        node = reader.item("nodes", index, reached)
         where = f"nodes[{index}]"
         if index in visited:
             raise reader.fail(where, "is reached twice: glTF nodes must form a tree")
         visited.add(index)
         world = parent @ _local_matrix(reader, node, where)
         if "mesh" in node:
-            shapes += _mesh_shapes(reader, node["mesh"], world, materials, where)
+            placements.append((node["mesh"], world, where))
         placed = node_camera(reader, node, world, where) if "camera" in node else None
         if placed is not None:
             cameras.append(placed)
@@ -454,8 +461,14 @@ def read_gltf(path: Path) -> GltfContents:
         if light is not None:
             lights.append(_light(reader, light, world, where))
         children = reader.get(node, "children", list, where, [])
-        stack += [(child, world, where) for child in reversed(children)]
-    return GltfContents(shapes, cameras, lights)
+        stack += [
+            (child, world, f"{where}.children[{k}]", (*ancestors, index))
+            for k, child in reversed(list(enumerate(children)))
+        ]
+    shapes, instances = placed_meshes(
+        reader, placements, lambda mesh, world, where: _mesh_shapes(reader, mesh, world, materials, where)
+    )
+    return GltfContents(shapes, cameras, lights, instances)
 
 
 def _local_matrix(reader: _Reader, node: dict, where: str) -> np.ndarray:

@@ -66,15 +66,16 @@ def load_scene(spec: str | Path, *, camera: Sensor | str | int | None = None) ->
 def _read_mesh_file(path: Path, suffix: str, *, frame: bool) -> Scene:
     """The scene in a mesh file with the file's lights and cameras, seen from the first of them; for
     a file without a camera (if `frame`), from one framing it all."""
-    cameras, lights, forward = [], [], LOOK_ALONG_PLUS_Z
+    cameras, lights, instances, forward = [], [], [], LOOK_ALONG_PLUS_Z
     if suffix == ".obj":
         shapes = read_obj(path)
     elif suffix in (".gltf", ".glb"):
-        shapes, cameras, lights = read_gltf(path)
+        shapes, cameras, lights, instances = read_gltf(path)
         forward = LOOK_ALONG_MINUS_Z
     else:
         shapes = read_mesh_file(path)
-    scene = Scene([shape for shape in shapes if shape.triangle_count], cameras=cameras).add_light(*lights)
+    scene = Scene([shape for shape in shapes if shape.triangle_count], cameras=cameras, instances=instances)
+    scene.add_light(*lights)
     if not scene.shapes:
         raise SceneLoadError(path, "holds no triangles")
     if all(zero_area(shape.world_vertices).all() for shape in scene.shapes):

@@ -295,7 +295,9 @@ def rewound(corners: np.ndarray | None) -> np.ndarray | None:
 
 def mitsuba_scene(mi: ModuleType, scene: Scene, width: int, height: int, max_depth: int):
     """`scene` as a loaded Mitsuba scene: `path` integrator (`volpath` with media) at `max_depth`,
-    box-filtered width x height film."""
+    box-filtered width x height film; its instances flattened into triangles of their own."""
+    if scene.instances:
+        scene = scene.flattened()
     arrays = scene.arrays()
     corners = arrays.vertices.reshape(-1, 3).astype(np.float64)
     extent = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))

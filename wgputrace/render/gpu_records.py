@@ -26,6 +26,7 @@ from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
 from .scene_mirror import (
     ENVIRONMENT_TABLES,
     ENVIRONMENT_TEXELS,
+    INSTANCES,
     LIGHT_SOURCES,
     LIGHTING_PARAMETERS,
     LIGHTS,
@@ -67,6 +68,7 @@ RECORD_ARRAYS = (
     RecordArray(NODES, "scene", "nodes"),
     RecordArray(MATERIALS, "scene", "materials"),
     RecordArray(LIGHTS, "scene", "lights"),
+    RecordArray(INSTANCES, "scene", "instances"),
     RecordArray(LIGHTING_PARAMETERS, "lights", "lighting", spare=False),
     RecordArray(LIGHT_SOURCES, "lights", "light_sources"),
     RecordArray(ENVIRONMENT_TEXELS, "lights", "environment_map"),

@@ -236,16 +236,18 @@ def scene_counts(scene: Scene) -> SceneCounts:
     emitters = set(emitting_kinds())
     environment = scene.environment
     texels = None if environment is None else environment.texels
+    # the instanced meshes' triangles are stored once each, after the shapes'
+    stored = [*scene.shapes, *{id(instance.mesh): instance.mesh for instance in scene.instances}.values()]
     return SceneCounts(
-        triangles=scene.triangle_count,
+        triangles=sum(shape.triangle_count for shape in stored),
         shapes=len(scene.shapes),
         materials=len(scene.materials),
         emissive_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.material.kind in emitters),
         light_sources=len(scene.lights),
         environment=environment is not None,
         environment_map=(0, 0) if texels is None else (texels.shape[1], texels.shape[0]),
-        smooth_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.normals is not None),
-        colored_triangles=sum(shape.triangle_count for shape in scene.shapes if shape.colors is not None),
+        smooth_triangles=sum(shape.triangle_count for shape in stored if shape.normals is not None),
+        colored_triangles=sum(shape.triangle_count for shape in stored if shape.colors is not None),
     )
 
 

@@ -42,7 +42,7 @@ from .gpu_records import GpuRecords
 from .interrupts import Deferral, deferred_signals
 from .limits import atlas_side, check_image_size, check_scene_size, fit_environment
 from .rng_seed import pixel_rng_states
-from .scene_mirror import TEXTURE_ATLAS, SceneMirror
+from .scene_mirror import TEXTURE_ATLAS, TRIANGLES, SceneMirror
 from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
 from .svgf_filter import VarianceGuidedFilter
@@ -248,7 +248,8 @@ class Renderer:
 
     @property
     def triangle_count(self) -> int:
-        return len(self._mirror.triangles)
+        """Triangles stored on the GPU: an instanced mesh's once, however many instances draw it."""
+        return len(self._mirror.arrays[TRIANGLES])
 
     @property
     def smooth_shading(self) -> bool:

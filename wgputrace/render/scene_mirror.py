@@ -17,13 +17,14 @@ from ..gpu.layout import LIGHT_SOURCE, LIGHTING, VERTEX_COLOR, VERTEX_NORMAL, VE
 from ..kernels.light_dispatch import LightFeatures
 from ..kernels.traversal import BVH_STACK_SIZE, traversal_stack_size
 from ..kernels.variant import SceneFeatures
-from ..scene import Scene, Shape
+from ..scene import Scene, SceneError, Shape
 from ..scene.materials.volume import is_absorbing
 from ..scene.scene import zero_area
 from ..scene.shapes import corner_colors, corner_normals, corner_uvs
 from ..scene.tangents import corner_tangents
 from .emission_footprints import footprint_means
 from .environment_records import environment_state, environment_table_words, environment_texels
+from .instance_records import InstanceRecords, joined
 from .lights import LUMINANCE_WEIGHTS, LightTable, emitting, light_table
 from .scene_records import (
     SceneRecords,
@@ -53,12 +54,22 @@ VERTEX_NORMALS, VERTEX_UVS, VERTEX_TANGENTS, VERTEX_COLORS = (
     "vertex tangents",
     "vertex colors",
 )
+# A vertex's attribute where its side of an instanced scene has none (`_instanced_vertices`): flat, white.
+_MISSING_VERTEX = {
+    VERTEX_NORMALS: np.zeros(3, np.float32),
+    VERTEX_UVS: np.zeros(2, np.float32),
+    VERTEX_TANGENTS: np.zeros(4, np.float32),
+    VERTEX_COLORS: np.ones(4, np.float32),
+}
 VERTEX_ARRAYS = {
     VERTEX_NORMALS: VERTEX_NORMAL,
     VERTEX_UVS: VERTEX_UV,
     VERTEX_TANGENTS: VERTEX_TANGENT,
     VERTEX_COLORS: VERTEX_COLOR,
 }
+INSTANCES = "instances"
+# the top level's changed rows inside `update` before `_assemble` makes them rows of NODES
+_TOP_NODES = "top-level nodes"
 TRIANGLE_LIGHT_DENSITIES = "triangle light densities"
 # WebGPU's default max-texture-dimension-2d: the atlas side where no device says otherwise
 DEFAULT_TEXTURE_SIDE = 8192
@@ -112,6 +123,10 @@ class SceneMirror:
         # set while the BVH is out of step with the records (a refit that must become a rebuild,
         # which then did not finish: interrupted, out of memory): the next update rebuilds
         self._needs_rebuild = False
+        # the two-level structure's records for a scene with instances (else None), and every array
+        # as the GPU holds it: the world's with the instanced meshes' appended (`_assemble`)
+        self.instancing: InstanceRecords | None = None
+        self._assembled: dict[str, np.ndarray | None] = {}
         self._rebuild()
 
     @property
@@ -122,7 +137,12 @@ class SceneMirror:
 
     @property
     def arrays(self) -> dict[str, np.ndarray | None]:
-        """Every array of records by name (None: the scene has none of it now)."""
+        """Every array of records by name (None: the scene has none of it now), as the GPU holds it."""
+        return {**self._world_arrays, **self._assembled}
+
+    @property
+    def _world_arrays(self) -> dict[str, np.ndarray | None]:
+        """The arrays of the scene's own shapes (all of them, in a scene without instances)."""
         return {
             TRIANGLES: self.triangles,
             NODES: self.nodes,
@@ -137,6 +157,7 @@ class SceneMirror:
             TEXTURES: self.texture_records,
             MATERIAL_TEXTURES: self.material_textures,
             TRIANGLE_LIGHT_DENSITIES: self.triangle_light_densities,
+            INSTANCES: None,  # the instances' records come with the other arrays `_assemble` makes
         }
 
     @property
@@ -144,18 +165,23 @@ class SceneMirror:
         """What the scene compiles into every kernel that traces it, as it is now."""
         return SceneFeatures(
             acceleration=self.acceleration_kind,
-            stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self.wide.max_stack),
+            stack_size=BVH_STACK_SIZE if self.wide is None else traversal_stack_size(self._stack_entries),
             material_kinds=self.material_kinds,
             lobes=tuple(set().union(*(material.lobes() for material in self.scene.materials))),
             lights=self.light_features,
             camera=self.scene.camera.kind,
-            smooth=VERTEX_NORMALS in self.vertices,
+            smooth=self.arrays[VERTEX_NORMALS] is not None,
             textured=self.textured,
             see_through=self.see_through,
             emissive_surfaces=self.emissive_surfaces,
-            vertex_colors=VERTEX_COLORS in self.vertices,
+            vertex_colors=self.arrays[VERTEX_COLORS] is not None,
             absorbing=any(is_absorbing(material) for material in self.scene.materials),
+            instance_triangle_bits=0 if self.instancing is None else self.instancing.triangle_bits,
         )
+
+    @property
+    def _stack_entries(self) -> int:
+        return self.wide.max_stack if self.instancing is None else self.instancing.stack_entries
 
     @property
     def textured(self) -> bool:
@@ -206,6 +232,7 @@ class SceneMirror:
                 not isinstance(s, Shape) or s.geometry_version != v[0]
                 for s, v in zip(shapes, self._versions, strict=True)
             )
+            or self._instance_state() != self._instances
         ):
             return self._rebuild()
         changes: dict[str, np.ndarray] = {}
@@ -216,7 +243,17 @@ class SceneMirror:
                 self._needs_rebuild = True
                 return self._rebuild()
             changes.update(refit)
+        placed = self._instance_placements() != self._placements
+        if self.instancing is not None and (moved or placed):
+            top_nodes, records = self.instancing.top_nodes.copy(), self.instancing.records.copy()
+            if not self.instancing.refit():
+                self._needs_rebuild = True
+                return self._rebuild()
+            changes[_TOP_NODES] = changed_rows(top_nodes, self.instancing.top_nodes)
+            changes[INSTANCES] = changed_rows(records, self.instancing.records)
         reassigned = any(s.material_version != v[2] for s, v in zip(shapes, self._versions, strict=True))
+        if (reassigned or self.scene.materials != self._materials) and self.instancing is not None:
+            return self._rebuild()  # the meshes' triangles index the material list too
         if reassigned or self.scene.materials != self._materials:
             changes = _union(changes, self._reassign_materials())
         else:
@@ -236,7 +273,7 @@ class SceneMirror:
             or emitter[self.triangles["material"][changes.get(TRIANGLES, [])]].any()
             or emitter[changes.get(MATERIALS, [])].any()
             or self._lights_edited()
-            or (TRIANGLES in changes and self._has_distant_lights())
+            or ((TRIANGLES in changes or placed) and self._has_distant_lights())
         ):
             changes.update(self._update_lights())
         shading = (self.textured, self._normal_mapped)
@@ -244,9 +281,92 @@ class SceneMirror:
         if (moved and self._moves_vertices(moved)) or shading != (self.textured, self._normal_mapped):
             changes.update(self._update_vertices())
         self._snapshot()
-        return {name: rows for name, rows in changes.items() if rows.size}
+        return {name: rows for name, rows in self._assemble(changes).items() if rows.size}
+
+    def _instance_state(self) -> list[tuple]:
+        """What an instance edit other than a new transform changes (a rebuild): the instances, their
+        meshes and the meshes' versions."""
+        return [
+            (id(i), id(i.mesh), i.mesh.geometry_version, i.mesh.transform_version, i.mesh.material_version)
+            for i in self.scene.instances
+        ]
+
+    def _instance_placements(self) -> list[int]:
+        return [instance.transform_version for instance in self.scene.instances]
+
+    def _assemble(self, changes: dict[str, np.ndarray], rebuilt: bool = False) -> dict[str, np.ndarray]:
+        """The arrays as the GPU holds them in a scene with instances (`InstanceRecords`: the top
+        level's records first, the meshes' triangles and attributes after the world's) from the
+        world's arrays, and `changes` (rows of the world's arrays, and _TOP_NODES) as rows of them:
+        every row after a rebuild."""
+        instancing = self.instancing
+        if instancing is None:
+            self._assembled = {}
+            return changes
+        world = self._world_arrays
+        assembled = {
+            TRIANGLES: joined([self.triangles, instancing.triangles]),
+            NODES: instancing.nodes(self.nodes),
+            INSTANCES: instancing.records,
+            **self._instanced_vertices(instancing),
+        }
+        densities = world[TRIANGLE_LIGHT_DENSITIES]
+        if len(densities) > 1:  # the meshes emit nothing (InstanceRecords refuses emitting meshes)
+            assembled[TRIANGLE_LIGHT_DENSITIES] = np.concatenate(
+                [densities, np.zeros(len(instancing.triangles), np.float32)]
+            )
+        before, self._assembled = self._assembled, assembled
+        if rebuilt:
+            return {name: np.arange(len(array)) for name, array in self.arrays.items() if array is not None}
+        changes = dict(changes)
+        for name, array in assembled.items():  # an attribute the meshes' side gained, or grew
+            if array is not None and (before.get(name) is None or len(before[name]) != len(array)):
+                changes[name] = np.arange(len(array))
+            elif name in (VERTEX_INDICES, *VERTEX_ARRAYS):  # the meshes' indices follow the world's vertex count
+                changes[name] = np.union1d(changes.get(name, []), changed_rows(before[name], array)).astype(np.int64)
+        top = changes.pop(_TOP_NODES, np.zeros(0, np.int64))
+        if NODES in changes:
+            changes[NODES] = changes[NODES] + instancing.top_records
+        changes[NODES] = np.union1d(top, changes.get(NODES, [])).astype(np.int64)
+        return changes
+
+    def _instanced_vertices(self, instancing: InstanceRecords) -> dict[str, np.ndarray]:
+        """The vertex arrays with the meshes' vertices after the world's (`shared_vertices` of their
+        corners, object space) and their triangles' vertex indices offset past the world's; an
+        attribute one side lacks takes its default there (_MISSING_VERTEX). Empty where neither side
+        has an attribute. A textured scene without a normal map keeps the world's one zero tangent."""
+        kinds = {VERTEX_NORMALS: "normals", VERTEX_COLORS: "colors"}
+        if self.textured:
+            kinds[VERTEX_UVS] = "uvs"
+            if self._normal_mapped:
+                kinds[VERTEX_TANGENTS] = "tangents"
+        meshes = {name: instancing.corner_values(kind) for name, kind in kinds.items()}
+        names = [name for name in kinds if name in self.vertices or meshes[name] is not None]
+        if not names:
+            return {}
+        if VERTEX_INDICES in self.vertices:
+            world_indices = self.vertices[VERTEX_INDICES]
+            world_count = next(len(self.vertices[name]) for name in names if name in self.vertices)
+        else:  # every world triangle names one default vertex
+            world_indices, world_count = triangle_vertex_records(np.zeros((len(self.triangles), 3), np.uint32)), 1
+        mesh_count = len(instancing.triangles)
+        mesh_corners = {
+            name: np.broadcast_to(_MISSING_VERTEX[name], (mesh_count, 3, len(_MISSING_VERTEX[name])))
+            if meshes[name] is None
+            else meshes[name]
+            for name in names
+        }
+        indices, values = shared_vertices(mesh_corners)
+        vertices = {VERTEX_INDICES: joined([world_indices, triangle_vertex_records(indices + np.uint32(world_count))])}
+        for name in names:
+            world = self.vertices.get(name)
+            if world is None:
+                world = vertex_records(VERTEX_ARRAYS[name], np.tile(_MISSING_VERTEX[name], (world_count, 1)))
+            vertices[name] = joined([world, vertex_records(VERTEX_ARRAYS[name], values[name])])
+        return vertices
 
     def _snapshot(self) -> None:
+        self._instances, self._placements = self._instance_state(), self._instance_placements()
         self._shapes = list(self.scene.shapes)
         self._versions = [(s.geometry_version, s.transform_version, s.material_version) for s in self._shapes]
         self._materials = self.scene.materials
@@ -409,6 +529,9 @@ class SceneMirror:
         diagonal), which the power of distant lights and the environment is measured through and
         light paths from them start on (`distant_emission_origin`)."""
         corners = np.concatenate([self.triangles[corner] for corner in ("v0", "v1", "v2")]).astype(np.float64)
+        if self.instancing is not None:  # the top level's root box holds the instances' boxes
+            top = self.instancing.top
+            corners = np.concatenate([corners, top.bounds_min[:1], top.bounds_max[:1]]).astype(np.float64)
         low, high = corners.min(axis=0), corners.max(axis=0)
         return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
 
@@ -416,6 +539,11 @@ class SceneMirror:
         return self.scene_bounding_sphere()[1]
 
     def _rebuild(self) -> dict[str, np.ndarray]:
+        if self.scene.instances and not self.scene.shapes:
+            raise SceneError(
+                f"the scene has {len(self.scene.instances)} instances and no Shape: add at least one Shape beside "
+                "them (the scene's own shapes are an item of the instances' top level), e.g. a ground"
+            )
         arrays = self.scene.arrays()
         bvh = build_acceleration(arrays, self.acceleration_kind)
         order = bvh.triangle_order
@@ -434,6 +562,12 @@ class SceneMirror:
         self.bvh: BVH = bvh
         self.wide = wide
         self.refitter = Refitter(bvh, vertices)
+        self.instancing = None
+        if self.scene.instances:
+            if wide is None:
+                raise SceneError(f"instances need the 'bvh' acceleration, not {self.acceleration_kind!r}")
+            slot = {id(material): index for index, material in enumerate(arrays.materials)}
+            self.instancing = InstanceRecords(self.scene, bvh, wide, len(vertices), slot)
         # where each shape's kept triangles start in input order, their local indices, and the
         # BVH position of every input triangle
         counts = np.bincount(arrays.shape_index, minlength=len(self.scene.shapes))
@@ -447,6 +581,7 @@ class SceneMirror:
         self.rebuilds += 1
         self._needs_rebuild = False
         self._snapshot()
+        changes = self._assemble(changes, rebuilt=self.instancing is not None)
         return {name: rows for name, rows in changes.items() if rows.size}
 
     def _refit(self, moved: list[int]) -> dict[str, np.ndarray] | None:

@@ -4,6 +4,7 @@ from . import cameras, lights, materials
 from .cameras import *  # noqa: F403 (the base, its error and every camera kind, by module discovery)
 from .cornell import cornell_box
 from .errors import SceneError
+from .instances import Instance
 from .lights import *  # noqa: F403 (the base, its error and every light kind, by module discovery)
 from .materials import *  # noqa: F403 (the base, its error and every material kind, by module discovery)
 from .scene import DegenerateTrianglesWarning, Scene, TriangleArrays
@@ -12,6 +13,7 @@ from .texture import Texture, TextureTransform
 
 __all__ = [
     "DegenerateTrianglesWarning",
+    "Instance",
     "Scene",
     "SceneError",
     "Shape",

@@ -19,6 +19,7 @@ import numpy as np
 
 from .cameras import Camera, Sensor, camera_classes
 from .errors import SceneError
+from .instances import Instance
 from .lights import Light
 from .lights.environment import Environment
 from .materials import Material
@@ -60,6 +61,8 @@ class Scene:
         shapes: the Shapes; `shape(name)` finds one by its name.
         camera: where the picture is taken from.
         environment: the light arriving from infinitely far away (`Environment`); None: none.
+        instances: meshes placed by transforms (`Instance`, `add_instance`), each mesh's triangles
+            stored once on the GPU however many instances place it.
         cameras: the cameras the scene's file brings, (name, camera) in the file's order, which
             `load_scene(..., camera=NAME_OR_INDEX)` chooses from and the viewer's C key steps
             through; `camera` need not be one of them.
@@ -73,6 +76,7 @@ class Scene:
     # the light arriving from infinitely far in every direction (`Environment`); None: black
     environment: Environment | None = None
     cameras: list[tuple[str, Sensor]] = field(default_factory=list)
+    instances: list[Instance] = field(default_factory=list)
     _lights: list[Light] = field(default_factory=list, init=False, repr=False)
 
     def __setattr__(self, key: str, value) -> None:
@@ -86,6 +90,9 @@ class Scene:
             _check_shapes(value)
         if key == "environment":
             _check_environment(value)
+        if key == "instances":
+            value = list(value)
+            _check_instances(value)
         object.__setattr__(self, key, value)
 
     @property
@@ -132,6 +139,33 @@ class Scene:
             self.shapes = [s for s in self.shapes if s is not shape]
         return self
 
+    def add_instance(self, mesh: Shape, transform, name: str | None = None) -> Instance:
+        """Place `mesh` (a Shape, not itself in the scene unless added) by `transform` (4x4 affine,
+        invertible, not mirroring); returns the new Instance, called `name` (default: the mesh's
+        name and the instance's number). SceneError for a bad transform, naming the instance."""
+        instance = Instance(f"{mesh.name}[{len(self.instances)}]" if name is None else name, mesh, transform)
+        self.instances.append(instance)
+        return instance
+
+    def remove_instance(self, instance: Instance) -> Scene:
+        """Remove `instance`; returns the scene. SceneError for one that is not in the scene."""
+        if not any(other is instance for other in self.instances):
+            raise SceneError(f"cannot remove {instance!r}: it is not in the scene")
+        self.instances = [other for other in self.instances if other is not instance]
+        return self
+
+    def flattened(self) -> Scene:
+        """This scene with every instance baked into a Shape of its own world triangles (what a
+        renderer without instancing, or Mitsuba, draws); shapes, lights and cameras shared."""
+        scene = Scene(
+            [*self.shapes, *(instance.flattened() for instance in self.instances)],
+            self.camera,
+            self.environment,
+            list(self.cameras),
+        )
+        scene.add_light(*self._lights)
+        return scene
+
     def shape(self, name: str) -> Shape:
         """The one shape called `name`; SceneError where there is none or more than one."""
         found = [s for s in self.shapes if s.name == name]
@@ -143,9 +177,9 @@ class Scene:
 
     @property
     def materials(self) -> list[Material]:
-        """Distinct materials in order of first use."""
+        """Distinct materials in order of first use: the shapes', then the instanced meshes'."""
         seen: dict[int, Material] = {}
-        for shape in self.shapes:
+        for shape in [*self.shapes, *(instance.mesh for instance in self.instances)]:
             seen.setdefault(id(shape.material), shape.material)
         return list(seen.values())
 
@@ -156,8 +190,13 @@ class Scene:
         return sum(shape.triangle_count for shape in self.shapes)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """The (min, max) corners of the box around every triangle, in world coordinates."""
-        vertices = self.arrays().vertices.reshape(-1, 3)
+        """The (min, max) corners of the box around every triangle, in world coordinates (the
+        instances' included)."""
+        corners = [self.arrays().vertices.reshape(-1, 3)] if self.shapes else []
+        corners += [instance_corners(instance) for instance in self.instances]
+        if not corners:
+            raise SceneError("the scene has no triangles: add at least one shape")
+        vertices = np.concatenate(corners)
         return vertices.min(axis=0), vertices.max(axis=0)
 
     def arrays(self) -> TriangleArrays:
@@ -187,6 +226,20 @@ class Scene:
             if len(vertices) == 0:
                 raise SceneError("the scene has no triangles left after dropping zero-area ones")
         return TriangleArrays(vertices, material_index, shape_index, local_index, materials)
+
+
+def instance_corners(instance: Instance) -> np.ndarray:
+    """The 8 corners (float64) of the box around `instance`'s mesh, placed in the world."""
+    vertices = instance.mesh.world_vertices.reshape(-1, 3)
+    low, high = vertices.min(axis=0).astype(np.float64), vertices.max(axis=0).astype(np.float64)
+    box = np.array([[(high if (k >> axis) & 1 else low)[axis] for axis in range(3)] for k in range(8)])
+    return box @ instance.transform[:3, :3].T + instance.transform[:3, 3]
+
+
+def _check_instances(instances) -> None:
+    for index, instance in enumerate(instances):
+        if not isinstance(instance, Instance):
+            raise SceneError(f"scene instances[{index}] is a {type(instance).__name__}, not an Instance")
 
 
 def _check_environment(environment) -> None:

@@ -372,8 +372,9 @@ def _checked_vertices(name: str, value) -> np.ndarray:
     return vertices
 
 
-def checked_transform(name: str, value) -> np.ndarray:
-    """A finite, invertible 4x4 affine matrix (last row 0 0 0 1) as read-only float64, or SceneError.
+def checked_transform(name: str, value, kind: str = "shape") -> np.ndarray:
+    """A finite, invertible 4x4 affine matrix (last row 0 0 0 1) as read-only float64, or SceneError
+    naming the `kind` ("shape", "instance") called `name`.
 
     A singular matrix would flatten every triangle to zero area; a projective last row has no
     meaning for triangles, which must stay flat.
@@ -381,18 +382,18 @@ def checked_transform(name: str, value) -> np.ndarray:
     try:
         matrix = np.array(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
-        raise SceneError(f"shape {name!r}: transform must be a 4x4 matrix of numbers, got {error}") from None
+        raise SceneError(f"{kind} {name!r}: transform must be a 4x4 matrix of numbers, got {error}") from None
     if matrix.shape != (4, 4):
-        raise SceneError(f"shape {name!r}: transform must be a 4x4 matrix, got shape {matrix.shape}")
+        raise SceneError(f"{kind} {name!r}: transform must be a 4x4 matrix, got shape {matrix.shape}")
     if not np.all(np.isfinite(matrix)):
-        raise SceneError(f"shape {name!r}: transform has a NaN or infinite entry: {matrix.tolist()}")
+        raise SceneError(f"{kind} {name!r}: transform has a NaN or infinite entry: {matrix.tolist()}")
     if not np.array_equal(matrix[3], [0.0, 0.0, 0.0, 1.0]):
-        raise SceneError(f"shape {name!r}: transform must be affine (last row 0 0 0 1), got {matrix[3].tolist()}")
+        raise SceneError(f"{kind} {name!r}: transform must be affine (last row 0 0 0 1), got {matrix[3].tolist()}")
     with np.errstate(all="ignore"):
         determinant = np.linalg.det(matrix[:3, :3])
     if not np.isfinite(determinant) or determinant == 0.0:
         raise SceneError(
-            f"shape {name!r}: transform has determinant {determinant}: it must be finite and non-zero "
+            f"{kind} {name!r}: transform has determinant {determinant}: it must be finite and non-zero "
             "(a singular matrix flattens every triangle)"
         )
     matrix.flags.writeable = False

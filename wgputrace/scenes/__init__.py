@@ -19,6 +19,7 @@ from .environment_lit import constant_env, env_one_texel, env_sun_spheres
 from .glass import glass_grazing
 from .glossy import glossy_spheres
 from .glossy_through_glossy import glossy_through_glossy
+from .instanced import instanced_cornell
 from .normal_mapped import normal_mapped_plane
 from .principled import principled_clearcoat, principled_sheen, principled_spheres, principled_transmission
 from .punctual import point_spot_directional
@@ -59,6 +60,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "depth_of_field": depth_of_field,
     "orthographic_boxes": orthographic_boxes,
     "sunlit_spheres": sunlit_spheres,
+    # instances (issue 25)
+    "instanced_cornell": instanced_cornell,
     # vertex colours (issue 25)
     "vertex_colored_triangles": vertex_colored_triangles,
     # KHR_materials_volume (issue 25)

@@ -67,6 +67,8 @@ REFERENCES: dict[str, ReferenceSettings] = {
     # the camera kinds (issue 28): Mitsuba's thinlens and orthographic
     "depth_of_field": ReferenceSettings(max_depth=6),
     "orthographic_boxes": ReferenceSettings(max_depth=6),
+    # instances (issue 25): Mitsuba draws them flattened
+    "instanced_cornell": ReferenceSettings(max_depth=9),
     # vertex colours (issue 25): Mitsuba's `mesh_attribute` texture
     "vertex_colored_triangles": ReferenceSettings(max_depth=6),
     # absorption inside glass and rough transmission (issue 25's KHR_materials_volume): Mitsuba's volpath
@@ -135,6 +137,7 @@ PATH_TRACER_CASES = (
     _path_tracer("glossy_spheres", batches=16, spp=32),
     _path_tracer("slivers", batches=16, spp=16),
     _path_tracer("axis_boxes", batches=16, spp=24),
+    _path_tracer("instanced_cornell", batches=16, spp=16),
     # scenes that break path tracers (issue 18): their light comes in rare, bright paths
     _path_tracer("door_ajar", batches=16, spp=16),
     _path_tracer("caustic", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
