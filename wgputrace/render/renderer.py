@@ -47,6 +47,7 @@ from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
 from .svgf_filter import VarianceGuidedFilter
 from .temporal_accumulation import TemporalAccumulation
+from .temporal_upsampling import TemporalUpsampling, check_upscale
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -222,6 +223,7 @@ class Renderer:
         self._gbuffer: wgpu.GPUBuffer | None = None
         self._previous_frame: wgpu.GPUBuffer | None = None
         self._filter: VarianceGuidedFilter | None = None
+        self._upsampling: TemporalUpsampling | None = None
         self._bind()
 
     @property
@@ -278,6 +280,8 @@ class Renderer:
         buffers = (self._frame.buffer, self._rng, self._rng_at_seed, *self._sums.values())
         if self._temporal is not None:
             buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers)
+        if self._upsampling is not None:
+            buffers += self._upsampling.buffers
         if self._filter is not None:
             buffers += self._filter.buffers
         return {buffer.label: buffer.size for buffer in buffers}
@@ -389,8 +393,7 @@ class Renderer:
         self.context.submit(encoder, "restarting accumulation")
         self._replicate = 0
         self.stats = RenderStats()
-        if self._temporal is not None:
-            self._temporal.restart()
+        self._restart_frames()
 
     def _sampler_states(self, replicate: int) -> np.ndarray:
         """Every pixel's sampler state at the seed: a xoshiro128** state, or a Sobol seed for
@@ -607,10 +610,18 @@ class Renderer:
             self._replicate += 1
             write_buffer(self.context, self._rng, 0, self._sampler_states(self._replicate))
         self.stats = RenderStats()
+        self._restart_frames()
+
+    def _restart_frames(self) -> None:
+        """Start the histories of render_frame again at the next frame."""
         if self._temporal is not None:
             self._temporal.restart()
+        if self._upsampling is not None:
+            self._upsampling.restart()
 
-    def render_frame(self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False) -> np.ndarray:
+    def render_frame(
+        self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False, upscale: int = 1
+    ) -> np.ndarray:
         """One frame of a moving picture: look through `camera` (None: the scene's camera as it
         is, after any edits to the scene), trace `spp` samples per pixel and add them to every
         pixel's history (TemporalAccumulation). Returns the history's mean: float32 (height,
@@ -625,9 +636,17 @@ class Renderer:
         path tracers have one: ValueError for the others) and allocates the history.
 
         `filtered`: the history's picture through SVGF's variance-guided filter instead
-        (VarianceGuidedFilter); the history itself stays unfiltered."""
+        (VarianceGuidedFilter); the history itself stays unfiltered.
+
+        `upscale`: 2, 4 or 8 traces `spp` samples of one pixel in each upscale x upscale block
+        and rebuilds every pixel from its history (TemporalUpsampling); at rest, after N * upscale**2
+        frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again."""
         if spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
+        if upscale != 1:
+            check_upscale(upscale, self.width, self.height)
+            if filtered:
+                raise ValueError("filtered=True takes a G-buffer of every pixel: it cannot filter upscaled frames")
         if self._temporal is None:
             self._start_frames()
         if camera is not None:
@@ -639,14 +658,30 @@ class Renderer:
             encoder.clear_buffer(buffer)
         self.context.submit(encoder, "starting a frame")
         self.stats = RenderStats()
-        self.render(spp)
-        self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+        self._add_frame(spp, upscale, moving)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
+        if upscale != 1:
+            return self._upsampling.image()
         if not filtered:
             return self._temporal.image()
         if self._filter is None:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
         return self._filter.filter(self._temporal.history, self._gbuffer, spp)
+
+    def _add_frame(self, spp: int, upscale: int, moving: bool) -> None:
+        """Trace a frame and add it to its history: every pixel's (TemporalAccumulation), or one
+        pixel's per block (TemporalUpsampling); the history of another kind or factor starts again."""
+        if upscale == 1:
+            if self._upsampling is not None:
+                self._upsampling = None
+                self._temporal.restart()
+            self.render(spp)
+            self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+            return
+        if self._upsampling is None or self._upsampling.factor != upscale:
+            self._upsampling = TemporalUpsampling(self.context, self.width, self.height, upscale)
+        self._upsampling.trace(self, spp)
+        self._upsampling.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
 
     def _start_frames(self) -> None:
         """What render_frame needs: the G-buffer variant, the G-buffer, the previous frame's camera

@@ -1,0 +1,235 @@
+// Temporal upsampling: this frame's samples (one pixel of each block) added to the full image's history, reprojected along the nearest sample's motion, and this frame's samples interpolated for pixels without history.
+//! include "generated/temporal.wgsl"
+//! include "generated/upsampling.wgsl"
+//! include "integrators/accumulate.wgsl"
+//! include "temporal/gbuffer_neighbours.wgsl"
+//! include "generated/bindings/upsampling.wgsl"
+//! include "generated/workgroup.wgsl"
+//
+// This frame traced the pixels offset + stride * k (main_subset), one in each stride x stride
+// block, each with its own sampler sequence: their accumulation and G-buffer entries are this
+// frame's, the others' are stale. Every pixel's history is a Kahan sum of radiance and its length
+// in samples, as temporal accumulation's; `surfaces` says what each pixel's history shows (the
+// G-buffer of its last sample, or of the history it took), which the next frame's taps are
+// tested against. A traced pixel adds its samples to its history; the others keep theirs. While
+// nothing moves a history is taken as it is, so a resting camera's pixels are the plain means of
+// their samples. While something moves, each pixel takes the previous history where the nearest
+// traced pixel's motion vector says its point was, kept where the taps show that sample's surface
+// at the depth expected within the sample's distance (temporal_upsampling.py says why).
+
+// GBufferPixel.surface where nothing was hit.
+const SKY_SURFACE: u32 = 0u;
+
+fn stride() -> i32 {
+    return i32(params.factor);
+}
+
+fn subset_offset() -> vec2<i32> {
+    return vec2<i32>(i32(params.offset_x), i32(params.offset_y));
+}
+
+// The traced pixel nearest to `xy` (ties to the lower one), among this frame's: the image is at
+// least a block wide and high, so every block row and column has one inside it.
+fn nearest_sample(xy: vec2<i32>) -> vec2<i32> {
+    let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
+    let last = (vec2<i32>(i32(params.width), i32(params.height)) - 1 - subset_offset()) / stride();
+    let k = clamp(vec2<i32>(floor(cell + 0.5)), vec2<i32>(0), last);
+    return k * stride() + subset_offset();
+}
+
+fn frame_mean(pixel: u32) -> vec3<f32> {
+    let sums = accumulation[pixel];
+    return (sums.sum.xyz - sums.compensation.xyz) / f32(params.samples);
+}
+
+// This frame's mean at the traced pixel `xy`, divided by its first hit's albedo.
+fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
+    let pixel = pixel_index(xy);
+    return frame_mean(pixel) / demodulation(gbuffer[pixel].albedo);
+}
+
+// This frame's samples interpolated at `xy`: bilinear over the four traced pixels around it that
+// see the nearest one's surface (the nearest is one of them, of weight at least a quarter).
+fn interpolated(xy: vec2<i32>, surface: u32) -> vec3<f32> {
+    let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
+    let corner = floor(cell);
+    let fraction = cell - corner;
+    var colour = vec3<f32>(0.0);
+    var weights = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        let offset = vec2<u32>(k & 1u, k >> 1u);
+        let tap = (vec2<i32>(corner) + vec2<i32>(offset)) * stride() + subset_offset();
+        let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
+        if !inside(tap) || gbuffer[pixel_index(tap)].surface != surface {
+            continue;
+        }
+        colour += along.x * along.y * frame_mean(pixel_index(tap));
+        weights += along.x * along.y;
+    }
+    return select(vec3<f32>(0.0), colour / weights, weights > 0.0);
+}
+
+// The box of this frame's demodulated samples at the traced pixels around `sample` (itself one).
+struct ColourBox {
+    low: vec3<f32>,
+    high: vec3<f32>,
+}
+
+fn neighbourhood(sample: vec2<i32>) -> ColourBox {
+    var box = ColourBox(vec3<f32>(FLOAT_MAX), vec3<f32>(-FLOAT_MAX));
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let tap = sample + stride() * vec2<i32>(dx, dy);
+            if inside(tap) {
+                let colour = frame_illumination(tap);
+                box = ColourBox(min(box.low, colour), max(box.high, colour));
+            }
+        }
+    }
+    return box;
+}
+
+fn no_history() -> TemporalPixel {
+    return TemporalPixel(vec4<f32>(0.0), vec4<f32>(0.0), vec2<f32>(0.0), 0.0);
+}
+
+// A pixel's history and what it shows.
+struct Reprojection {
+    history: TemporalPixel,
+    shows: GBufferPixel,
+}
+
+// Whether the previous frame's history pixel `there` shows the surface `here` expects, its
+// depth from the previous camera within `tolerance` of here's.
+fn consistent(here: GBufferPixel, there: GBufferPixel, tolerance: f32) -> bool {
+    if here.surface != there.surface {
+        return false;
+    }
+    if here.surface == SKY_SURFACE {
+        return true;
+    }
+    return abs(here.previous_depth - there.depth) <= tolerance && dot(here.normal, there.normal) >= NORMAL_COS_MIN;
+}
+
+// The previous history's taps that pass for the pixel at `xy` moved along the motion of the traced
+// pixel `sample` (G-buffer `here`): their weights, demodulated colour and length (weighted sums),
+// and the heaviest tap's surface.
+struct Taps {
+    weights: f32,
+    illumination: vec3<f32>,
+    length: f32,
+    heaviest: GBufferPixel,
+}
+
+// The pixel at `xy` expects the sample's surface at the sample's depth, give or take the depth's
+// change over the distance between them (none for the sample itself).
+fn passing_taps(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Taps {
+    var taps = Taps(0.0, vec3<f32>(0.0), 0.0, here);
+    if here.previous_seen == 0u {
+        return taps;
+    }
+    // pixel centres at integers: the taps are the four around it
+    let position = vec2<f32>(xy) + here.motion;
+    let corner = floor(position);
+    let fraction = position - corner;
+    let gradient = depth_gradient_over(sample, here, stride());
+    let distance = length(vec2<f32>(xy - sample));
+    let tolerance = DEPTH_RELATIVE_TOLERANCE * here.previous_depth
+        + DEPTH_GRADIENT_MARGIN * (gradient.x + gradient.y) * (1.0 + distance);
+    var heaviest = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        let offset = vec2<u32>(k & 1u, k >> 1u);
+        let tap = vec2<i32>(corner) + vec2<i32>(offset);
+        let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
+        let weight = along.x * along.y;
+        if !(weight >= BILINEAR_WEIGHT_MIN) || !inside(tap) {
+            continue;
+        }
+        let index = pixel_index(tap);
+        let there = previous_surfaces[index];
+        let old = previous_history[index];
+        if old.length <= 0.0 || !consistent(here, there, tolerance) {
+            continue;
+        }
+        let mean = (old.sum.xyz - old.compensation.xyz) / old.length;
+        taps.illumination += weight * mean / demodulation(there.albedo);
+        taps.length += weight * old.length;
+        taps.weights += weight;
+        if weight > heaviest {
+            heaviest = weight;
+            taps.heaviest = there;
+        }
+    }
+    return taps;
+}
+
+// The previous history where the pixel at `xy` was, or none where no tap passes. A traced pixel
+// moves along its own motion; another along that of the nearest of the four traced pixels around
+// it whose surface its history shows there (a pixel beside an edge moves with its own side).
+fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojection {
+    var source = sample;
+    var taps = Taps(0.0, vec3<f32>(0.0), 0.0, here);
+    if all(xy == sample) {
+        taps = passing_taps(xy, sample, here);
+    } else {
+        let corner = vec2<i32>(floor(vec2<f32>(xy - subset_offset()) / f32(stride())));
+        var nearest = FLOAT_MAX;
+        for (var k = 0u; k < 4u; k++) {
+            let candidate = (corner + vec2<i32>(vec2<u32>(k & 1u, k >> 1u))) * stride() + subset_offset();
+            let distance = length(vec2<f32>(xy - candidate));
+            if !inside(candidate) || !(distance < nearest) {
+                continue;
+            }
+            let found = passing_taps(xy, candidate, gbuffer[pixel_index(candidate)]);
+            if found.weights > 0.0 {
+                nearest = distance;
+                source = candidate;
+                taps = found;
+            }
+        }
+    }
+    let moved = gbuffer[pixel_index(source)];
+    if !(taps.weights > 0.0) {
+        return Reprojection(no_history(), here);
+    }
+    let box = neighbourhood(source);
+    let clamped = clamp(taps.illumination / taps.weights, box.low, box.high);
+    let kept = min(taps.length / taps.weights, params.length_cap);
+    // a traced pixel knows its own albedo; another takes its heaviest tap's, which keeps textures
+    // as sharp as the nearest history
+    let best = taps.heaviest;
+    let albedo = select(best.albedo, here.albedo, all(xy == sample));
+    let history = TemporalPixel(vec4<f32>(clamped * demodulation(albedo) * kept, 0.0), vec4<f32>(0.0), vec2<f32>(0.0), kept);
+    // its point's distance from this camera: the tap's, changed as the source's changed (a traced
+    // pixel shows its own G-buffer instead: main)
+    let depth = best.depth + moved.depth - moved.previous_depth;
+    return Reprojection(history, GBufferPixel(best.normal, depth, albedo, moved.surface, vec2<f32>(0.0), 0.0, 0u));
+}
+
+@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let xy = vec2<i32>(id.xy);
+    let pixel = id.y * params.width + id.x;
+    let sample = nearest_sample(xy);
+    let here = gbuffer[pixel_index(sample)];
+    var kept = Reprojection(no_history(), here);
+    if params.reset == 0u && params.moving == 0u {
+        kept = Reprojection(previous_history[pixel], previous_surfaces[pixel]);
+    } else if params.reset == 0u {
+        kept = reprojected(xy, sample, here);
+    }
+    fill[pixel] = vec4<f32>(interpolated(xy, here.surface), 0.0);
+    if any(xy != sample) {
+        history[pixel] = kept.history;
+        surfaces[pixel] = kept.shows;
+        return;
+    }
+    let old = kept.history;
+    let sums = accumulation[pixel];
+    let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), sums.sum.xyz - sums.compensation.xyz);
+    history[pixel] = TemporalPixel(sum.sum, sum.compensation, vec2<f32>(0.0), old.length + f32(params.samples));
+    surfaces[pixel] = here;
+}
