@@ -1,4 +1,4 @@
-// Temporal upsampling: this frame's samples (one pixel of each block) added to the full image's history, reprojected along the nearest sample's motion, and this frame's samples interpolated for pixels without history.
+// Temporal upsampling: this frame's samples (one pixel of each block) added to the full image's history, reprojected along the traced pixels' motion, and interpolated for pixels without history.
 //! include "generated/temporal.wgsl"
 //! include "generated/upsampling.wgsl"
 //! include "integrators/accumulate.wgsl"
@@ -13,9 +13,9 @@
 // G-buffer of its last sample, or of the history it took), which the next frame's taps are
 // tested against. A traced pixel adds its samples to its history; the others keep theirs. While
 // nothing moves a history is taken as it is, so a resting camera's pixels are the plain means of
-// their samples. While something moves, each pixel takes the previous history where the nearest
-// traced pixel's motion vector says its point was, kept where the taps show that sample's surface
-// at the depth expected within the sample's distance (temporal_upsampling.py says why).
+// their samples. While something moves, each pixel takes the previous history where the motion
+// vector of a traced pixel near it says its point was, kept where the taps show that pixel's
+// surface at the depth expected within their distance (temporal_upsampling.py says why).
 
 // GBufferPixel.surface where nothing was hit.
 const SKY_SURFACE: u32 = 0u;
@@ -165,27 +165,27 @@ fn passing_taps(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Taps {
 
 // The previous history where the pixel at `xy` was, or none where no tap passes. A traced pixel
 // moves along its own motion; another along that of the nearest of the four traced pixels around
-// it whose surface its history shows there (a pixel beside an edge moves with its own side).
+// it (`sample` the nearest) whose surface its history shows there: a pixel beside an edge moves
+// with its own side.
 fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojection {
+    // nearest first: the sample, its neighbour along the axis on which the pixel is farther from
+    // it, the other, the diagonal one; a traced pixel is its own sample
+    let away = xy - sample;
+    let toward = vec2<i32>(select(-1, 1, away.x > 0), select(-1, 1, away.y > 0)) * stride();
+    let first_step = select(vec2<i32>(0, toward.y), vec2<i32>(toward.x, 0), abs(away.x) >= abs(away.y));
+    let candidates = array<vec2<i32>, 4>(sample, sample + first_step, sample + toward - first_step, sample + toward);
+    let count = select(4, 1, all(away == vec2<i32>(0)));
     var source = sample;
     var taps = Taps(0.0, vec3<f32>(0.0), 0.0, here);
-    if all(xy == sample) {
-        taps = passing_taps(xy, sample, here);
-    } else {
-        let corner = vec2<i32>(floor(vec2<f32>(xy - subset_offset()) / f32(stride())));
-        var nearest = FLOAT_MAX;
-        for (var k = 0u; k < 4u; k++) {
-            let candidate = (corner + vec2<i32>(vec2<u32>(k & 1u, k >> 1u))) * stride() + subset_offset();
-            let distance = length(vec2<f32>(xy - candidate));
-            if !inside(candidate) || !(distance < nearest) {
-                continue;
-            }
-            let found = passing_taps(xy, candidate, gbuffer[pixel_index(candidate)]);
-            if found.weights > 0.0 {
-                nearest = distance;
-                source = candidate;
-                taps = found;
-            }
+    for (var k = 0; k < count; k++) {
+        let candidate = candidates[k];
+        if !inside(candidate) {
+            continue;
+        }
+        taps = passing_taps(xy, candidate, gbuffer[pixel_index(candidate)]);
+        if taps.weights > 0.0 {
+            source = candidate;
+            break;
         }
     }
     let moved = gbuffer[pixel_index(source)];
@@ -221,10 +221,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     } else if params.reset == 0u {
         kept = reprojected(xy, sample, here);
     }
-    fill[pixel] = vec4<f32>(interpolated(xy, here.surface), 0.0);
     if any(xy != sample) {
         history[pixel] = kept.history;
         surfaces[pixel] = kept.shows;
+        // only a pixel left without history shows it (TemporalUpsampling.image)
+        if kept.history.length <= 0.0 {
+            fill[pixel] = vec4<f32>(interpolated(xy, here.surface), 0.0);
+        }
         return;
     }
     let old = kept.history;

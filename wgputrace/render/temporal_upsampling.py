@@ -13,12 +13,13 @@ frame (FSR 2's and TAAU's jitter), with each sample's footprint shrunk to its fu
 pixel; as every sample lands inside one full-resolution pixel, it is added to that pixel alone,
 with weight one (no distance weighting is needed, as in FSR 2, where samples straddle pixels).
 
-While anything moves, every pixel takes the previous history along the motion vector of the
-nearest traced pixel (one G-buffer entry per block: the full G-buffer would cost a camera ray per
-pixel, most of what a frame saves at 4x): four bilinear taps, each kept where the history there
-shows that sample's surface, with a normal within NORMAL_COS_MIN and a depth within the
-temporal tolerances widened by the depth's slope over the distance to the sample. `surfaces`
-carries what each history shows from frame to frame. Taps are demodulated by their albedo and
+While anything moves, every pixel takes the previous history along the motion vector of a traced
+pixel (one G-buffer entry per block: the full G-buffer would cost a camera ray per pixel, most of
+what a frame saves at 4x): of the four traced pixels around it, the nearest whose surface the
+history shows where its motion leads, so a pixel beside an edge moves with its own side. Four
+bilinear taps, each kept where the history there shows that surface, with a normal within
+NORMAL_COS_MIN and a depth within the temporal tolerances widened by the depth's slope over the
+distance to the traced pixel. `surfaces` carries what each history shows from frame to frame. Taps are demodulated by their albedo and
 the mean clamped to the box of this frame's samples around, as temporal accumulation does. A
 pixel's history holds at most `history_cap` samples: about MOVING_HISTORY_FRAMES frames' worth,
 as a pixel takes a sample every f * f frames. A pixel without history (the first frames,
@@ -151,6 +152,7 @@ class TemporalUpsampling:
         self._previous_history = storage_buffer(context, "previous upsampled history", TEMPORAL_PIXEL.zeros(pixels))
         self._surfaces = storage_buffer(context, "upsampled surfaces", GBUFFER_PIXEL.zeros(pixels), read_back=True)
         self._previous_surfaces = storage_buffer(context, "previous upsampled surfaces", GBUFFER_PIXEL.zeros(pixels))
+        # this frame's samples interpolated, written only where a pixel has no history
         self._fill = storage_buffer(context, "upsampled fill", np.zeros((pixels, 4), np.float32), read_back=True)
         # the frame's number in the Bayer order since the history began
         self.frame = 0
