@@ -193,14 +193,12 @@ class TemporalUpsampling:
             history=self.history,
             fill=self._fill,
         )
+        submit(self.context, [Pass(self.kernel, (self.width, self.height), {"upsampling": group})])
+        # the next frame's previous history, after this one's is written
         encoder = self.context.device.create_command_encoder()
-        compute = encoder.begin_compute_pass()
-        self.kernel.set_bind_groups(compute, {"upsampling": group})
-        compute.dispatch_workgroups(*self.kernel.workgroups((self.width, self.height)))
-        compute.end()
-        encoder.copy_buffer_to_buffer(self.history, 0, self._previous_history, 0, self.history.size)
-        encoder.copy_buffer_to_buffer(self._surfaces, 0, self._previous_surfaces, 0, self._surfaces.size)
-        self.context.submit(encoder, "temporal upsampling")
+        for written, kept in ((self.history, self._previous_history), (self._surfaces, self._previous_surfaces)):
+            encoder.copy_buffer_to_buffer(written, 0, kept, 0, written.size)
+        self.context.submit(encoder, "keeping the upsampled history")
         self._fresh = False
         self.frame += 1
 
