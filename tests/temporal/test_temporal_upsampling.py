@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Camera, Diffuse, Emitter, Renderer, default_scene
+from wgputrace.integrators import integrator
+from wgputrace.kernels.variant import KernelVariant
 from wgputrace.render.temporal_upsampling import UPSCALE_FACTORS, subset_offset
 from wgputrace.testing.image_statistics import displayed_psnr
 from wgputrace.testing.reprojection import SIZE, card_scene, centre_hits, pinhole, reprojection_taps
@@ -148,3 +150,14 @@ def test_upscale_is_refused_where_it_cannot_work():
         renderer.render_frame(upscale=2, filtered=True)
     with pytest.raises(ValueError, match="at least 8x8 pixels, got 16x4"):
         Renderer(default_scene(), 16, 4).render_frame(upscale=8)
+
+
+def test_only_integrators_with_a_subset_kernel_compile_one():
+    with pytest.raises(ValueError, match="the bdpt integrator has no kernel over a subset of pixels"):
+        KernelVariant(integrator=integrator("bdpt"), subset=True)
+    with pytest.raises(ValueError, match="a band of rows or a subset of pixels, not both"):
+        KernelVariant(integrator=integrator("mis"), rows=True, subset=True)
+    subset = KernelVariant(integrator=integrator("mis"), subset=True, samples_per_dispatch=8, loop_budget=True)
+    assert subset.entry == ("integrators/path_tracer_subset.wgsl", "main_subset")
+    assert (subset.samples_per_dispatch, subset.loop_budget) == (1, False)
+    assert "subset" in {group.name for group in subset.groups()}
