@@ -28,7 +28,7 @@ fn subset_offset() -> vec2<i32> {
     return vec2<i32>(i32(params.offset_x), i32(params.offset_y));
 }
 
-// The traced pixel nearest to `xy` (ties to the lower one), among this frame's: the image is at
+// The traced pixel nearest to `xy` (ties to the higher one), among this frame's: the image is at
 // least a block wide and high, so every block row and column has one inside it.
 fn nearest_sample(xy: vec2<i32>) -> vec2<i32> {
     let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
@@ -49,7 +49,7 @@ fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
 }
 
 // This frame's samples interpolated at `xy`: bilinear over the four traced pixels around it that
-// see the nearest one's surface (the nearest is one of them, of weight at least a quarter).
+// see the nearest one's surface (the nearest is one of them, of a positive weight).
 fn interpolated(xy: vec2<i32>, surface: u32) -> vec3<f32> {
     let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
     let corner = floor(cell);

@@ -12,7 +12,7 @@ import pytest
 from wgputrace import Camera, Diffuse, Emitter, Renderer, default_scene
 from wgputrace.integrators import integrator
 from wgputrace.kernels.variant import KernelVariant
-from wgputrace.render.temporal_upsampling import UPSCALE_FACTORS, subset_offset
+from wgputrace.render.temporal_upsampling import UPSCALE_FACTORS, history_cap, subset_offset
 from wgputrace.testing.image_statistics import displayed_psnr
 from wgputrace.testing.reprojection import SIZE, card_scene, centre_hits, pinhole, reprojection_taps
 
@@ -65,10 +65,11 @@ def test_the_first_frame_is_finite_and_black_only_near_black_samples(factor):
     renderer = Renderer(card_scene(), SIZE, SIZE)
     image = renderer.render_frame(spp=1, upscale=factor)
     assert np.isfinite(image).all()
-    # a pixel shows its nearest sample with weight at least a quarter, and radiance is never
-    # negative: it is black only where that sample is, and each sample is nearest to factor**2 pixels
+    # a pixel shows its nearest sample with a positive weight, and radiance is never negative: it
+    # is black only where that sample is, and each sample is nearest to at most (2 factor)**2
+    # pixels (factor**2 but at the image's border)
     black_samples = (_frame_samples(renderer, 0, factor).max(axis=-1) == 0.0).sum()
-    assert (image.max(axis=-1) == 0.0).sum() <= factor * factor * black_samples
+    assert (image.max(axis=-1) == 0.0).sum() <= (2 * factor) ** 2 * black_samples
 
 
 def _lamp_card_renderer() -> Renderer:
@@ -115,6 +116,33 @@ def test_a_pan_carries_the_card_to_the_pixels_the_closed_form_puts_it(factor):
     # among them pixels that saw the other plane before the pan
     assert (checked & (on_card != centre_hits(pinhole(0.0))[1])).any()
     np.testing.assert_array_equal(lengths[checked] > 0.0, kept[checked])
+
+
+@pytest.mark.gpu
+def test_a_moving_history_is_capped_and_grows_again_at_rest():
+    factor, cycles = 2, 6
+    cap = history_cap(factor, 1)
+    assert cap < cycles
+    renderer = Renderer(card_scene(), SIZE, SIZE)
+    for _ in range(cycles * factor * factor):
+        renderer.render_frame(pinhole(0.0), upscale=factor)
+
+    def lengths() -> np.ndarray:
+        return renderer._upsampling.records()["length"].reshape(SIZE, SIZE)
+
+    assert (lengths() == cycles).all()
+    renderer.render_frame(pinhole(0.01), upscale=factor)
+    kept = reprojection_taps(pinhole(0.0), pinhole(0.01))
+    traced = np.zeros_like(kept)
+    offset_x, offset_y = subset_offset(cycles * factor * factor, factor)
+    traced[offset_y::factor, offset_x::factor] = True
+    moved = lengths()
+    np.testing.assert_array_equal(moved[kept & ~traced], cap)
+    np.testing.assert_array_equal(moved[kept & traced], cap + 1)
+    # at rest a cycle adds one sample to every pixel, as render() would
+    for _ in range(factor * factor):
+        renderer.render_frame(upscale=factor)
+    np.testing.assert_array_equal(lengths(), moved + 1)
 
 
 def _pan(step: int) -> Camera:
