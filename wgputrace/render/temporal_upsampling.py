@@ -109,7 +109,13 @@ def subset_offset(frame: int, factor: int) -> tuple[int, int]:
 
 def history_cap(factor: int, samples: int) -> int:
     """The most samples a moving pixel's history keeps: MOVING_HISTORY_FRAMES frames' worth of a
-    pixel's samples, which come every factor * factor frames (at least one frame's)."""
+    pixel's samples, which come every factor * factor frames (at least one frame's).
+
+    Measured on the Cornell box at 64x48, one sample per frame, the camera sliding 0.004 a frame:
+    sRGB PSNR of frames 12 and 24 against 256 samples per pixel, for caps of 1, 2, 4, 8, 16
+    samples: at 2x 16.92/17.05, 17.30/17.60, 17.39/17.89, 17.39/17.94, 17.39/17.94 dB (this cap
+    is 4, within 0.05 dB of the longest); at 4x 14.82/15.66 dB for every cap (this one is 1): a
+    pixel's own samples come every 16 frames, so its history is rarely longer than the cap."""
     return max(MOVING_HISTORY_FRAMES // (factor * factor), 1) * samples
 
 
