@@ -2,6 +2,7 @@
 //! include "generated/temporal.wgsl"
 //! include "generated/upsampling.wgsl"
 //! include "integrators/accumulate.wgsl"
+//! include "view/tone_curves.wgsl"
 //! include "temporal/gbuffer_neighbours.wgsl"
 //! include "generated/bindings/upsampling.wgsl"
 //! include "generated/workgroup.wgsl"
@@ -16,6 +17,8 @@
 // their samples. While something moves, each pixel takes the previous history where the motion
 // vector of a traced pixel near it says its point was, kept where the taps show that pixel's
 // surface at the depth expected within their distance (temporal_upsampling.py says why).
+// `shown` is the picture as histories: each pixel's, or this frame's samples interpolated as a
+// history of one sample where a pixel has none (what the picture and the variance-guided filter read).
 
 // GBufferPixel.surface where nothing was hit.
 const SKY_SURFACE: u32 = 0u;
@@ -93,6 +96,17 @@ fn no_history() -> TemporalPixel {
     return TemporalPixel(vec4<f32>(0.0), vec4<f32>(0.0), vec2<f32>(0.0), 0.0);
 }
 
+fn finite_luminance(colour: vec3<f32>) -> f32 {
+    let brightness = luminance(colour);
+    return select(0.0, brightness, is_finite_f32(brightness));
+}
+
+// `colour` as a history of one sample, its moments those of its demodulated luminance.
+fn one_sample(colour: vec3<f32>, albedo: vec3<f32>) -> TemporalPixel {
+    let brightness = finite_luminance(colour / demodulation(albedo));
+    return TemporalPixel(vec4<f32>(colour, 0.0), vec4<f32>(0.0), vec2<f32>(brightness, brightness * brightness), 1.0);
+}
+
 // A pixel's history and what it shows.
 struct Reprojection {
     history: TemporalPixel,
@@ -112,11 +126,11 @@ fn consistent(here: GBufferPixel, there: GBufferPixel, tolerance: f32) -> bool {
 }
 
 // The previous history's taps that pass for the pixel at `xy` moved along the motion of the traced
-// pixel `sample` (G-buffer `here`): their weights, demodulated colour and length (weighted sums),
-// and the heaviest tap's surface.
+// pixel `sample` (G-buffer `here`): their weights, demodulated colour, its luminance moments and length (weighted sums), and the heaviest tap's surface.
 struct Taps {
     weights: f32,
     illumination: vec3<f32>,
+    moments: vec2<f32>,
     length: f32,
     heaviest: GBufferPixel,
 }
@@ -124,7 +138,7 @@ struct Taps {
 // The pixel at `xy` expects the sample's surface at the sample's depth, give or take the depth's
 // change over the distance between them (none for the sample itself).
 fn passing_taps(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Taps {
-    var taps = Taps(0.0, vec3<f32>(0.0), 0.0, here);
+    var taps = Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
     if here.previous_seen == 0u {
         return taps;
     }
@@ -153,6 +167,7 @@ fn passing_taps(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Taps {
         }
         let mean = (old.sum.xyz - old.compensation.xyz) / old.length;
         taps.illumination += weight * mean / demodulation(there.albedo);
+        taps.moments += weight * old.moments;
         taps.length += weight * old.length;
         taps.weights += weight;
         if weight > heaviest {
@@ -176,7 +191,7 @@ fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojec
     let candidates = array<vec2<i32>, 4>(sample, sample + first_step, sample + toward - first_step, sample + toward);
     let count = select(4, 1, all(away == vec2<i32>(0)));
     var source = sample;
-    var taps = Taps(0.0, vec3<f32>(0.0), 0.0, here);
+    var taps = Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
     for (var k = 0; k < count; k++) {
         let candidate = candidates[k];
         if !inside(candidate) {
@@ -199,7 +214,7 @@ fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojec
     // as sharp as the nearest history
     let best = taps.heaviest;
     let albedo = select(best.albedo, here.albedo, all(xy == sample));
-    let history = TemporalPixel(vec4<f32>(clamped * demodulation(albedo) * kept, 0.0), vec4<f32>(0.0), vec2<f32>(0.0), kept);
+    let history = TemporalPixel(vec4<f32>(clamped * demodulation(albedo) * kept, 0.0), vec4<f32>(0.0), taps.moments / taps.weights, kept);
     // its point's distance from this camera: the tap's, changed as the source's changed (a traced
     // pixel shows its own G-buffer instead: main)
     let depth = best.depth + moved.depth - moved.previous_depth;
@@ -224,15 +239,24 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(xy != sample) {
         history[pixel] = kept.history;
         surfaces[pixel] = kept.shows;
-        // only a pixel left without history shows it (TemporalUpsampling.image)
-        if kept.history.length <= 0.0 {
-            fill[pixel] = vec4<f32>(interpolated(xy, here.surface), 0.0);
+        if kept.history.length > 0.0 {
+            shown[pixel] = kept.history;
+        } else {
+            shown[pixel] = one_sample(interpolated(xy, here.surface), here.albedo);
         }
         return;
     }
     let old = kept.history;
+    let samples = f32(params.samples);
+    let length = old.length + samples;
+    // luminance's first two moments over frames, weighted by their samples (as temporal
+    // accumulation keeps them): the variance-guided filter's
+    let brightness = finite_luminance(frame_illumination(xy));
+    let moments = mix(old.moments, vec2<f32>(brightness, brightness * brightness), samples / length);
     let sums = accumulation[pixel];
     let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), sums.sum.xyz - sums.compensation.xyz);
-    history[pixel] = TemporalPixel(sum.sum, sum.compensation, vec2<f32>(0.0), old.length + f32(params.samples));
+    let updated = TemporalPixel(sum.sum, sum.compensation, moments, length);
+    history[pixel] = updated;
+    shown[pixel] = updated;
     surfaces[pixel] = here;
 }

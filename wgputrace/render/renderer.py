@@ -640,13 +640,12 @@ class Renderer:
 
         `upscale`: 2, 4 or 8 traces `spp` samples of one pixel in each upscale x upscale block
         and rebuilds every pixel from its history (TemporalUpsampling); at rest, after N * upscale**2
-        frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again."""
+        frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again.
+        With `filtered`, the filter reads the upsampled picture and what each pixel's history shows."""
         if spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
         if upscale != 1:
             check_upscale(upscale, self.width, self.height)
-            if filtered:
-                raise ValueError("filtered=True takes a G-buffer of every pixel: it cannot filter upscaled frames")
         if self._temporal is None:
             self._start_frames()
         if camera is not None:
@@ -660,13 +659,15 @@ class Renderer:
         self.stats = RenderStats()
         self._add_frame(spp, upscale, moving)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
-        if upscale != 1:
-            return self._upsampling.image()
+        frames = self._temporal if upscale == 1 else self._upsampling
         if not filtered:
-            return self._temporal.image()
+            return frames.image()
         if self._filter is None:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
-        return self._filter.filter(self._temporal.history, self._gbuffer, spp)
+        if upscale == 1:
+            return self._filter.filter(self._temporal.history, self._gbuffer, spp)
+        # what each pixel's history shows stands for the G-buffer the traced pixels alone have
+        return self._filter.filter(self._upsampling.shown, self._upsampling.surfaces, spp)
 
     def _add_frame(self, spp: int, upscale: int, moving: bool) -> None:
         """Trace a frame and add it to its history: every pixel's (TemporalAccumulation), or one

@@ -25,6 +25,9 @@ pixel's history holds at most `history_cap` samples: about MOVING_HISTORY_FRAMES
 as a pixel takes a sample every f * f frames. A pixel without history (the first frames,
 disocclusions) shows this frame's samples interpolated (bilinear over the traced pixels around
 it that see the nearest one's surface), never black where they are not and never NaN.
+
+`shown` holds the picture as histories (each pixel's, or the interpolated frame as one sample)
+and `surfaces` what each shows: the variance-guided filter's input where frames are upsampled.
 """
 
 from __future__ import annotations
@@ -80,7 +83,7 @@ UPSAMPLING_GROUP = BindGroup(
         Binding("surfaces", STORAGE_READ_WRITE, GBUFFER_PIXEL),
         Binding("previous_history", STORAGE_READ, TEMPORAL_PIXEL),
         Binding("history", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
-        Binding("fill", STORAGE_READ_WRITE, "vec4<f32>"),
+        Binding("shown", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
     ),
 )
 
@@ -156,10 +159,11 @@ class TemporalUpsampling:
         self._subset = uniform_buffer(context, "pixel subset", np.zeros(4, np.uint32))
         self.history = storage_buffer(context, "upsampled history", TEMPORAL_PIXEL.zeros(pixels), read_back=True)
         self._previous_history = storage_buffer(context, "previous upsampled history", TEMPORAL_PIXEL.zeros(pixels))
-        self._surfaces = storage_buffer(context, "upsampled surfaces", GBUFFER_PIXEL.zeros(pixels), read_back=True)
+        self.surfaces = storage_buffer(context, "upsampled surfaces", GBUFFER_PIXEL.zeros(pixels), read_back=True)
         self._previous_surfaces = storage_buffer(context, "previous upsampled surfaces", GBUFFER_PIXEL.zeros(pixels))
-        # this frame's samples interpolated, written only where a pixel has no history
-        self._fill = storage_buffer(context, "upsampled fill", np.zeros((pixels, 4), np.float32), read_back=True)
+        # the picture as histories: each pixel's, or where it has none this frame's samples
+        # interpolated, as one sample (the variance-guided filter's input too)
+        self.shown = storage_buffer(context, "upsampled picture", TEMPORAL_PIXEL.zeros(pixels), read_back=True)
         # the frame's number in the Bayer order since the history began
         self.frame = 0
         self._fresh = True
@@ -194,15 +198,15 @@ class TemporalUpsampling:
             accumulation=accumulation,
             gbuffer=gbuffer,
             previous_surfaces=self._previous_surfaces,
-            surfaces=self._surfaces,
+            surfaces=self.surfaces,
             previous_history=self._previous_history,
             history=self.history,
-            fill=self._fill,
+            shown=self.shown,
         )
         submit(self.context, [Pass(self.kernel, (self.width, self.height), {"upsampling": group})])
         # the next frame's previous history, after this one's is written
         encoder = self.context.device.create_command_encoder()
-        for written, kept in ((self.history, self._previous_history), (self._surfaces, self._previous_surfaces)):
+        for written, kept in ((self.history, self._previous_history), (self.surfaces, self._previous_surfaces)):
             encoder.copy_buffer_to_buffer(written, 0, kept, 0, written.size)
         self.context.submit(encoder, "keeping the upsampled history")
         self._fresh = False
@@ -210,15 +214,15 @@ class TemporalUpsampling:
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
-        """Its GPU buffers: the parameters, the subset, the histories, what they show and the fill."""
+        """Its GPU buffers: the parameters, the subset, the histories, what they show and the picture."""
         return (
             self._params,
             self._subset,
             self.history,
             self._previous_history,
-            self._surfaces,
+            self.surfaces,
             self._previous_surfaces,
-            self._fill,
+            self.shown,
         )
 
     def restart(self) -> None:
@@ -227,16 +231,14 @@ class TemporalUpsampling:
         self.frame = 0
 
     def records(self) -> np.ndarray:
-        """The history as TEMPORAL_PIXEL records, row-major (the moments are not kept: 0)."""
+        """The history as TEMPORAL_PIXEL records, row-major."""
         return read_buffer(self.context, self.history, TEMPORAL_PIXEL.dtype, self.width * self.height)
 
     def image(self) -> np.ndarray:
         """The picture: each pixel's mean over its history where it has one (subtracted and divided
         in float64, as the Renderer's image() does), else the last frame's samples interpolated;
         float32 (height, width, 3), linear radiance, row 0 on top."""
-        records = self.records()
+        records = read_buffer(self.context, self.shown, TEMPORAL_PIXEL.dtype, self.width * self.height)
         total = records["sum"][:, :3].astype(np.float64) - records["compensation"][:, :3]
-        length = records["length"][:, None]
-        fill = read_buffer(self.context, self._fill, np.float32, 4 * self.width * self.height).reshape(-1, 4)[:, :3]
-        mean = np.where(length > 0.0, total / np.where(length > 0.0, length, 1.0), fill)
+        mean = total / records["length"][:, None]
         return mean.astype(np.float32).reshape(self.height, self.width, 3)
