@@ -704,7 +704,8 @@ class Renderer:
         facing the camera), "albedo" (in [0, 1]), "surface" (material index + 1; 0: nothing hit),
         "motion" (from this frame's raster position to the previous camera's, in pixels, x right and
         y down), "previous_depth" and "previous_seen" (the previous camera's distance to the point,
-        and whether it had it in front); arrays of (height, width) or (height, width, n)."""
+        and whether it had it in front); arrays of (height, width) or (height, width, n). After an
+        upscaled frame only the pixels it traced hold that frame's entries."""
         if self._gbuffer is None:
             raise ValueError("no frame has been rendered yet: call render_frame first")
         records = read_buffer(self.context, self._gbuffer, GBUFFER_PIXEL.dtype, self.width * self.height)
