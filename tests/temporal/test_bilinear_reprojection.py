@@ -28,7 +28,6 @@ def _gbuffer(motion) -> np.ndarray:
     records["albedo"] = ALBEDO
     records["surface"] = 1
     records["motion"] = motion
-    records["previous_seen"] = 1
     return records
 
 
