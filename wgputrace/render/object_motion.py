@@ -58,7 +58,9 @@ class ObjectMotion:
     def update(self, scene: Scene, mirror: SceneMirror) -> dict[str, np.ndarray]:
         """The records for `scene` as it is now (after `mirror.update()`); returns their changed rows."""
         shapes = len(scene.shapes)
-        items = np.zeros(0, np.int64) if mirror.instancing is None else mirror.instancing.top.triangle_order.astype(np.int64)
+        # the top-level item of each instance record: 0 the shapes', i > 0 instance i - 1
+        instancing = mirror.instancing
+        items = np.zeros(0, np.int64) if instancing is None else instancing.top.triangle_order.astype(np.int64)
         motions = OBJECT_MOTION.zeros(len(items) + shapes)
         objects = np.concatenate([np.where(items > 0, shapes + items - 1, -1), np.arange(shapes)])
         motions["object"] = np.where(objects >= 0, objects, _WORLD_ITEM).astype(np.uint32)
