@@ -635,7 +635,8 @@ class Renderer:
         path tracers have one: ValueError for the others) and allocates the history.
 
         `filtered`: the history's picture through SVGF's variance-guided filter instead
-        (VarianceGuidedFilter); the history itself stays unfiltered."""
+        (VarianceGuidedFilter); in a frame where something moved, the filter's first pass also
+        becomes the history the next frame takes, as in SVGF; at rest the history stays unfiltered."""
         if spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
         if self._temporal is None:
@@ -657,7 +658,9 @@ class Renderer:
             return self._temporal.image()
         if self._filter is None:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
-        return self._filter.filter(self._temporal.history, self._gbuffer, spp)
+        # SVGF's feedback only while moving: a resting history stays the plain mean
+        carried = self._temporal.carried if moving else None
+        return self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
 
     def _start_frames(self) -> None:
         """What render_frame needs: the G-buffer variant, the G-buffer, the previous frame's camera

@@ -154,6 +154,12 @@ class TemporalAccumulation:
         self._fresh = False
 
     @property
+    def carried(self) -> wgpu.GPUBuffer:
+        """The history the next frame takes (add_frame copies `history` into it): what SVGF's
+        feedback replaces while moving."""
+        return self._previous_history
+
+    @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
         """Its GPU buffers: the parameters, the history, the previous history and G-buffer."""
         return (self._params, self.history, self._previous_history, self._previous_gbuffer)
