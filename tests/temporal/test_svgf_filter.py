@@ -9,7 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgputrace import Diffuse, Emitter, PointLight, Renderer
+from wgputrace import Diffuse, Emitter, Environment, PointLight, Renderer, Scene, make_box
+from wgputrace.scene.lights.directional import DirectionalLight
 from wgputrace.testing.reprojection import (
     CARD_DISTANCE,
     SIZE,
@@ -28,6 +29,8 @@ SKY = 0.5
 Z_BOUND = 4.0
 CARD_BLUR_BOUND = 0.01
 FED_SPREAD_RATIO = 1.5
+# how far from a crease its light would leak: the first passes' reach
+CREASE_PIXELS = 4
 LIGHT_POSITION = (-0.6, 0.0, 0.0)
 LIGHT_INTENSITY = 3.0
 
@@ -121,3 +124,24 @@ def test_while_moving_the_first_pass_feeds_the_history():
     assert fed.std() < plain.std() / FED_SPREAD_RATIO
     # ... and as bright
     assert abs(fed.mean() - WHITE[0] * SKY) < Z_BOUND * _standard_error(plain)
+
+
+def test_the_filter_crosses_no_crease():
+    # A box seen corner-on, its near edge on the image's middle pixel boundary: the left face lit by
+    # a directional light and the sky, the right face by the sky alone, both noisy. The right face
+    # keeps its own light beside the crease, where the normal stop is all that holds the left's back.
+    box = make_box((0.0, 0.0, 3.0), (0.0, np.radians(45.0), 0.0), 2.0, Diffuse("white", color=WHITE))
+    scene = Scene([box], pinhole(0.0), environment=Environment(SKY))
+    scene.add_light(DirectionalLight(direction=(1.0, 0.0, 0.3), irradiance=3.0))
+    renderer = Renderer(scene, SIZE, SIZE, seed=11, sampler="independent")
+    filtered, unfiltered = _frames(renderer)
+    normal_x = renderer.gbuffer()["normal"][..., 0]
+    columns = np.arange(SIZE)[None, :]
+    # the right face's pixels within CREASE_PIXELS of the crease, and the left face's
+    right = (normal_x > 0.5) & (columns < SIZE // 2 + CREASE_PIXELS)
+    left = normal_x < -0.5
+    assert right.sum() > 40 and left.sum() > 40
+    assert unfiltered[left].mean() > 2 * unfiltered[right].mean()
+    for face in (left, right):
+        error = _standard_error(unfiltered[face])
+        assert abs(filtered[face].mean() - unfiltered[face].mean()) < Z_BOUND * error
