@@ -159,7 +159,8 @@ GBUFFER_PIXEL = GpuStruct(
     "camera, the distance the camera's ray travels to it (0: nothing hit), the material's colour, the "
     "surface (material index + 1; 0: nothing hit), the motion from this frame's raster position to "
     "the previous frame's, the distance from the previous camera (0: that camera did not see the "
-    "point) and the object (the shape's index in Scene.shapes, or their count + the instance's index).",
+    "point) and the object (the shape's index in Scene.shapes, or their count + the instance's index; "
+    "0 where nothing was hit).",
 )
 # Where a moving object's points were at the previous frame (ObjectMotion in render/object_motion.py
 # writes them): bound only in the G-buffer variant, declared by its hook.

@@ -683,7 +683,7 @@ class Renderer:
         hit: "depth" (the camera ray's distance to it; 0 where nothing was hit), "normal" (shading,
         facing the camera), "albedo" (in [0, 1]), "surface" (material index + 1; 0: nothing hit),
         "object" (the shape's index in scene.shapes, or their count + the instance's index in
-        scene.instances), "motion" (from this frame's raster position to where the previous camera
+        scene.instances; 0: nothing hit), "motion" (from this frame's raster position to where the previous camera
         saw the point, moved back with its object, in pixels, x right and y down), "previous_depth"
         and "previous_seen" (the previous camera's distance to the point, 0 where it did not have it
         in front, and whether it did); arrays of (height, width) or (height, width, n)."""
