@@ -2,7 +2,8 @@
 turning and sliding in its plane, as a shape and as an instance, moves its pixels' motion vectors
 to where the previous frame saw each point of it (closed form from its two transforms); a card
 sliding across the wall keeps its own history, loses the wall's exactly where it had covered it,
-and leaves none of its colour behind."""
+and leaves none of its colour behind; the motion records exist only for frames and upload only the
+rows that changed."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Emitter, Renderer
+from wgputrace.gpu.layout import OBJECT_MOTION
+from wgputrace.render.object_motion import OBJECT_MOTIONS, TRIANGLE_OBJECTS
 from wgputrace.testing.reprojection import (
     CARD_ROWS,
     SIZE,
@@ -112,3 +115,17 @@ def test_a_sliding_card_leaves_no_colour_on_the_wall_behind_it():
         assert not red[away].any(), f"frame {step}: the card's colour left on {np.count_nonzero(red[away])} pixels"
     # the wall the card had covered and left over a frame ago: columns 10 to 15
     assert (covered & away).sum() == 6 * (CARD_ROWS[1] - CARD_ROWS[0])
+
+
+def test_object_motions_exist_only_for_frames_and_upload_only_what_moved():
+    scene = card_scene()
+    renderer = Renderer(scene, SIZE, SIZE)
+    renderer.render(1)
+    assert not {OBJECT_MOTIONS, TRIANGLE_OBJECTS} & set(renderer.gpu_scene_bytes)
+    renderer.render_frame()
+    assert {OBJECT_MOTIONS, TRIANGLE_OBJECTS} <= set(renderer.gpu_scene_bytes)
+    assert OBJECT_MOTIONS not in renderer.update()
+    card_object(scene).transform = card_move((1.0, 0.0))
+    # the card's record alone
+    assert renderer.update()[OBJECT_MOTIONS].bytes == OBJECT_MOTION.size
+    assert OBJECT_MOTIONS not in renderer.update()
