@@ -100,9 +100,13 @@ def test_black_surfaces_the_sky_and_young_histories_stay_finite():
 
 
 def test_filtering_at_rest_leaves_the_history_the_plain_mean_bit_for_bit():
+    # the first frame sets a new camera: a new history, not one that moved
     frames = Renderer(wall_scene(sky=SKY), SIZE, SIZE, seed=11)
-    _frames(frames)
-    plain = Renderer(wall_scene(sky=SKY), SIZE, SIZE, seed=11)
+    for _ in range(FRAMES):
+        frames.render_frame(pinhole(0.3), filtered=True)
+    scene = wall_scene(sky=SKY)
+    scene.camera = pinhole(0.3)
+    plain = Renderer(scene, SIZE, SIZE, seed=11)
     plain.render(FRAMES)
     np.testing.assert_array_equal(frames._temporal.image(), plain.image())
 

@@ -658,8 +658,9 @@ class Renderer:
             return self._temporal.image()
         if self._filter is None:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
-        # SVGF's feedback only while moving: a resting history stays the plain mean
-        carried = self._temporal.carried if moving else None
+        # SVGF's feedback only into a history that moved: a resting one (and a new one, even if the
+        # camera was just set) stays the plain mean
+        carried = self._temporal.carried if self._temporal.reprojected else None
         return self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
 
     def _start_frames(self) -> None:
