@@ -113,7 +113,7 @@ def test_a_sliding_card_leaves_no_colour_on_the_wall_behind_it():
         covered |= on_card
         red = image[..., 0] - image[..., 1]
         assert not red[away].any(), f"frame {step}: the card's colour left on {np.count_nonzero(red[away])} pixels"
-    # the wall the card had covered and left over a frame ago: columns 10 to 15
+    # the wall the card had covered and left over a frame ago: six columns of it
     assert (covered & away).sum() == 6 * (CARD_ROWS[1] - CARD_ROWS[0])
 
 

@@ -90,7 +90,8 @@ CARD_PIXEL = 2.0 * CARD_DISTANCE / SIZE
 
 def card_move(offset_pixels: tuple[float, float] = (0.0, 0.0), turn_degrees: float = 0.0) -> np.ndarray:
     """A card transform that keeps it in its plane: turned by `turn_degrees` about its centre's
-    normal, then shifted by `offset_pixels` as pinhole(0) sees them (x right, y down)."""
+    normal (+z), then shifted by `offset_pixels` as pinhole(0) sees them (x right, y down: its
+    right is the world's -x)."""
     centre = np.array([np.mean(_CARD_X), np.mean(_CARD_Y), CARD_DISTANCE])
     angle = np.radians(turn_degrees)
     turn = np.eye(4)
@@ -98,7 +99,7 @@ def card_move(offset_pixels: tuple[float, float] = (0.0, 0.0), turn_degrees: flo
     to_centre, back = np.eye(4), np.eye(4)
     to_centre[:3, 3], back[:3, 3] = -centre, centre
     shift = np.eye(4)
-    shift[:2, 3] = offset_pixels[0] * CARD_PIXEL, -offset_pixels[1] * CARD_PIXEL
+    shift[:2, 3] = -offset_pixels[0] * CARD_PIXEL, -offset_pixels[1] * CARD_PIXEL
     return shift @ back @ turn @ to_centre
 
 
