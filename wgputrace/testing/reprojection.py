@@ -19,7 +19,7 @@ SIZE = 32
 WALL_DISTANCE = 4.0
 CARD_DISTANCE = 2.0
 # The card's raster columns and rows seen from pinhole(0): whole pixels, so no pixel centre lies
-# near its edges.
+# near its edges. The camera looks along +z with +y up, so the world's +x is on the image's left.
 CARD_COLUMNS = (10, 20)
 CARD_ROWS = (8, 24)
 _WALL_HALF_SIZE = 40.0
@@ -37,11 +37,11 @@ def pinhole(x: float, yaw_degrees: float = 0.0, aperture_radius: float = 0.0) ->
 
 
 def _plane(raster: float) -> float:
-    """x (or -y) at distance 1 from pinhole(0) of a raster column (or row)."""
+    """-x (or -y) at distance 1 from pinhole(0) of a raster column (or row)."""
     return raster / (SIZE / 2) - 1.0
 
 
-_CARD_X = (_plane(CARD_COLUMNS[0]) * CARD_DISTANCE, _plane(CARD_COLUMNS[1]) * CARD_DISTANCE)
+_CARD_X = (-_plane(CARD_COLUMNS[1]) * CARD_DISTANCE, -_plane(CARD_COLUMNS[0]) * CARD_DISTANCE)
 _CARD_Y = (-_plane(CARD_ROWS[1]) * CARD_DISTANCE, -_plane(CARD_ROWS[0]) * CARD_DISTANCE)
 
 
