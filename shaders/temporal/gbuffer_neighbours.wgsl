@@ -19,6 +19,11 @@ fn pixel_index(xy: vec2<i32>) -> u32 {
     return u32(xy.y) * params.width + u32(xy.x);
 }
 
+// Whether two G-buffer pixels saw the same material of the same object (or both the sky).
+fn same_surface(a: GBufferPixel, b: GBufferPixel) -> bool {
+    return a.surface == b.surface && a.object == b.object;
+}
+
 // How much the depth changes per pixel along x and y on the surface the pixel at `xy` sees: per
 // axis the smaller of the two one-sided differences to neighbours on the same surface, so a
 // silhouette beside the pixel does not count as its surface's slope.
@@ -37,7 +42,7 @@ fn depth_gradient_over(xy: vec2<i32>, here: GBufferPixel, spacing: i32) -> vec2<
             let neighbour = xy + step;
             if inside(neighbour) {
                 let there = gbuffer[pixel_index(neighbour)];
-                if there.surface == here.surface {
+                if same_surface(there, here) {
                     smallest = min(smallest, abs(there.depth - here.depth));
                 }
             }

@@ -53,7 +53,7 @@ fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
 
 // This frame's samples interpolated at `xy`: bilinear over the four traced pixels around it that
 // see the nearest one's surface (the nearest is one of them, of a positive weight).
-fn interpolated(xy: vec2<i32>, surface: u32) -> vec3<f32> {
+fn interpolated(xy: vec2<i32>, nearest: GBufferPixel) -> vec3<f32> {
     let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
     let corner = floor(cell);
     let fraction = cell - corner;
@@ -63,7 +63,7 @@ fn interpolated(xy: vec2<i32>, surface: u32) -> vec3<f32> {
         let offset = vec2<u32>(k & 1u, k >> 1u);
         let tap = (vec2<i32>(corner) + vec2<i32>(offset)) * stride() + subset_offset();
         let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
-        if !inside(tap) || gbuffer[pixel_index(tap)].surface != surface {
+        if !inside(tap) || !same_surface(gbuffer[pixel_index(tap)], nearest) {
             continue;
         }
         colour += along.x * along.y * frame_mean(pixel_index(tap));
@@ -116,7 +116,7 @@ struct Reprojection {
 // Whether the previous frame's history pixel `there` shows the surface `here` expects, its
 // depth from the previous camera within `tolerance` of here's.
 fn consistent(here: GBufferPixel, there: GBufferPixel, tolerance: f32) -> bool {
-    if here.surface != there.surface {
+    if !same_surface(here, there) {
         return false;
     }
     if here.surface == SKY_SURFACE {
@@ -126,7 +126,8 @@ fn consistent(here: GBufferPixel, there: GBufferPixel, tolerance: f32) -> bool {
 }
 
 // The previous history's taps that pass for the pixel at `xy` moved along the motion of the traced
-// pixel `sample` (G-buffer `here`): their weights, demodulated colour, its luminance moments and length (weighted sums), and the heaviest tap's surface.
+// pixel `sample` (G-buffer `here`): their weights, demodulated colour, its luminance moments and
+// length (weighted sums), and the heaviest tap's surface.
 struct Taps {
     weights: f32,
     illumination: vec3<f32>,
@@ -139,7 +140,8 @@ struct Taps {
 // change over the distance between them (none for the sample itself).
 fn passing_taps(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Taps {
     var taps = Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
-    if here.previous_seen == 0u {
+    // the previous camera did not have the point in front
+    if !(here.previous_depth > 0.0) {
         return taps;
     }
     // pixel centres at integers: the taps are the four around it
@@ -218,7 +220,7 @@ fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojec
     // its point's distance from this camera: the tap's, changed as the source's changed (a traced
     // pixel shows its own G-buffer instead: main)
     let depth = best.depth + moved.depth - moved.previous_depth;
-    return Reprojection(history, GBufferPixel(best.normal, depth, albedo, moved.surface, vec2<f32>(0.0), 0.0, 0u));
+    return Reprojection(history, GBufferPixel(best.normal, depth, albedo, moved.surface, vec2<f32>(0.0), 0.0, moved.object));
 }
 
 @compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
@@ -242,7 +244,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         if kept.history.length > 0.0 {
             shown[pixel] = kept.history;
         } else {
-            shown[pixel] = one_sample(interpolated(xy, here.surface), here.albedo);
+            shown[pixel] = one_sample(interpolated(xy, here), here.albedo);
         }
         return;
     }

@@ -153,12 +153,22 @@ GBUFFER_PIXEL = GpuStruct(
         ("surface", "u32"),
         ("motion", "vec2<f32>"),
         ("previous_depth", "f32"),
-        ("previous_seen", "u32"),
+        ("object", "u32"),
     ),
     "What the ray through a pixel's centre first hits (write_gbuffer): the shading normal facing the "
     "camera, the distance the camera's ray travels to it (0: nothing hit), the material's colour, the "
     "surface (material index + 1; 0: nothing hit), the motion from this frame's raster position to "
-    "the previous frame's, and the distance from the previous camera and whether it saw the point.",
+    "the previous frame's, the distance from the previous camera (0: that camera did not see the "
+    "point) and the object (the shape's index in Scene.shapes, or their count + the instance's index; "
+    "0 where nothing was hit).",
+)
+# Where a moving object's points were at the previous frame (ObjectMotion in render/object_motion.py
+# writes them): bound only in the G-buffer variant, declared by its hook.
+OBJECT_MOTION = GpuStruct(
+    "ObjectMotion",
+    (*((f"previous_from_current{row}", "vec4<f32>") for row in range(3)), ("object", "u32")),
+    "An object's previous transform times the inverse of its current one (rows of the 3x4 affine "
+    "part; the identity where it did not move), and its id (GBufferPixel.object).",
 )
 
 LIGHT = GpuStruct(

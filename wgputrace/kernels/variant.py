@@ -15,10 +15,9 @@ from typing import TYPE_CHECKING
 from ..scene.materials import material_class, material_classes
 from .bind_groups import (
     BAND_GROUP,
-    GBUFFER,
+    GBUFFER_BINDINGS,
     GUIDE_SUMS,
     PIXELS_GROUP,
-    PREVIOUS_FRAME,
     RAY_COUNT_GROUP,
     SUBSET_GROUP,
     dispatch_group,
@@ -189,11 +188,11 @@ class KernelVariant:
         return {**dict(self.require_integrator().constants), **dict(self.overrides)}
 
     def pixels_group(self) -> BindGroup:
-        """The pixels group: the guide sums where guides are on, the G-buffer and the previous
-        frame's camera where it is written, and the integrator's own arrays."""
+        """The pixels group: the guide sums where guides are on, the G-buffer, the previous
+        frame's camera and the objects' motions where it is written, and the integrator's own arrays."""
         extra = (
             ((GUIDE_SUMS,) if self.guides else ())
-            + ((GBUFFER, PREVIOUS_FRAME) if self.gbuffer else ())
+            + (GBUFFER_BINDINGS if self.gbuffer else ())
             + tuple(array.binding for array in (self.integrator.pixel_arrays if self.integrator else ()))
         )
         group = PIXELS_GROUP

@@ -428,13 +428,24 @@ class SceneMirror:
             for attribute in (shape.normals, shape.uvs, shape.tangents, shape.colors)
         )
 
+    def _input_shapes(self) -> np.ndarray:
+        """Each kept triangle's shape (its index in scene.shapes), in input order."""
+        return np.repeat(np.arange(len(self._input_start) - 1), np.diff(self._input_start))
+
+    @property
+    def triangle_shapes(self) -> np.ndarray:
+        """Each world triangle's shape (its index in scene.shapes) in BVH order, uint32."""
+        shapes = np.empty(len(self._position), np.uint32)
+        shapes[self._position] = self._input_shapes()
+        return shapes
+
     def _corner_attributes(self) -> dict[str, np.ndarray]:
         """The shading attributes the scene has, per corner (n, 3, k) float32 in BVH order, from the
         shapes as they are: normals (zero for shapes without: flat), texture coordinates with
         textures (zero for shapes without) and tangents where a material reads a normal map,
         colours (white for shapes without)."""
         shapes = self.scene.shapes
-        shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
+        shape_index = self._input_shapes()
         scene_order = {VERTEX_NORMALS: corner_normals(shapes, shape_index, self._local_index)}
         if self.textured:
             uvs = corner_uvs(shapes, shape_index, self._local_index)
