@@ -15,7 +15,15 @@ from wgputrace.integrators import integrator
 from wgputrace.kernels.variant import KernelVariant
 from wgputrace.render.temporal_upsampling import UPSCALE_FACTORS, history_cap, subset_offset
 from wgputrace.testing.image_statistics import displayed_psnr
-from wgputrace.testing.reprojection import SIZE, card_scene, centre_hits, pinhole, reprojection_taps
+from wgputrace.testing.reprojection import (
+    SIZE,
+    card_move,
+    card_object,
+    card_scene,
+    centre_hits,
+    pinhole,
+    reprojection_taps,
+)
 
 # The lamp card's radiance: seen directly (max_depth 1) every sample of a card pixel is this, of a
 # black wall pixel 0.
@@ -79,14 +87,19 @@ def _lamp_card_renderer() -> Renderer:
     return Renderer(scene, SIZE, SIZE, max_depth=1)
 
 
+def _grown(mask: np.ndarray, margin: int) -> np.ndarray:
+    """`mask` grown by `margin` pixels in every direction (a square), not past the image."""
+    padded = np.pad(mask, margin)
+    grown = np.zeros_like(mask)
+    for dy in range(2 * margin + 1):
+        for dx in range(2 * margin + 1):
+            grown |= padded[dy : dy + mask.shape[0], dx : dx + mask.shape[1]]
+    return grown
+
+
 def _on_card_near(on_card: np.ndarray, margin: int) -> np.ndarray:
     """Pixels within `margin` pixels (in x or y) of a pixel on the other plane."""
-    near = np.zeros_like(on_card)
-    for dy in range(-margin, margin + 1):
-        for dx in range(-margin, margin + 1):
-            shifted = np.roll(np.roll(on_card, dy, axis=0), dx, axis=1)
-            near |= shifted != on_card
-    return near
+    return _grown(on_card, margin) & _grown(~on_card, margin)
 
 
 @pytest.mark.gpu
@@ -144,6 +157,31 @@ def test_a_moving_history_is_capped_and_grows_again_at_rest():
     for _ in range(factor * factor):
         renderer.render_frame(upscale=factor)
     np.testing.assert_array_equal(lengths(), moved + 1)
+
+
+@pytest.mark.gpu
+@pytest.mark.parametrize("factor", [2, 4])
+def test_a_sliding_lamp_leaves_no_colour_on_the_wall_behind_it(factor):
+    # max_depth 1: the white wall shows the grey sky alone, its red and green equal in every
+    # sample, so any red on it came from the red lamp's history or samples
+    scene = card_scene(card=Emitter("red lamp", color=(1.0, 0.1, 0.1), emittance=2.0))
+    renderer = Renderer(scene, SIZE, SIZE, max_depth=1)
+    for _ in range(factor * factor):
+        renderer.render_frame(pinhole(0.0), upscale=factor)
+    _, covered = centre_hits(pinhole(0.0))
+    for step in range(1, 5):
+        move = card_move((2.0 * step, 0.0))
+        card_object(scene).transform = move
+        image = renderer.render_frame(upscale=factor)
+        _, on_card = centre_hits(pinhole(0.0), card=move)
+        # the card's pixels and those whose motion or interpolation may be the card's (a traced
+        # pixel on it near them)
+        away = ~_grown(on_card, factor)
+        covered |= on_card
+        red = image[..., 0] - image[..., 1]
+        assert not red[away].any(), f"frame {step}: the card's colour left on {np.count_nonzero(red[away])} pixels"
+    # among the pixels checked, wall the card had covered
+    assert (covered & away & ~on_card).any()
 
 
 def _pan(step: int) -> Camera:
