@@ -116,9 +116,10 @@ def history_cap(factor: int, samples: int) -> int:
 
     Measured on the Cornell box at 64x48, one sample per frame, the camera sliding 0.004 a frame:
     sRGB PSNR of frames 12 and 24 against 256 samples per pixel, for caps of 1, 2, 4, 8, 16
-    samples: at 2x 16.92/17.05, 17.30/17.60, 17.39/17.89, 17.39/17.94, 17.39/17.94 dB (this cap
-    is 4, within 0.05 dB of the longest); at 4x 14.82/15.66 dB for every cap (this one is 1): a
-    pixel's own samples come every 16 frames, so its history is rarely longer than the cap."""
+    samples: at 2x 16.67/16.82, 17.01/17.33, 17.09/17.59, 17.09/17.63, 17.09/17.63 dB (this cap
+    is 4, within 0.04 dB of the longest); at 4x 14.74/15.19 dB for a cap of 1 (this one), 14.75/
+    15.21 for every longer one: a pixel's own samples come every 16 frames, so its history is
+    rarely longer than the cap."""
     return max(MOVING_HISTORY_FRAMES // (factor * factor), 1) * samples
 
 
