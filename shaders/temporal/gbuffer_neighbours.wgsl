@@ -28,12 +28,17 @@ fn same_surface(a: GBufferPixel, b: GBufferPixel) -> bool {
 // axis the smaller of the two one-sided differences to neighbours on the same surface, so a
 // silhouette beside the pixel does not count as its surface's slope.
 fn depth_gradient(xy: vec2<i32>, here: GBufferPixel) -> vec2<f32> {
+    return depth_gradient_over(xy, here, 1);
+}
+
+// depth_gradient from the neighbours `spacing` pixels away (a sparse G-buffer's), per pixel.
+fn depth_gradient_over(xy: vec2<i32>, here: GBufferPixel, spacing: i32) -> vec2<f32> {
     var gradient = vec2<f32>(0.0);
     for (var axis = 0; axis < 2; axis++) {
         var smallest = FLOAT_MAX;
         for (var side = -1; side <= 1; side += 2) {
             var step = vec2<i32>(0);
-            step[axis] = side;
+            step[axis] = side * spacing;
             let neighbour = xy + step;
             if inside(neighbour) {
                 let there = gbuffer[pixel_index(neighbour)];
@@ -42,7 +47,7 @@ fn depth_gradient(xy: vec2<i32>, here: GBufferPixel) -> vec2<f32> {
                 }
             }
         }
-        gradient[axis] = select(0.0, smallest, smallest < FLOAT_MAX);
+        gradient[axis] = select(0.0, smallest / f32(spacing), smallest < FLOAT_MAX);
     }
     return gradient;
 }

@@ -99,6 +99,10 @@ GBUFFER_BINDINGS = (GBUFFER, PREVIOUS_FRAME, TRIANGLE_OBJECTS, OBJECT_MOTIONS)
 
 # The viewer's band of rows: the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
+# Temporal upsampling's subset of pixels: (stride, offset x, offset y, unused), one pixel of each
+# stride x stride block (`KernelVariant.subset`). Index 2 as the band group's: it takes one sample
+# per pixel per dispatch, as the bands do.
+SUBSET_GROUP = BindGroup("subset", 2, (Binding("pixel_subset", UNIFORM, "vec4<u32>"),))
 # How many samples of its pixel each invocation takes in this dispatch, only in the kernels that
 # take more than one (`KernelVariant.samples_per_dispatch`). Index 2 as the band group's: the
 # viewer's bands take one sample per pixel, so no kernel binds both. Under a loop budget

@@ -48,6 +48,7 @@ from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
 from .svgf_filter import VarianceGuidedFilter
 from .temporal_accumulation import TemporalAccumulation
+from .temporal_upsampling import TemporalUpsampling, check_upscale
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -224,6 +225,7 @@ class Renderer:
         self._previous_frame: wgpu.GPUBuffer | None = None
         self._motion: ObjectMotion | None = None
         self._filter: VarianceGuidedFilter | None = None
+        self._upsampling: TemporalUpsampling | None = None
         self._bind()
 
     @property
@@ -280,6 +282,8 @@ class Renderer:
         buffers = (self._frame.buffer, self._rng, self._rng_at_seed, *self._sums.values())
         if self._temporal is not None:
             buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers)
+        if self._upsampling is not None:
+            buffers += self._upsampling.buffers
         if self._filter is not None:
             buffers += self._filter.buffers
         return {buffer.label: buffer.size for buffer in buffers}
@@ -399,8 +403,7 @@ class Renderer:
         self.context.submit(encoder, "restarting accumulation")
         self._replicate = 0
         self.stats = RenderStats()
-        if self._temporal is not None:
-            self._temporal.restart()
+        self._restart_frames()
 
     def _sampler_states(self, replicate: int) -> np.ndarray:
         """Every pixel's sampler state at the seed: a xoshiro128** state, or a Sobol seed for
@@ -617,10 +620,18 @@ class Renderer:
             self._replicate += 1
             write_buffer(self.context, self._rng, 0, self._sampler_states(self._replicate))
         self.stats = RenderStats()
+        self._restart_frames()
+
+    def _restart_frames(self) -> None:
+        """Start the histories of render_frame again at the next frame."""
         if self._temporal is not None:
             self._temporal.restart()
+        if self._upsampling is not None:
+            self._upsampling.restart()
 
-    def render_frame(self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False) -> np.ndarray:
+    def render_frame(
+        self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False, upscale: int = 1
+    ) -> np.ndarray:
         """One frame of a moving picture: look through `camera` (None: the scene's camera as it
         is, after any edits to the scene), trace `spp` samples per pixel and add them to every
         pixel's history (TemporalAccumulation). Returns the history's mean: float32 (height,
@@ -636,9 +647,17 @@ class Renderer:
 
         `filtered`: the history's picture through SVGF's variance-guided filter instead
         (VarianceGuidedFilter); in a frame where something moved, the filter's first pass also
-        becomes the history the next frame takes, as in SVGF; at rest the history stays unfiltered."""
+        becomes the history the next frame takes, as in SVGF; at rest the history stays unfiltered.
+
+        `upscale`: 2, 4 or 8 traces `spp` samples of one pixel in each upscale x upscale block
+        and rebuilds every pixel from its history (TemporalUpsampling); at rest, after N * upscale**2
+        frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again.
+        With `filtered`, the filter reads the upsampled picture and what each pixel's history shows
+        (without SVGF's feedback into the history)."""
         if spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
+        if upscale != 1:
+            check_upscale(upscale, self.width, self.height)
         if self._temporal is None:
             self._start_frames()
         if camera is not None:
@@ -650,18 +669,36 @@ class Renderer:
             encoder.clear_buffer(buffer)
         self.context.submit(encoder, "starting a frame")
         self.stats = RenderStats()
-        self.render(spp)
-        self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+        self._add_frame(spp, upscale, moving)
         self._motion.frame_done(self.scene)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
+        frames = self._temporal if upscale == 1 else self._upsampling
         if not filtered:
-            return self._temporal.image()
+            return frames.image()
         if self._filter is None:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
+        if upscale != 1:
+            # what each pixel's history shows stands for the G-buffer the traced pixels alone have
+            return self._filter.filter(self._upsampling.shown, self._upsampling.surfaces, spp)
         # SVGF's feedback only into a history that moved: a resting one (and a new one, even if the
         # camera was just set) stays the plain mean
         carried = self._temporal.carried if self._temporal.reprojected else None
         return self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
+
+    def _add_frame(self, spp: int, upscale: int, moving: bool) -> None:
+        """Trace a frame and add it to its history: every pixel's (TemporalAccumulation), or one
+        pixel's per block (TemporalUpsampling); the history of another kind or factor starts again."""
+        if upscale == 1:
+            if self._upsampling is not None:
+                self._upsampling = None
+                self._temporal.restart()
+            self.render(spp)
+            self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+            return
+        if self._upsampling is None or self._upsampling.factor != upscale:
+            self._upsampling = TemporalUpsampling(self.context, self.width, self.height, upscale)
+        self._upsampling.trace(self, spp)
+        self._upsampling.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
 
     def _start_frames(self) -> None:
         """What render_frame needs: the G-buffer variant, the G-buffer, the previous frame's camera
@@ -687,7 +724,8 @@ class Renderer:
         scene.instances; 0: nothing hit), "motion" (from this frame's raster position to where the previous camera
         saw the point, moved back with its object, in pixels, x right and y down), "previous_depth"
         and "previous_seen" (the previous camera's distance to the point, 0 where it did not have it
-        in front, and whether it did); arrays of (height, width) or (height, width, n)."""
+        in front, and whether it did); arrays of (height, width) or (height, width, n). After an
+        upscaled frame only the pixels it traced hold that frame's entries."""
         if self._gbuffer is None:
             raise ValueError("no frame has been rendered yet: call render_frame first")
         records = read_buffer(self.context, self._gbuffer, GBUFFER_PIXEL.dtype, self.width * self.height)
