@@ -39,8 +39,8 @@ from wgputrace.testing.stats import MIN_EXPECTED, chi_square, sidak, z_limit
 
 pytestmark = pytest.mark.gpu
 
-# the clearcoat's and sheen's parameters, columns of FIXTURE
-LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint")
+# the clearcoat's, sheen's and anisotropy's parameters, columns of FIXTURE
+LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint", "anisotropic")
 FIXTURE = Path(__file__).parent / "data" / "principled_mitsuba.npz"
 MITSUBA_FURNACE = Path(__file__).parent / "data" / "principled_furnace_mitsuba.npz"
 # Samples per case of the furnace grid: a standard error of ~0.003 against Mitsuba's ~0.0005.
@@ -317,7 +317,13 @@ def test_parameters_are_checked_and_exported():
     assert eta_from_specular(0.5) == pytest.approx(1.5, rel=1e-12)
     with pytest.raises(MaterialError, match=r"material 'p': clearcoat_gloss must be in \[0.0, 1.0\], got 2.0"):
         Principled("p", clearcoat_gloss=2.0)
-    # the clearcoat and sheen likewise by their weights' keys, their other parameters with them
-    coated = Principled("p", clearcoat=0.5, clearcoat_gloss=0.25, sheen=0.75, sheen_tint=0.5).mitsuba_bsdf()
-    assert {k: coated[k] for k in LOBE_PARAMETERS} == dict(zip(LOBE_PARAMETERS, (0.5, 0.25, 0.75, 0.5), strict=True))
+    # the clearcoat, sheen and anisotropy likewise by their weights' keys, their other parameters with them
+    values = (0.5, 0.25, 0.75, 0.5, 0.6)
+    coated = Principled("p", **dict(zip(LOBE_PARAMETERS, values, strict=True))).mitsuba_bsdf()
+    assert {k: coated[k] for k in LOBE_PARAMETERS} == dict(zip(LOBE_PARAMETERS, values, strict=True))
     assert not set(LOBE_PARAMETERS) & set(Principled("p", clearcoat_gloss=0.5, sheen_tint=1.0).mitsuba_bsdf())
+    # Mitsuba's anisotropy follows dP/du: a turned one has no export
+    with pytest.raises(MaterialError, match="anisotropy_rotation 0.5 has no Mitsuba 3 parameter"):
+        Principled("p", anisotropic=0.5, anisotropy_rotation=0.5).mitsuba_bsdf()
+    with pytest.raises(MaterialError, match=r"anisotropy_rotation must be in \[-6.28"):
+        Principled("p", anisotropy_rotation=7.0)
