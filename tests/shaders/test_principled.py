@@ -2,7 +2,7 @@
 on the GPU: eval and pdf against Mitsuba 3's `principled` at random directions (FIXTURE, written by
 the make_principled_fixture script), chi-square tests of its sampling against its pdf over the
 parameter range (with transmission on a grid of both hemispheres; with the clearcoat and sheen
-lobes), white furnaces (the integral of
+lobes; anisotropic), white furnaces (the integral of
 its eval; Mitsuba's own), and finite samples at the extremes of every parameter and at grazing angles.
 
 We reproduce Mitsuba's model (the lead's decision), which at metallic 0 and base colour 1 reflects
@@ -67,11 +67,14 @@ SPEC_TRANS_COSINES = (0.9, 0.2, -0.5, -0.9)
 # (roughness, metallic, spec_trans, cos theta_i)
 # the clearcoat (rough and glossy, over rough and smooth GGX, from near normal to grazing) and the
 # sheen (tinted, on a half metallic base), as (parameter, value) pairs
+# and anisotropy (the most Mitsuba has, over both GGX lobes; wi at random azimuths about the tangent)
 LOBES = (
     (("clearcoat", 1.0), ("clearcoat_gloss", 0.0)),
     (("clearcoat", 0.5), ("clearcoat_gloss", 0.9)),
     (("sheen", 1.0), ("sheen_tint", 0.5)),
+    (("anisotropic", 1.0),),
 )
+ANISOTROPIC = LOBES[3]
 LOBE_COSINES = (0.9, 0.2)
 # (roughness, metallic, spec_trans, cos theta_i, lobes)
 SAMPLING_CASES = [(r, m, 0.0, c, ()) for r in ROUGHNESS for m in METALLIC for c in INCIDENT_COSINES] + [
@@ -79,6 +82,8 @@ SAMPLING_CASES = [(r, m, 0.0, c, ()) for r in ROUGHNESS for m in METALLIC for c 
 ]
 SAMPLING_CASES += [(r, 0.5, 0.0, c, lobes) for r in (0.05, 1.0) for lobes in LOBES for c in LOBE_COSINES]
 SAMPLING_CASES += [(0.3, 0.0, 0.5, 0.9, LOBES[0] + LOBES[2])]
+SAMPLING_CASES += [(0.3, SPEC_TRANS_METALLIC, 1.0, c, ANISOTROPIC) for c in (0.9, -0.5)]
+SAMPLING_CASES += [(r, 1.0, 0.0, 0.01, ANISOTROPIC) for r in (0.05, 0.5)]
 # (roughness, metallic, lobes)
 FURNACE_CASES = [(r, m, ()) for r in (0.05, 0.5, 1.0) for m in (0.0, 0.5, 1.0)]
 FURNACE_CASES += [(r, m, lobes) for r in (0.05, 1.0) for m in (0.0, 1.0) for lobes in LOBES]
