@@ -18,6 +18,7 @@ import numpy as np
 
 from ..scene import Camera, Principled, Scene, Shape, make_icosphere
 from .emitting_room import emitting_room
+from .principled import RADIUS, ROOM_CELLS, ROOM_HALF_SIZE, SPACING
 
 # the quads' texture coordinates turned by these (degrees): the tangent along x, the diagonal, y
 UV_TURNS = (0.0, 45.0, 90.0)
@@ -25,14 +26,9 @@ UV_TURNS = (0.0, 45.0, 90.0)
 SPHERES = ((1.0, 0.3, 0.0, 1.0), (0.5, 0.4, 0.0, 0.8), (0.0, 0.3, 1.0, 1.0))
 BRUSHED = dict(metallic=1.0, roughness=0.15, anisotropic=1.0)
 METAL_COLOR = (0.9, 0.9, 0.9)
-COLUMNS = 3
-SPACING = 1.1
 HALF_SIZE = 0.45
-RADIUS = 0.45
-# the quads lean back (about x) so that they reflect the floor as well as the wall behind the camera
+# the quads lean back (about x) so that they reflect the ceiling as well as the wall behind the camera
 LEAN_DEGREES = 20.0
-ROOM_HALF_SIZE = 4.0
-ROOM_CELLS = 8
 
 
 def brushed_quad(center, uv_turn_degrees: float, name: str) -> Shape:
