@@ -2,7 +2,8 @@
 anisotropic metal quad seen head-on under a light from the camera's side. Its highlight stretches
 along the tangent (u, +x here) and turning the anisotropy by 90 degrees stretches it across; a quad
 without texture coordinates takes Mitsuba's fallback tangent (coordinate_system of its normal, +x
-for this quad) and renders as the one with them; bdpt renders what the path tracer does."""
+for this quad) and renders as the one with them; bdpt renders what the path tracer does; an edit
+that turns anisotropy on renders as a scene made with it (tangents uploaded, the kernel recompiled)."""
 
 from __future__ import annotations
 
@@ -68,3 +69,14 @@ def test_bdpt_turns_the_frame_as_the_path_tracer():
     traced = render(scene_of(rotation=math.pi / 2), integrator="bdpt")
     x, y = spreads(traced)
     assert y > STRETCH * x
+
+
+def test_an_edit_that_turns_anisotropy_on_renders_as_a_scene_made_with_it():
+    scene = scene_of()
+    scene.materials[0].anisotropic = 0.0
+    renderer = Renderer(scene, SIZE, SIZE, seed=5, max_depth=2)
+    renderer.render(SPP)
+    scene.materials[0].anisotropic = 1.0
+    renderer.restart()
+    renderer.render(SPP)
+    np.testing.assert_allclose(renderer.image().mean(axis=-1), render(scene_of()), rtol=1e-4, atol=1e-6)
