@@ -61,6 +61,22 @@ def test_the_highlight_stretches_along_the_tangent_and_turns_with_the_rotation()
     assert y > STRETCH * x, f"turned 90 degrees the highlight spreads {x:.2f} px along x, {y:.2f} along y"
 
 
+def test_the_rotation_turns_the_tangent_towards_gltfs_bitangent():
+    """glTF measures anisotropyRotation from the tangent (u: +x) towards the bitangent (up the
+    texture image, v decreasing: +y), so +45 degrees stretches the highlight along world (1, 1, 0):
+    up and to the left in the image of a camera looking along +z (its right is -x), the diagonal
+    whose columns and rows grow together; -45 degrees along the other diagonal."""
+    for rotation, sign in ((math.pi / 4, 1.0), (-math.pi / 4, -1.0)):
+        image = render(scene_of(rotation=rotation))
+        rows, columns = np.indices(image.shape)
+        weights = image / image.sum()
+        covariance = (weights * (columns - (weights * columns).sum()) * (rows - (weights * rows).sum())).sum()
+        x, y = spreads(image)
+        assert sign * covariance > 0.5 * x * y, (
+            f"turned {rotation:.3f}: covariance {covariance:.2f}, spreads {x:.2f} {y:.2f}"
+        )
+
+
 def test_without_texture_coordinates_the_tangent_is_mitsubas_fallback():
     np.testing.assert_allclose(render(scene_of(uvs=False)), render(scene_of()), rtol=1e-4, atol=1e-6)
 
