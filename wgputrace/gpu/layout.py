@@ -114,9 +114,10 @@ MATERIAL = GpuStruct(
         ("clearcoat_gloss", "f32"),
         ("sheen", "f32"),
         ("sheen_tint", "f32"),
+        ("anisotropic", "f32"),
     ),
     "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans, clearcoat, "
-    "clearcoat_gloss, sheen, sheen_tint: Principled's; absorption: sigma_a inside (`Material.absorption`), "
+    "clearcoat_gloss, sheen, sheen_tint, anisotropic: Principled's; absorption: sigma_a inside (`Material.absorption`), "
     "read only in kernels for scenes with an absorbing material.",
 )
 FRAME = GpuStruct(
@@ -294,11 +295,13 @@ MATERIAL_TEXTURES = GpuStruct(
         ("emission", "u32"),
         ("emitted", "vec3<f32>"),
         ("normal_scale", "f32"),
+        ("anisotropy_rotation", "f32"),
     ),
     "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's); "
     "alpha_mode as `ALPHA_MODES` numbers them, its cutoff, and 0 for a single-sided surface "
     "(`surface_blocks`); the radiance it emits (x the emission texture's: `surface_emission`); the "
-    "normal texture's strength (`mapped_normal`), in the padding after `emitted`.",
+    "normal texture's strength (`mapped_normal`), in the padding after `emitted`; the angle of the "
+    "anisotropy's direction from the tangent (`surface_frame`).",
 )
 
 ALL_STRUCTS = (
