@@ -25,3 +25,8 @@ wt.save_image("cornell_1e-4.png", wt.render(wt.load_scene("cornell_1e-4"), **SET
 # %%
 # ``cornell_1e4``: scaled by 1e4.
 wt.save_image("cornell_1e4.png", wt.render(wt.load_scene("cornell_1e4"), **SETTINGS))
+
+# %%
+# ``instanced_cornell``: the box's walls and lamp with spheres and crates placed as instances of
+# two meshes, each stored once (`Scene.add_instance`, traversed through a two-level BVH).
+wt.save_image("instanced_cornell.png", wt.render(wt.load_scene("instanced_cornell"), **SETTINGS))
