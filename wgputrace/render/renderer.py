@@ -610,11 +610,22 @@ class Renderer:
         if self._temporal is not None:
             self._temporal.restart()
 
-    def render_frame(self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False) -> np.ndarray:
+    def render_frame(
+        self,
+        camera: Camera | None = None,
+        spp: int | None = None,
+        *,
+        budget: float | None = None,
+        filtered: bool = False,
+    ) -> np.ndarray:
         """One frame of a moving picture: look through `camera` (None: the scene's camera as it
-        is, after any edits to the scene), trace `spp` samples per pixel and add them to every
-        pixel's history (TemporalAccumulation). Returns the history's mean: float32 (height,
-        width, 3), linear radiance, row 0 on top.
+        is, after any edits to the scene), trace `spp` samples per pixel (default 1) and add them
+        to every pixel's history (TemporalAccumulation). Returns the history's mean: float32
+        (height, width, 3), linear radiance, row 0 on top.
+
+        `budget`: seconds for the frame's tracing instead of a sample count: passes are traced
+        until it is spent, at least one sample per pixel (`spp` then caps them), as
+        `render(seconds=...)` counts them; `stats.samples_per_pixel` says how many were taken.
 
         While the camera and the scene stay as they were, a frame adds its samples as `render`
         does: N frames at rest are bit for bit the mean of a fresh Renderer's `render(N * spp)`
@@ -626,8 +637,10 @@ class Renderer:
 
         `filtered`: the history's picture through SVGF's variance-guided filter instead
         (VarianceGuidedFilter); the history itself stays unfiltered."""
-        if spp < 1:
+        if spp is not None and spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
+        if budget is not None and not budget > 0:
+            raise ValueError(f"budget must be > 0 seconds, got {budget}")
         if self._temporal is None:
             self._start_frames()
         if camera is not None:
@@ -639,7 +652,8 @@ class Renderer:
             encoder.clear_buffer(buffer)
         self.context.submit(encoder, "starting a frame")
         self.stats = RenderStats()
-        self.render(spp)
+        self.render(1 if spp is None and budget is None else spp, seconds=budget)
+        spp = self.stats.samples_per_pixel
         self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
         if not filtered:
@@ -661,6 +675,12 @@ class Renderer:
         self.kernel = tracing_kernel(self.context, variant)
         self._bind()
         self._temporal = TemporalAccumulation(self.context, self.width, self.height)
+
+    def history_length(self) -> np.ndarray:
+        """The samples each pixel's history holds after the last render_frame: float32 (height, width)."""
+        if self._temporal is None:
+            raise ValueError("no frame has been rendered yet: call render_frame first")
+        return self._temporal.records()["length"].reshape(self.height, self.width)
 
     def gbuffer(self) -> dict[str, np.ndarray]:
         """The last frame's G-buffer (render_frame), what the ray through each pixel's centre first
