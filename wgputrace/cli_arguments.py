@@ -26,6 +26,9 @@ if TYPE_CHECKING:
 # --env's word for no environment at all: black, even for a scene that brings no light (a file of
 # that name is ./none)
 NO_ENVIRONMENT = "none"
+# The viewer's pictures while the camera moves (--preview): render_frame's frames, or today's reset preview.
+TEMPORAL_PREVIEW, RESET_PREVIEW = "temporal", "reset"
+PREVIEWS = (TEMPORAL_PREVIEW, RESET_PREVIEW)
 
 
 class UsageError(Exception):
@@ -236,6 +239,13 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--filter", action="store_true", help="start with the pre-convergence filter on (key N)")
     parser.add_argument(
         "--denoise", action="store_true", help="start with the OIDN denoiser on (Shift+D; the denoise extra)"
+    )
+    parser.add_argument(
+        "--preview",
+        choices=PREVIEWS,
+        default=TEMPORAL_PREVIEW,
+        help="the picture while the camera moves: temporal (default) keeps every pixel's samples across frames "
+        "and filters them (SVGF; key V shows how it is made); reset starts again at a reduced size on every move",
     )
     parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
     parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")

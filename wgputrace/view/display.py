@@ -118,10 +118,11 @@ class Display:
         self._resolved_as: tuple | None = None  # what `resolved` shows where no sample changed since
         self.filter_weight = 0.0  # the weight the last frame showed the filter with
 
-    def keep_as_fallback(self, size: tuple[int, int]) -> None:
-        """Show the resolved image of the last frame (`size` pixels), scaled up, where the next
-        passes have no sample yet: the last preview frame while the first full pass comes in."""
-        copy_texture(self.context, self.resolved, self._fallback, size)
+    def keep_as_fallback(self, size: tuple[int, int], source=None) -> None:
+        """Show the resolved image of the last frame (`size` pixels; or of the texture `source`, an
+        IMAGE_FORMAT one such as the moving picture's), scaled up, where the next passes have no
+        sample yet: the last preview frame while the first full pass comes in."""
+        copy_texture(self.context, self.resolved if source is None else source, self._fallback, size)
         self._fallback_size = size
 
     def camera_changed(self) -> None:
