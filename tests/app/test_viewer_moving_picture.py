@@ -15,7 +15,7 @@ from PIL import Image
 
 from wgputrace import Renderer, load_image
 from wgputrace.loaders import load_scene
-from wgputrace.testing.image_statistics import displayed_mse
+from wgputrace.testing.image_statistics import displayed_mse, equal_neighbour_fraction
 from wgputrace.testing.offscreen_viewer import SIZE, frames, offscreen_viewer
 from wgputrace.view.reset_preview import scaled_up
 from wgputrace.view.temporal_picture import FRAME_VIEWS, FrameView
@@ -55,13 +55,6 @@ def _screenshot(viewer) -> tuple[np.ndarray, np.ndarray]:
     """(the PNG's pixels, the EXR's linear image) of what the viewer shows now."""
     png, exr = viewer.screenshot()
     return np.asarray(Image.open(png).convert("RGB")), load_image(exr)
-
-
-def equal_neighbour_fraction(pixels: np.ndarray) -> float:
-    """The fraction of horizontally or vertically adjacent pixel pairs with the same 8-bit colour."""
-    across = (pixels[:, 1:] == pixels[:, :-1]).all(axis=-1)
-    down = (pixels[1:] == pixels[:-1]).all(axis=-1)
-    return float((across.sum() + down.sum()) / (across.size + down.size))
 
 
 def _converged(camera) -> np.ndarray:

@@ -24,7 +24,7 @@ from ..scene import Camera, Scene
 from ..view.display import ViewSettings
 from ..view.layout import View
 from ..view.present import Tone
-from ..view.temporal_picture import DEFAULT_FRAME_VIEW, TemporalPicture
+from ..view.temporal_picture import DEFAULT_FRAME_VIEW, TemporalPicture, next_frame_view
 from .boxes import BoxLines
 from .controls import FlyCamera
 from .denoising import ViewerDenoiser
@@ -101,7 +101,7 @@ class Viewer:
         """Which picture of the samples the radiance view shows: "OIDN (CPU), 16 spp", "a-trous" or
         "raw"; while moving, the moving picture's view ("SVGF filtered", "motion vectors", ...)."""
         moving = self._moving_picture()
-        return moving.view.value if moving is not None else self.denoiser.shown_label(self.view)
+        return self.settings.frame_view.value if moving is not None else self.denoiser.shown_label(self.view)
 
     def _moving_picture(self) -> TemporalPicture | None:
         """The moving picture where the frames show it: the radiance view of a view that has one
@@ -114,7 +114,7 @@ class Viewer:
     def _frames_at_rest(self) -> bool:
         """Whether the moving picture goes on at rest: while a debug view of it is chosen."""
         view = self.view
-        return view is not None and view.moving is not None and view.moving.view != DEFAULT_FRAME_VIEW
+        return view is not None and view.moving is not None and self.settings.frame_view != DEFAULT_FRAME_VIEW
 
     def next_frame_view(self) -> None:
         """Key V: the moving picture's next view, shown at rest too until the filtered one comes back."""
@@ -123,7 +123,7 @@ class Viewer:
             why = "--preview reset" if self.options.preview == RESET_PREVIEW else "this integrator has no G-buffer"
             self.overlay.show_status(f"no moving-picture views: {why}")
             return
-        shown = view.moving.next_view()
+        shown = self.settings.frame_view = next_frame_view(self.settings.frame_view)
         if not self.pacing.moving:
             self.pacing.camera_turned()  # start the frames again from the camera as it is
         self.overlay.show_status(f"moving picture: {shown.value}")
@@ -142,7 +142,7 @@ class Viewer:
 
     def _tone(self) -> Tone:
         moving = self._moving_picture()
-        radiance = self.settings.view == View.RADIANCE and (moving is None or moving.view.radiance)
+        radiance = self.settings.view == View.RADIANCE and (moving is None or self.settings.frame_view.radiance)
         return self.tone if radiance else Tone()
 
     def _measure_exposure(self, image, image_size: tuple[int, int], now: float) -> None:
@@ -239,7 +239,8 @@ class Viewer:
                 self._restart(start, moving=False)
             frames = view.moving is not None and self.pacing.moving
             if not self.paused and frames:
-                trace_seconds = view.moving.advance(self.controller.camera(), self.pacing.trace_budget())
+                camera, budget = self.controller.camera(), self.pacing.trace_budget()
+                trace_seconds = view.moving.advance(camera, budget, self.settings.frame_view)
             elif not self.paused:
                 # a reduced picture is always whole: one pass at the reduced size, chosen to fit
                 trace_seconds = view.banded.advance(self.pacing.trace_budget(), whole_pass=self.pacing.moving)

@@ -36,6 +36,7 @@ from .layout import (
     View,
     generated_view_structs,
 )
+from .temporal_picture import DEFAULT_FRAME_VIEW, FrameView
 
 # a-trous passes: taps 1, 2, 4, 8, 16 pixels apart, a footprint of 2 * 2 * (1 + 2 + 4 + 8 + 16) + 1 = 125 pixels.
 FILTER_PASSES = 5
@@ -68,6 +69,7 @@ class ViewSettings:
     filter_enabled: bool = False
     depth_scale: float = 1.0  # distance shown black in the depth view: the scene's diagonal
     fade: bool = True  # False: the filter at full weight at any sample count (`python -m bench.filter_psnr`)
+    frame_view: FrameView = DEFAULT_FRAME_VIEW  # what the moving picture shows (key V, TemporalPicture)
 
 
 class Display:

@@ -1,8 +1,8 @@
 """The viewer's moving picture (its default `--preview temporal`): each frame a
 `Renderer.render_frame` within the frame's budget, every pixel keeping its samples while the camera
-moves, shown as one of FRAME_VIEWS (key V): the variance-guided filter's picture by default, or a
-debug view of how it was made. The chosen view is uploaded into a texture the present pass shows
-as it shows the resolved image."""
+moves, shown as one of FRAME_VIEWS (key V, `ViewSettings.frame_view`): the variance-guided
+filter's picture by default, or a debug view of how it was made. The picture is uploaded into a
+texture the present pass shows as it shows the resolved image."""
 
 from __future__ import annotations
 
@@ -42,6 +42,11 @@ FRAME_VIEWS = (FrameView.RAW, FrameView.ACCUMULATION, FrameView.FILTERED, FrameV
 DEFAULT_FRAME_VIEW = FrameView.FILTERED
 
 
+def next_frame_view(view: FrameView) -> FrameView:
+    """The view after `view` in FRAME_VIEWS (key V), the first after the last."""
+    return FRAME_VIEWS[(FRAME_VIEWS.index(view) + 1) % len(FRAME_VIEWS)]
+
+
 def motion_colors(motion: np.ndarray, hit: np.ndarray) -> np.ndarray:
     """The motion view of G-buffer motion vectors (h, w, 2) in pixels: grey (0.5) for none, red and
     green up or down with x and y, black where the pixel saw nothing (`hit` false)."""
@@ -63,7 +68,6 @@ class TemporalPicture:
 
     def __init__(self, renderer: Renderer) -> None:
         self.renderer = renderer
-        self.view = DEFAULT_FRAME_VIEW
         self.texture = image_texture(renderer.context, "moving picture", renderer.width, renderer.height, IMAGE_FORMAT)
         self.samples_per_pixel = 0  # the last frame's
         self.frames = 0  # frames rendered
@@ -72,30 +76,25 @@ class TemporalPicture:
     def size(self) -> tuple[int, int]:
         return self.renderer.width, self.renderer.height
 
-    def next_view(self) -> FrameView:
-        """Step to the next of FRAME_VIEWS (key V); shown from the next frame on."""
-        self.view = FRAME_VIEWS[(FRAME_VIEWS.index(self.view) + 1) % len(FRAME_VIEWS)]
-        return self.view
-
-    def frame(self, camera: Sensor, budget: float) -> np.ndarray:
+    def frame(self, camera: Sensor, budget: float, view: FrameView = DEFAULT_FRAME_VIEW) -> np.ndarray:
         """Render a frame through `camera` with `budget` seconds of tracing (at least one sample per
         pixel) and upload it as `view` shows it; returns that picture, float32 (height, width, 3)."""
         renderer = self.renderer
-        image = renderer.render_frame(camera, budget=budget, filtered=self.view == FrameView.FILTERED)
+        image = renderer.render_frame(camera, budget=budget, filtered=view == FrameView.FILTERED)
         self.samples_per_pixel = renderer.stats.samples_per_pixel
         self.frames += 1
-        if self.view == FrameView.RAW:
+        if view == FrameView.RAW:
             image = renderer.image()
-        elif self.view == FrameView.MOTION:
+        elif view == FrameView.MOTION:
             gbuffer = renderer.gbuffer()
             image = motion_colors(gbuffer["motion"], gbuffer["depth"] > 0.0)
-        elif self.view == FrameView.HISTORY:
+        elif view == FrameView.HISTORY:
             image = history_greys(renderer.history_length(), self.samples_per_pixel)
         write_image(renderer.context, self.texture, image)
         return image
 
-    def advance(self, camera: Sensor, budget: float) -> float:
+    def advance(self, camera: Sensor, budget: float, view: FrameView) -> float:
         """A `frame`, for the viewer: the seconds it took."""
         start = time.perf_counter()
-        self.frame(camera, budget)
+        self.frame(camera, budget, view)
         return time.perf_counter() - start
