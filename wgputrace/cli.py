@@ -99,10 +99,12 @@ def argument_parser() -> argparse.ArgumentParser:
 
     frames = commands.add_parser(
         "render-frames",
-        help="render an animation's frames (a .py file defining scene(frame)) on a Ray cluster",
+        help="render an animation's frames (a .py file defining scene(frame)) on a Ray cluster, or in order here "
+        "with --temporal",
         description="One task per frame; each file is written atomically as its frame finishes, and frames "
         "whose file exists are skipped, so the same command resumes an interrupted job. Ctrl-C (SIGINT) "
-        "ends the workers at once and keeps the frames written.",
+        "ends the workers at once and keeps the frames written. With --temporal the frames are rendered in order on "
+        "this machine, every pixel keeping its samples from frame to frame, and all are written.",
     )
     add_frames_arguments(frames, default_spp=DEFAULT_SPP)
 
