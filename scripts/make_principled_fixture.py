@@ -26,8 +26,9 @@ DIRECTIONS = 64
 # sheen_tint: LOBES): the corners of the range, eta below 1 (Schlick on the refracted side),
 # transmission partial and whole, then the clearcoat and sheen lobes, alone, tinted and together
 # (clearcoat_gloss at most 0.5: near a glossier GTR1 peak Mitsuba's D, 1 + (alpha^2 - 1) cos^2 in f32,
-# cancels to fewer bits than MITSUBA_RTOL; ours is written without the cancellation)
-LOBES = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint")
+# cancels to fewer bits than MITSUBA_RTOL; ours is written without the cancellation), then anisotropy
+# (alpha_u along x: the sh_frame's s) on dielectric, metal, transmission, at alpha's floor, with the lobes
+LOBES = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint", "anisotropic")
 PARAMETERS = (
     ((0.9, 0.5, 0.2), 0.0, 0.5, 1.5, 0.0),
     ((0.3, 0.6, 0.9), 0.5, 0.2, 1.33, 0.0),
@@ -48,6 +49,13 @@ PARAMETERS = (
     ((0.6, 0.8, 1.0), 0.0, 0.3, 1.5, 0.5, 0.8, 0.3, 0.6, 1.0),
     # sheen without a diffuse lobe: Mitsuba's JIT variants add it all the same
     ((0.6, 0.8, 1.0), 0.0, 0.3, 1.5, 1.0, 0.0, 0.0, 1.0, 0.0),
+    ((0.9, 0.5, 0.2), 0.0, 0.5, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.8),
+    ((1.0, 1.0, 1.0), 1.0, 0.3, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+    ((0.3, 0.6, 0.9), 0.5, 0.1, 1.33, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5),
+    ((0.6, 0.8, 1.0), 0.0, 0.4, 1.5, 0.7, 0.0, 0.0, 0.0, 0.0, 0.9),
+    ((0.5, 0.5, 0.5), 0.0, 0.6, 0.8, 1.0, 0.0, 0.0, 0.0, 0.0, 0.3),
+    ((0.5, 0.5, 0.5), 0.25, 0.03, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+    ((0.2, 0.9, 0.4), 0.3, 0.7, 1.5, 0.0, 0.6, 0.3, 0.5, 0.5, 0.7),
 )
 
 
@@ -94,7 +102,7 @@ def main() -> None:
         eta=np.array([p[3] for p in PARAMETERS], np.float32),
         spec_trans=np.array([p[4] for p in PARAMETERS], np.float32),
         **{
-            name: np.array([(*p[5:], 0.0, 0.0, 0.0, 0.0)[i] for p in PARAMETERS], np.float32)
+            name: np.array([(*p[5:], *(0.0,) * len(LOBES))[i] for p in PARAMETERS], np.float32)
             for i, name in enumerate(LOBES)
         },
         wi=np.array(wis),

@@ -196,7 +196,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     if !material_reflects(material) || depth >= frame.max_depth {
         return false;
     }
-    let local = shading_frame(shading);
+    let local = surface_frame(shading, triangle.material, hit.triangle, triangle, p, normal);
     let wi = to_local(local, towards_viewer);
     (*path).previous_sampled_lights = samples_lights(material);
     (*path).previous_position = p;

@@ -1,6 +1,6 @@
-// Principled: Mitsuba 3's `principled` BSDF (Burley's Disney BSDF), less three of its parameters.
+// Principled: Mitsuba 3's `principled` BSDF (Burley's Disney BSDF), less two of its parameters.
 //
-// Without anisotropic, spec_tint and flatness: a Disney diffuse lobe with
+// Without spec_tint and flatness: a Disney diffuse lobe with
 // retro-reflection (weight (1 - metallic)(1 - spec_trans)), a GGX specular reflection whose Fresnel
 // mixes the exact dielectric one (eta) and Schlick's about base_color by metallic, and a rough
 // dielectric transmission (weight (1 - metallic) spec_trans, tinted sqrt(base_color)). With
@@ -10,7 +10,9 @@
 // transcribe Mitsuba's src/bsdfs/principled.cpp and principledhelpers.h for these parameters
 // (radiance transport), so that renders match Mitsuba's references. f includes |cos theta_o|.
 // From outside, the clearcoat and sheen lobes add to these where the scene uses them (their files,
-// or stubs that return nothing: generated/principled_lobes.wgsl).
+// or stubs that return nothing: generated/principled_lobes.wgsl). The GGX of both specular lobes is
+// principled_ggx_*: isotropic of alpha principled_alpha, or where the scene uses anisotropy
+// principled_anisotropic.wgsl's, whose x axis is the surface tangent.
 //! include "sampling/warps.wgsl"
 //! include "materials/bsdf_sample.wgsl"
 //! include "materials/glossy.wgsl"
@@ -90,11 +92,10 @@ fn principled_eval(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32
     if !reflects && bsdf <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let alpha = principled_alpha(p);
     let h = principled_half_vector(p, wi, wo);
     let cos_ih = dot(wi, h);
     let dielectric = fresnel_dielectric(cos_ih, p.eta).reflectance;
-    let g = ggx_smith_g1(wi, h, alpha) * ggx_smith_g1(wo, h, alpha);
+    let g = principled_ggx_g1(p, wi, h) * principled_ggx_g1(p, wo, h);
     let compatible = principled_compatible(h, wi, wo, reflects);
     if reflects {
         var diffuse = vec3<f32>(0.0);
@@ -109,7 +110,7 @@ fn principled_eval(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32
         if !compatible {
             return diffuse;
         }
-        return fresnel * (ggx_d(h, alpha) * g / (4.0 * abs(wi.z))) + diffuse + vec3<f32>(clearcoat);
+        return fresnel * (principled_ggx_d(p, h) * g / (4.0 * abs(wi.z))) + diffuse + vec3<f32>(clearcoat);
     }
     if !compatible {
         return vec3<f32>(0.0);
@@ -118,7 +119,7 @@ fn principled_eval(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32
     // radiance's 1 / eta_path^2 cancel)
     let eta_path = principled_eta_path(p, wi);
     let denominator = cos_ih + eta_path * dot(wo, h);
-    let transmitted = (1.0 - dielectric) * ggx_d(h, alpha) * g * abs(cos_ih * dot(wo, h) / (wi.z * denominator * denominator));
+    let transmitted = (1.0 - dielectric) * principled_ggx_d(p, h) * g * abs(cos_ih * dot(wo, h) / (wi.z * denominator * denominator));
     return sqrt(p.base_color) * (bsdf * transmitted);
 }
 
@@ -130,14 +131,13 @@ fn principled_pdf(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> f32 {
     if abs(wi.z) <= COS_MIN || abs(wo.z) <= COS_MIN || (!outside && bsdf <= 0.0) || (!reflects && bsdf <= 0.0) {
         return 0.0;
     }
-    let alpha = principled_alpha(p);
     let h = principled_half_vector(p, wi, wo);
     let lobes = principled_lobes(p, outside, fresnel_dielectric(dot(wi, h), p.eta).reflectance);
     let compatible = principled_compatible(h, wi, wo, reflects);
     // visible normals of wi turned outwards (G1 D |wi.h| / |wi.z|) times the Jacobian dh/dwo
     let wi_up = select(wi, -wi, wi.z < 0.0);
     if reflects {
-        let specular = select(0.0, pdf_ggx_reflection(wi_up, h, alpha), compatible);
+        let specular = select(0.0, principled_ggx_reflection_pdf(p, wi_up, h), compatible);
         let clearcoat = select(0.0, principled_clearcoat_pdf(p, wo, h), compatible);
         return lobes.reflection * specular + lobes.diffuse * select(0.0, pdf_cosine_hemisphere(wo.z), outside)
             + lobes.clearcoat * clearcoat;
@@ -148,7 +148,7 @@ fn principled_pdf(material: Material, wi: vec3<f32>, wo: vec3<f32>) -> f32 {
     let eta_path = principled_eta_path(p, wi);
     let denominator = dot(wi, h) + eta_path * dot(wo, h);
     let jacobian = abs(eta_path * eta_path * dot(wo, h) / (denominator * denominator));
-    let visible = ggx_smith_g1(wi_up, h, alpha) * ggx_d(h, alpha) * abs(dot(wi_up, h)) / abs(wi.z);
+    let visible = principled_ggx_g1(p, wi_up, h) * principled_ggx_d(p, h) * abs(dot(wi_up, h)) / abs(wi.z);
     return lobes.transmission * visible * jacobian;
 }
 
@@ -160,7 +160,7 @@ fn principled_sample(material: Material, wi: vec3<f32>, u: vec2<f32>, u_lobe: f3
         return no_bsdf_sample();
     }
     let wi_up = select(wi, -wi, wi.z < 0.0);
-    let m = sample_ggx_visible_normal(wi_up, principled_alpha(p), u);
+    let m = principled_ggx_visible_normal(p, wi_up, u);
     let fresnel = fresnel_dielectric(dot(wi, m), p.eta);
     let lobes = principled_lobes(p, outside, fresnel.reflectance);
     var wo: vec3<f32>;

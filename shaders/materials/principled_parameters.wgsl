@@ -15,10 +15,11 @@ struct Principled {
     clearcoat_gloss: f32,
     sheen: f32,
     sheen_tint: f32,
+    anisotropic: f32,
 }
 
 // One reader per parameter of the base lobes, so that a textured parameter replaces its reader by a
-// texture lookup (the clearcoat's and sheen's take no textures).
+// texture lookup (the clearcoat's, sheen's and anisotropy's take no textures).
 fn principled_base_color(material: Material) -> vec3<f32> {
     return material.color;
 }
@@ -50,6 +51,7 @@ fn principled_parameters(material: Material) -> Principled {
         material.clearcoat_gloss,
         material.sheen,
         material.sheen_tint,
+        material.anisotropic,
     );
 }
 

@@ -13,7 +13,8 @@ const PIXEL_CENTRE: vec2<f32> = vec2<f32>(0.5, 0.5);
 
 // `found` false where the ray left the scene. `normal`: the shading normal on the side facing the
 // ray (both sides of a triangle look alike to the eye); `albedo`: the material's colour (an
-// emitter's radiance); `material`: its index.
+// emitter's radiance); `material`: its index; `word`: the hit triangle's word (instance slot and
+// triangle, `instance_slot`, `mesh_triangle`).
 struct FirstHit {
     found: bool,
     distance: f32,
@@ -21,6 +22,7 @@ struct FirstHit {
     normal: vec3<f32>,
     albedo: vec3<f32>,
     material: u32,
+    word: u32,
 }
 
 // BLEND surfaces (surface_blocks) draw from rng_state: callers trace this before seeding it, or
@@ -28,7 +30,7 @@ struct FirstHit {
 fn first_hit(ray: Ray) -> FirstHit {
     let hit = closest_hit(ray, FLOAT_MAX, NO_TRIANGLE);
     if hit.triangle == NO_TRIANGLE {
-        return FirstHit(false, 0.0, vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0u);
+        return FirstHit(false, 0.0, vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0u, NO_TRIANGLE);
     }
     let triangle = scene_triangle(hit.triangle);
     let normal = normalize(cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0));
@@ -38,5 +40,5 @@ fn first_hit(ray: Ray) -> FirstHit {
     let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
     let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
     let facing = select(shading, -shading, dot(normal, ray.direction) > 0.0);
-    return FirstHit(true, hit.t, p, facing, material.color, triangle.material);
+    return FirstHit(true, hit.t, p, facing, material.color, triangle.material, hit.triangle);
 }

@@ -19,25 +19,35 @@ fn pixel_index(xy: vec2<i32>) -> u32 {
     return u32(xy.y) * params.width + u32(xy.x);
 }
 
+// Whether two G-buffer pixels saw the same material of the same object (or both the sky).
+fn same_surface(a: GBufferPixel, b: GBufferPixel) -> bool {
+    return a.surface == b.surface && a.object == b.object;
+}
+
 // How much the depth changes per pixel along x and y on the surface the pixel at `xy` sees: per
 // axis the smaller of the two one-sided differences to neighbours on the same surface, so a
 // silhouette beside the pixel does not count as its surface's slope.
 fn depth_gradient(xy: vec2<i32>, here: GBufferPixel) -> vec2<f32> {
+    return depth_gradient_over(xy, here, 1);
+}
+
+// depth_gradient from the neighbours `spacing` pixels away (a sparse G-buffer's), per pixel.
+fn depth_gradient_over(xy: vec2<i32>, here: GBufferPixel, spacing: i32) -> vec2<f32> {
     var gradient = vec2<f32>(0.0);
     for (var axis = 0; axis < 2; axis++) {
         var smallest = FLOAT_MAX;
         for (var side = -1; side <= 1; side += 2) {
             var step = vec2<i32>(0);
-            step[axis] = side;
+            step[axis] = side * spacing;
             let neighbour = xy + step;
             if inside(neighbour) {
                 let there = gbuffer[pixel_index(neighbour)];
-                if there.surface == here.surface {
+                if same_surface(there, here) {
                     smallest = min(smallest, abs(there.depth - here.depth));
                 }
             }
         }
-        gradient[axis] = select(0.0, smallest, smallest < FLOAT_MAX);
+        gradient[axis] = select(0.0, smallest / f32(spacing), smallest < FLOAT_MAX);
     }
     return gradient;
 }

@@ -1,7 +1,6 @@
 // One a-trous pass of the variance-guided filter (SVGF) on demodulated illumination and its variance.
 //! include "temporal/svgf_common.wgsl"
 //! include "generated/bindings/svgf_atrous.wgsl"
-//! include "generated/workgroup.wgsl"
 //
 // Pass k spreads the 5x5 B3-spline kernel 2^k pixels apart. Taps are weighted down across depth
 // and normal edges (geometry_weight) and across luminance differences large against the noise: the
@@ -30,13 +29,7 @@ fn blurred_variance(xy: vec2<i32>) -> f32 {
     return sum / weights;
 }
 
-@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    let xy = vec2<i32>(id.xy);
-    let pixel = pixel_index(xy);
+fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let here = gbuffer[pixel];
     let centre = source[pixel];
     if here.surface == 0u {

@@ -1,7 +1,6 @@
 // The variance-guided filter's input: each pixel's demodulated history and the variance of its luminance.
 //! include "temporal/svgf_common.wgsl"
 //! include "generated/bindings/svgf_variance.wgsl"
-//! include "generated/workgroup.wgsl"
 //
 // A history of SVGF_TEMPORAL_FRAMES frames or more has its own moments (TemporalAccumulation);
 // a younger one, whose moments are too few to trust, takes them over its 7x7 neighbourhood
@@ -13,13 +12,7 @@ fn illumination(pixel: u32) -> vec3<f32> {
     return mean / demodulation(gbuffer[pixel].albedo);
 }
 
-@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    let xy = vec2<i32>(id.xy);
-    let pixel = pixel_index(xy);
+fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let old = history[pixel];
     var moments = old.moments;
     if old.length < params.temporal_length {

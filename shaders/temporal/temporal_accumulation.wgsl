@@ -38,7 +38,7 @@ fn depth_tolerance(xy: vec2<i32>, here: GBufferPixel) -> f32 {
 
 // Whether the previous frame's pixel `there` saw the surface this pixel sees now.
 fn consistent(here: GBufferPixel, there: GBufferPixel, tolerance: f32) -> bool {
-    if here.surface != there.surface {
+    if !same_surface(here, there) {
         return false;
     }
     if here.surface == SKY_SURFACE {
@@ -74,7 +74,8 @@ fn no_history() -> TemporalPixel {
 // The previous history where this pixel's first hit was, or none (the pixel starts again) where
 // no tap passes.
 fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> TemporalPixel {
-    if here.previous_seen == 0u {
+    // the previous camera did not have the point in front
+    if !(here.previous_depth > 0.0) {
         return no_history();
     }
     // pixel centres at integers: the taps are the four around it

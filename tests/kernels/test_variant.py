@@ -15,6 +15,7 @@ from wgputrace.kernels.compile import tracing_kernel
 from wgputrace.kernels.hooks import HOOKS
 from wgputrace.kernels.light_dispatch import LightFeatures
 from wgputrace.kernels.principled_lobes import GENERATED_PRINCIPLED_LOBES, LOBE_SHADERS
+from wgputrace.kernels.textures import GENERATED_TEXTURES
 from wgputrace.kernels.variant import DEFAULT_VARIANT, KernelVariant, SceneFeatures
 from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.scene.materials.principled import PRINCIPLED_LOBES
@@ -119,6 +120,17 @@ def test_a_principled_lobe_is_compiled_only_for_scenes_that_use_it(lobe):
     assert file not in unused.files()[GENERATED_PRINCIPLED_LOBES] and f"{lobe} lobe" not in unused.label
     with pytest.raises(ValueError, match="unknown material lobes"):
         SceneFeatures(lobes=("iridescence",))
+
+
+def test_the_bsdf_frame_follows_the_tangents_only_in_scenes_with_anisotropy():
+    brushed = Principled("brushed", metallic=1.0, anisotropic=0.5)
+    scene = Scene([make_box((0, 0, 0), (0, 0, 0), (1, 1, 1), brushed, "box")], Camera())
+    used = KernelVariant(SceneMirror(scene, "bvh").features, integrator("mis"))
+    # the tangents come with the texture records: an anisotropic scene is a textured one
+    assert used.scene.textured and '//! include "shading/surface_frame.wgsl"' in used.files()[GENERATED_TEXTURES]
+    brushed.anisotropic = 0.0
+    unused = KernelVariant(SceneMirror(scene, "bvh").features, integrator("mis"))
+    assert not unused.scene.textured and "surface_frame.wgsl" not in unused.files()[GENERATED_TEXTURES]
 
 
 @pytest.mark.gpu

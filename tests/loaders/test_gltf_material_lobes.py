@@ -85,11 +85,11 @@ def test_bad_values_are_one_line_errors(tmp_path, extensions, where):
 
 
 def test_unread_material_extensions_are_named_in_one_warning_per_file(tmp_path):
-    used = ["KHR_materials_specular", "KHR_materials_anisotropy", "KHR_materials_clearcoat"]
-    extensions = COATED | {"KHR_materials_specular": {"specularFactor": 0.5}, "KHR_materials_anisotropy": {}}
+    used = ["KHR_materials_specular", "KHR_materials_dispersion", "KHR_materials_clearcoat"]
+    extensions = COATED | {"KHR_materials_specular": {"specularFactor": 0.5}, "KHR_materials_dispersion": {}}
     with pytest.warns(SceneLoadWarning) as caught:
         material_of(square_file(tmp_path, extensions, used))
     (warning,) = caught
     assert "KHR_materials_specular (specular strength and colour: Mitsuba's spec_tint" in str(warning.message)
-    assert "KHR_materials_anisotropy (anisotropic roughness" in str(warning.message)
+    assert "KHR_materials_dispersion" in str(warning.message)
     assert "KHR_materials_clearcoat" not in str(warning.message)

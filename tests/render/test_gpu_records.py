@@ -1,13 +1,16 @@
 """The one table of record arrays (RECORD_ARRAYS) against the declarations it serves: every binding
-of the scene, lights and shading groups that holds records has exactly one entry, and every entry
-names an array the SceneMirror keeps and a binding some group declares."""
+of the scene, lights and shading groups that holds records (and the G-buffer's object motions) has
+exactly one entry, and every entry names an array the SceneMirror (or ObjectMotion) keeps and a
+binding some group declares."""
 
 from __future__ import annotations
 
 from wgputrace import default_scene
-from wgputrace.kernels.bind_groups import lights_group, scene_group, shading_group
+from wgputrace.gpu.bindings import BindGroup
+from wgputrace.kernels.bind_groups import OBJECT_MOTIONS, TRIANGLE_OBJECTS, lights_group, scene_group, shading_group
 from wgputrace.kernels.light_dispatch import LightFeatures
 from wgputrace.render.gpu_records import RECORD_ARRAYS
+from wgputrace.render.object_motion import ObjectMotion
 from wgputrace.render.scene_mirror import SceneMirror
 from wgputrace.scene import PointLight
 from wgputrace.scene.lights.environment import ENVIRONMENT_MAP
@@ -20,6 +23,8 @@ EVERY_GROUP = (
     scene_group("bvh", instanced=True),
     lights_group(LightFeatures((PointLight.kind,), ENVIRONMENT_MAP)),
     shading_group(smooth=True, textured=True, vertex_colors=True),
+    # of the pixels group, only the G-buffer variant's object motions are the scene's records
+    BindGroup("pixels", 1, (TRIANGLE_OBJECTS, OBJECT_MOTIONS)),
 )
 
 
@@ -31,7 +36,10 @@ def test_every_record_binding_has_one_entry_and_every_entry_a_binding():
 
 
 def test_every_entry_is_an_array_of_the_mirror():
-    arrays = SceneMirror(default_scene(), "bvh").arrays
+    scene = default_scene()
+    mirror, motion = SceneMirror(scene, "bvh"), ObjectMotion()
+    motion.update(scene, mirror)
+    arrays = mirror.arrays | motion.arrays
     names = [array.name for array in RECORD_ARRAYS]
     assert len(names) == len(set(names))
     assert set(names) == set(arrays)

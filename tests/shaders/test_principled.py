@@ -2,7 +2,7 @@
 on the GPU: eval and pdf against Mitsuba 3's `principled` at random directions (FIXTURE, written by
 the make_principled_fixture script), chi-square tests of its sampling against its pdf over the
 parameter range (with transmission on a grid of both hemispheres; with the clearcoat and sheen
-lobes), white furnaces (the integral of
+lobes; anisotropic), white furnaces (the integral of
 its eval; Mitsuba's own), and finite samples at the extremes of every parameter and at grazing angles.
 
 We reproduce Mitsuba's model (the lead's decision), which at metallic 0 and base colour 1 reflects
@@ -39,8 +39,8 @@ from wgputrace.testing.stats import MIN_EXPECTED, chi_square, sidak, z_limit
 
 pytestmark = pytest.mark.gpu
 
-# the clearcoat's and sheen's parameters, columns of FIXTURE
-LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint")
+# the clearcoat's, sheen's and anisotropy's parameters, columns of FIXTURE
+LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint", "anisotropic")
 FIXTURE = Path(__file__).parent / "data" / "principled_mitsuba.npz"
 MITSUBA_FURNACE = Path(__file__).parent / "data" / "principled_furnace_mitsuba.npz"
 # Samples per case of the furnace grid: a standard error of ~0.003 against Mitsuba's ~0.0005.
@@ -67,11 +67,14 @@ SPEC_TRANS_COSINES = (0.9, 0.2, -0.5, -0.9)
 # (roughness, metallic, spec_trans, cos theta_i)
 # the clearcoat (rough and glossy, over rough and smooth GGX, from near normal to grazing) and the
 # sheen (tinted, on a half metallic base), as (parameter, value) pairs
+# and anisotropy (the most Mitsuba has, over both GGX lobes; wi at random azimuths about the tangent)
 LOBES = (
     (("clearcoat", 1.0), ("clearcoat_gloss", 0.0)),
     (("clearcoat", 0.5), ("clearcoat_gloss", 0.9)),
     (("sheen", 1.0), ("sheen_tint", 0.5)),
+    (("anisotropic", 1.0),),
 )
+ANISOTROPIC = LOBES[3]
 LOBE_COSINES = (0.9, 0.2)
 # (roughness, metallic, spec_trans, cos theta_i, lobes)
 SAMPLING_CASES = [(r, m, 0.0, c, ()) for r in ROUGHNESS for m in METALLIC for c in INCIDENT_COSINES] + [
@@ -79,6 +82,8 @@ SAMPLING_CASES = [(r, m, 0.0, c, ()) for r in ROUGHNESS for m in METALLIC for c 
 ]
 SAMPLING_CASES += [(r, 0.5, 0.0, c, lobes) for r in (0.05, 1.0) for lobes in LOBES for c in LOBE_COSINES]
 SAMPLING_CASES += [(0.3, 0.0, 0.5, 0.9, LOBES[0] + LOBES[2])]
+SAMPLING_CASES += [(0.3, SPEC_TRANS_METALLIC, 1.0, c, ANISOTROPIC) for c in (0.9, -0.5)]
+SAMPLING_CASES += [(r, 1.0, 0.0, 0.01, ANISOTROPIC) for r in (0.05, 0.5)]
 # (roughness, metallic, lobes)
 FURNACE_CASES = [(r, m, ()) for r in (0.05, 0.5, 1.0) for m in (0.0, 0.5, 1.0)]
 FURNACE_CASES += [(r, m, lobes) for r in (0.05, 1.0) for m in (0.0, 1.0) for lobes in LOBES]
@@ -317,7 +322,13 @@ def test_parameters_are_checked_and_exported():
     assert eta_from_specular(0.5) == pytest.approx(1.5, rel=1e-12)
     with pytest.raises(MaterialError, match=r"material 'p': clearcoat_gloss must be in \[0.0, 1.0\], got 2.0"):
         Principled("p", clearcoat_gloss=2.0)
-    # the clearcoat and sheen likewise by their weights' keys, their other parameters with them
-    coated = Principled("p", clearcoat=0.5, clearcoat_gloss=0.25, sheen=0.75, sheen_tint=0.5).mitsuba_bsdf()
-    assert {k: coated[k] for k in LOBE_PARAMETERS} == dict(zip(LOBE_PARAMETERS, (0.5, 0.25, 0.75, 0.5), strict=True))
+    # the clearcoat, sheen and anisotropy likewise by their weights' keys, their other parameters with them
+    values = (0.5, 0.25, 0.75, 0.5, 0.6)
+    coated = Principled("p", **dict(zip(LOBE_PARAMETERS, values, strict=True))).mitsuba_bsdf()
+    assert {k: coated[k] for k in LOBE_PARAMETERS} == dict(zip(LOBE_PARAMETERS, values, strict=True))
     assert not set(LOBE_PARAMETERS) & set(Principled("p", clearcoat_gloss=0.5, sheen_tint=1.0).mitsuba_bsdf())
+    # Mitsuba's anisotropy follows dP/du: a turned one has no export
+    with pytest.raises(MaterialError, match="anisotropy_rotation 0.5 has no Mitsuba 3 parameter"):
+        Principled("p", anisotropic=0.5, anisotropy_rotation=0.5).mitsuba_bsdf()
+    with pytest.raises(MaterialError, match=r"anisotropy_rotation must be in \[-6.28"):
+        Principled("p", anisotropy_rotation=7.0)

@@ -28,7 +28,6 @@ def _gbuffer(motion) -> np.ndarray:
     records["albedo"] = ALBEDO
     records["surface"] = 1
     records["motion"] = motion
-    records["previous_seen"] = 1
     return records
 
 
@@ -65,3 +64,23 @@ def test_a_linear_history_reprojects_exactly(gpu_context):
     np.testing.assert_allclose(
         records["moments"][:, 0].reshape(HEIGHT, WIDTH)[inside], expected_mean[inside], rtol=1e-5
     )
+
+
+def test_a_tap_that_saw_another_object_is_rejected(gpu_context):
+    # the same material, depth and normal everywhere; the left half was another object before
+    temporal = TemporalAccumulation(gpu_context, WIDTH, HEIGHT)
+    history = TEMPORAL_PIXEL.zeros(WIDTH * HEIGHT)
+    history["sum"][:, :3] = HISTORY_LENGTH * ALBEDO
+    history["length"] = HISTORY_LENGTH
+    write_buffer(gpu_context, temporal._previous_history, 0, history)
+    previous = _gbuffer((0.0, 0.0))
+    left = (np.arange(WIDTH * HEIGHT) % WIDTH) < WIDTH // 2
+    previous["object"][left] = 1
+    write_buffer(gpu_context, temporal._previous_gbuffer, 0, previous)
+    temporal._fresh = False
+    frame = ACCUMULATED_PIXEL.zeros(WIDTH * HEIGHT)
+    frame["sum"][:, :3] = ALBEDO
+    accumulation = storage_buffer(gpu_context, "frame", frame)
+    gbuffer = storage_buffer(gpu_context, "G-buffer", _gbuffer((0.0, 0.0)), read_back=True)
+    temporal.add_frame(accumulation, gbuffer, samples=1, moving=True)
+    np.testing.assert_array_equal(temporal.records()["length"], np.where(left, 1.0, HISTORY_LENGTH + 1))

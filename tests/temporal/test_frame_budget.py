@@ -57,3 +57,13 @@ def test_a_budget_traces_passes_until_it_is_spent():
 def test_a_budget_must_be_positive(budget):
     with pytest.raises(ValueError, match="budget must be > 0 seconds"):
         _renderer().render_frame(budget=budget)
+
+
+def test_an_upsampled_frame_takes_its_budget_one_sample_at_a_time():
+    timed, counted = _renderer(), _renderer()
+    image = timed.render_frame(budget=TINY_BUDGET, upscale=2)
+    assert timed.stats.samples_per_pixel == 1
+    np.testing.assert_array_equal(image, counted.render_frame(spp=1, upscale=2))
+    image = timed.render_frame(spp=CAPPED_SPP, budget=AMPLE_BUDGET, upscale=2)
+    assert timed.stats.samples_per_pixel == CAPPED_SPP
+    np.testing.assert_array_equal(image, counted.render_frame(spp=CAPPED_SPP, upscale=2))

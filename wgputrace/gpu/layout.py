@@ -114,9 +114,10 @@ MATERIAL = GpuStruct(
         ("clearcoat_gloss", "f32"),
         ("sheen", "f32"),
         ("sheen_tint", "f32"),
+        ("anisotropic", "f32"),
     ),
     "color: albedo, Fresnel tint, transmission tint or emitted radiance, by kind; spec_trans, clearcoat, "
-    "clearcoat_gloss, sheen, sheen_tint: Principled's; absorption: sigma_a inside (`Material.absorption`), "
+    "clearcoat_gloss, sheen, sheen_tint, anisotropic: Principled's; absorption: sigma_a inside (`Material.absorption`), "
     "read only in kernels for scenes with an absorbing material.",
 )
 FRAME = GpuStruct(
@@ -153,12 +154,22 @@ GBUFFER_PIXEL = GpuStruct(
         ("surface", "u32"),
         ("motion", "vec2<f32>"),
         ("previous_depth", "f32"),
-        ("previous_seen", "u32"),
+        ("object", "u32"),
     ),
     "What the ray through a pixel's centre first hits (write_gbuffer): the shading normal facing the "
     "camera, the distance the camera's ray travels to it (0: nothing hit), the material's colour, the "
     "surface (material index + 1; 0: nothing hit), the motion from this frame's raster position to "
-    "the previous frame's, and the distance from the previous camera and whether it saw the point.",
+    "the previous frame's, the distance from the previous camera (0: that camera did not see the "
+    "point) and the object (the shape's index in Scene.shapes, or their count + the instance's index; "
+    "0 where nothing was hit).",
+)
+# Where a moving object's points were at the previous frame (ObjectMotion in render/object_motion.py
+# writes them): bound only in the G-buffer variant, declared by its hook.
+OBJECT_MOTION = GpuStruct(
+    "ObjectMotion",
+    (*((f"previous_from_current{row}", "vec4<f32>") for row in range(3)), ("object", "u32")),
+    "An object's previous transform times the inverse of its current one (rows of the 3x4 affine "
+    "part; the identity where it did not move), and its id (GBufferPixel.object).",
 )
 
 LIGHT = GpuStruct(
@@ -284,11 +295,13 @@ MATERIAL_TEXTURES = GpuStruct(
         ("emission", "u32"),
         ("emitted", "vec3<f32>"),
         ("normal_scale", "f32"),
+        ("anisotropy_rotation", "f32"),
     ),
     "A material's textures (NO_TEXTURE: none) and its alpha (x the base colour texture's); "
     "alpha_mode as `ALPHA_MODES` numbers them, its cutoff, and 0 for a single-sided surface "
     "(`surface_blocks`); the radiance it emits (x the emission texture's: `surface_emission`); the "
-    "normal texture's strength (`mapped_normal`), in the padding after `emitted`.",
+    "normal texture's strength (`mapped_normal`), in the padding after `emitted`; the angle of the "
+    "anisotropy's direction from the tangent (`surface_frame`).",
 )
 
 ALL_STRUCTS = (

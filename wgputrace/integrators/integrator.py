@@ -5,6 +5,7 @@ descriptor, registered by name, that they ask instead of naming it.
 |---------------------------------------------|------------------|---------------------------------------------|
 | the WGSL kernel that renders whole images   | `entry`          | `tracing_kernel`                            |
 | a band-of-rows kernel for the viewer        | `rows_entry`     | `KernelVariant` (None: whole images only)   |
+| a kernel over one pixel per block           | `subset_entry`   | `KernelVariant` (None: no upsampling)       |
 | override constants of its kernel            | `constants`      | `tracing_kernel`                            |
 | generated files of its own                  | `files`          | `KernelVariant.files`                       |
 | per-pixel arrays beside the accumulation    | `pixel_arrays`   | the pixels group, the Renderer, the limits  |
@@ -50,6 +51,8 @@ class Integrator:
     entry: str
     description: str
     rows_entry: str | None = None
+    # the kernel over one pixel of each block (TemporalUpsampling); None: it has none
+    subset_entry: str | None = None
     constants: tuple[tuple[str, int], ...] = ()
     pixel_arrays: tuple[PixelArray, ...] = ()
     splats: bool = False
@@ -106,6 +109,11 @@ class Integrator:
             raise ValueError(
                 f"the {self.name} integrator renders whole images only: it has no band-of-rows kernel for the viewer"
             )
+
+    def check_subset(self) -> None:
+        """ValueError unless it has a kernel over one pixel of each block (temporal upsampling)."""
+        if self.subset_entry is None:
+            raise ValueError(f"the {self.name} integrator has no kernel over a subset of pixels: it cannot upsample")
 
 
 _registry: dict[str, Integrator] = {}

@@ -20,6 +20,7 @@ for _index, _name in enumerate(ESTIMATORS):
             "integrators/path_tracer.wgsl",
             _DESCRIPTIONS[_name],
             rows_entry="integrators/path_tracer_rows.wgsl",
+            subset_entry="integrators/path_tracer_subset.wgsl",
             constants=(("INTEGRATOR", _index),),
             regenerates=True,
             dispatch_samples=(("CPU", 8),),

@@ -31,6 +31,7 @@ from ..gpu.layout import (
     LIGHTING,
     MATERIAL,
     MATERIAL_TEXTURES,
+    OBJECT_MOTION,
     TEXTURE,
     TRIANGLE_VERTICES,
     VERTEX_COLOR,
@@ -86,13 +87,22 @@ PIXELS_GROUP = BindGroup(
 # The denoiser's guides: two Kahan sums per pixel, the albedo's at 2 * pixel and the normal's at
 # 2 * pixel + 1, bound only in the variants that make them.
 GUIDE_SUMS = Binding("guide_sums", STORAGE_READ_WRITE, ACCUMULATED_PIXEL)
-# The G-buffer of the pixels' centres and the previous frame's camera its motion vectors project
-# through, bound only in the variants that write it (`KernelVariant.gbuffer`).
+# The G-buffer of the pixels' centres, the previous frame's camera its motion vectors project
+# through, and what moves each object's points back to the previous frame (each world triangle's
+# record in object_motions; an instance's is its slot's), bound only in the variants that write it
+# (`KernelVariant.gbuffer`).
 GBUFFER = Binding("gbuffer", STORAGE_READ_WRITE, GBUFFER_PIXEL)
 PREVIOUS_FRAME = Binding("previous_frame", UNIFORM, FRAME)
+TRIANGLE_OBJECTS = Binding("triangle_objects", STORAGE_READ, "u32")
+OBJECT_MOTIONS = Binding("object_motions", STORAGE_READ, OBJECT_MOTION)
+GBUFFER_BINDINGS = (GBUFFER, PREVIOUS_FRAME, TRIANGLE_OBJECTS, OBJECT_MOTIONS)
 
 # The viewer's band of rows: the first row of this dispatch.
 BAND_GROUP = BindGroup("band", 2, (Binding("band_first_row", UNIFORM, "u32"),))
+# Temporal upsampling's subset of pixels: (stride, offset x, offset y, unused), one pixel of each
+# stride x stride block (`KernelVariant.subset`). Index 2 as the band group's: it takes one sample
+# per pixel per dispatch, as the bands do.
+SUBSET_GROUP = BindGroup("subset", 2, (Binding("pixel_subset", UNIFORM, "vec4<u32>"),))
 # How many samples of its pixel each invocation takes in this dispatch, only in the kernels that
 # take more than one (`KernelVariant.samples_per_dispatch`). Index 2 as the band group's: the
 # viewer's bands take one sample per pixel, so no kernel binds both. Under a loop budget

@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 GENERATED_INSTANCING = "generated/instancing.wgsl"
 _IDENTITIES = (
     "fn mesh_triangle(word: u32) -> u32 { return word; }",
+    "fn instance_slot(word: u32) -> u32 { return 0u; }",
     "fn world_triangle(word: u32, triangle: Triangle) -> Triangle { return triangle; }",
     "fn world_normal(word: u32, normal: vec3<f32>) -> vec3<f32> { return normal; }",
     "fn world_tangent(word: u32, tangent: vec3<f32>) -> vec3<f32> { return tangent; }",

@@ -5,8 +5,9 @@ next path) and the G-buffer (`write_gbuffer` once per pixel and dispatch).
 Normally all are empty and inlined away, and no binding is declared. The guides variant
 (`KernelVariant.guides`) brings in the guide sums of the pixels group (GUIDE_SUMS) and tells them
 which of the scene's material kinds are delta (`Material.delta`), whose vertices the guides look
-through. The G-buffer variant (`KernelVariant.gbuffer`) brings in the G-buffer and the previous
-frame's camera (GBUFFER, PREVIOUS_FRAME) and integrators/gbuffer.wgsl.
+through. The G-buffer variant (`KernelVariant.gbuffer`) brings in the G-buffer, the previous
+frame's camera and the objects' motions (GBUFFER_BINDINGS, OBJECT_MOTION's struct) and
+integrators/gbuffer.wgsl.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
+from ..gpu.layout import OBJECT_MOTION
 from ..scene.materials import material_class
 
 if TYPE_CHECKING:
@@ -42,7 +44,7 @@ def path_guides_hook(variant: KernelVariant) -> str:
             "fn guides_begin() {}",
         ]
     if variant.gbuffer:
-        lines.append('//! include "integrators/gbuffer.wgsl"')
+        lines += [OBJECT_MOTION.wgsl(), '//! include "integrators/gbuffer.wgsl"']
     else:
         lines.append("fn write_gbuffer(xy: vec2<u32>, pixel: u32) {}")
     return "\n".join(lines) + "\n"

@@ -1,7 +1,9 @@
 """Principled's optional lobes (`Principled.lobes`): the virtual file GENERATED_PRINCIPLED_LOBES
 includes the shader of each lobe a scene's materials use (`SceneFeatures.lobes`), and for every
 other lobe stubs of its functions that return nothing, which the compiler folds away: a scene
-without clearcoat or sheen compiles Principled as it did before they existed.
+without clearcoat or sheen compiles Principled as it did before they existed. Anisotropy is listed
+with them: its stubs are the isotropic GGX, and in its scenes the BSDF's frame follows the surface
+tangent (`textures_hook`'s `surface_frame`).
 """
 
 from __future__ import annotations
@@ -30,6 +32,18 @@ LOBE_SHADERS: dict[str, tuple[str, tuple[str, ...]]] = {
     "sheen": (
         "materials/principled_sheen.wgsl",
         (f"fn principled_sheen({_P}, wo: {_V}, h: {_V}) -> {_V} {{ return {_V}(0.0); }}",),
+    ),
+    # without anisotropy Principled's GGX is glossy.wgsl's isotropic one, computed as it always was
+    "anisotropic": (
+        "materials/principled_anisotropic.wgsl",
+        (
+            f"fn principled_ggx_d({_P}, m: {_V}) -> f32 {{ return ggx_d(m, principled_alpha(p)); }}",
+            f"fn principled_ggx_g1({_P}, v: {_V}, m: {_V}) -> f32 {{ return ggx_smith_g1(v, m, principled_alpha(p)); }}",
+            f"fn principled_ggx_visible_normal({_P}, wi: {_V}, u: vec2<f32>) -> {_V} "
+            "{ return sample_ggx_visible_normal(wi, principled_alpha(p), u); }",
+            f"fn principled_ggx_reflection_pdf({_P}, wi: {_V}, m: {_V}) -> f32 "
+            "{ return pdf_ggx_reflection(wi, m, principled_alpha(p)); }",
+        ),
     ),
 }
 assert tuple(LOBE_SHADERS) == PRINCIPLED_LOBES, "a lobe of Principled without its shader here"

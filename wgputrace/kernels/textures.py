@@ -1,10 +1,12 @@
 """The texture hook: `resolve_material`, the material at a hit with its textures applied, so that
-BSDF code reads constants whether a parameter is textured or not, and `mapped_normal`, the shading
-normal bent by the material's normal map.
+BSDF code reads constants whether a parameter is textured or not, `mapped_normal`, the shading
+normal bent by the material's normal map, and `surface_frame`, the BSDF's frame.
 
-For a scene without textures both return what they are given, inlined away, and no binding is
-declared. The textured variant (`SceneFeatures.textured`) declares the texture bindings of the
-shading group (`shading_group`) and brings in the texture lookups.
+For a scene without textures the first two return what they are given, inlined away, and no binding
+is declared. The textured variant (`SceneFeatures.textured`) declares the texture bindings of the
+shading group (`shading_group`) and brings in the texture lookups. The frame is shading_frame of the
+shading normal, except in scenes with anisotropic materials (`Material.reads_tangent`, which makes
+them textured), where its first axis follows the vertex tangents (shading/surface_frame.wgsl).
 """
 
 from __future__ import annotations
@@ -29,6 +31,10 @@ _NORMAL_SIGNATURE = (
     "fn mapped_normal(shading: vec3<f32>, material: Material, material_index: u32, triangle_index: u32, "
     "triangle: Triangle, p: vec3<f32>, geometric: vec3<f32>, towards_viewer: vec3<f32>) -> vec3<f32>"
 )
+_FRAME_STUB = (
+    "fn surface_frame(shading: vec3<f32>, material_index: u32, triangle_index: u32, triangle: Triangle, "
+    "p: vec3<f32>, geometric: vec3<f32>) -> ShadingFrame { return shading_frame(shading); }"
+)
 
 
 def textures_hook(variant: KernelVariant) -> str:
@@ -48,4 +54,8 @@ def textures_hook(variant: KernelVariant) -> str:
         ]
     else:
         lines += [f"{_SIGNATURE} {{ return material; }}", f"{_NORMAL_SIGNATURE} {{ return shading; }}"]
+    if variant.scene.textured and "anisotropic" in variant.scene.lobes:
+        lines.append('//! include "shading/surface_frame.wgsl"')
+    else:
+        lines += ['//! include "sampling/warps.wgsl"', _FRAME_STUB]
     return "\n".join(lines) + "\n"

@@ -15,11 +15,11 @@ from typing import TYPE_CHECKING
 from ..scene.materials import material_class, material_classes
 from .bind_groups import (
     BAND_GROUP,
-    GBUFFER,
+    GBUFFER_BINDINGS,
     GUIDE_SUMS,
     PIXELS_GROUP,
-    PREVIOUS_FRAME,
     RAY_COUNT_GROUP,
+    SUBSET_GROUP,
     dispatch_group,
     lights_group,
     scene_group,
@@ -118,6 +118,8 @@ class KernelVariant:
     sampler: str = DEFAULT_SAMPLER
     # the entry point that renders a band of rows (the viewer's)
     rows: bool = flag("rows")
+    # the entry point that renders one pixel of each block (temporal upsampling's)
+    subset: bool = flag("pixel subset")
     # the ray counters
     count_rays: bool = flag("counting rays")
     # the lane counters (subgroup operations: an adapter with subgroups)
@@ -140,9 +142,14 @@ class KernelVariant:
         check_sampler(self.sampler)
         if self.samples_per_dispatch < 1:
             raise ValueError(f"samples_per_dispatch must be at least 1, got {self.samples_per_dispatch}")
+        if self.rows and self.subset:
+            raise ValueError("a kernel renders a band of rows or a subset of pixels, not both")
         if self.rows:
-            # the viewer's bands take one sample per pixel each, and nothing takes owed ones
             self.require_integrator().check_rows()
+        if self.subset:
+            self.require_integrator().check_subset()
+        if self.rows or self.subset:
+            # the viewer's bands and the subsets take one sample per pixel each, and nothing takes owed ones
             object.__setattr__(self, "samples_per_dispatch", 1)
             object.__setattr__(self, "loop_budget", False)
         if self.samples_per_dispatch > 1:
@@ -171,6 +178,8 @@ class KernelVariant:
     def entry(self) -> tuple[str, str]:
         """The integrator's entry file and entry point for this variant."""
         integrator = self.require_integrator()
+        if self.subset:
+            return (integrator.subset_entry, "main_subset")
         return (integrator.rows_entry, "main_rows") if self.rows else (integrator.entry, "main")
 
     @property
@@ -179,11 +188,11 @@ class KernelVariant:
         return {**dict(self.require_integrator().constants), **dict(self.overrides)}
 
     def pixels_group(self) -> BindGroup:
-        """The pixels group: the guide sums where guides are on, the G-buffer and the previous
-        frame's camera where it is written, and the integrator's own arrays."""
+        """The pixels group: the guide sums where guides are on, the G-buffer, the previous
+        frame's camera and the objects' motions where it is written, and the integrator's own arrays."""
         extra = (
             ((GUIDE_SUMS,) if self.guides else ())
-            + ((GBUFFER, PREVIOUS_FRAME) if self.gbuffer else ())
+            + (GBUFFER_BINDINGS if self.gbuffer else ())
             + tuple(array.binding for array in (self.integrator.pixel_arrays if self.integrator else ()))
         )
         group = PIXELS_GROUP
@@ -194,7 +203,7 @@ class KernelVariant:
     def groups(self) -> tuple[BindGroup, ...]:
         """Every bind group the integrator's kernel for this variant declares."""
         scene, *scene_extras = self.scene.groups()
-        own = (self.pixels_group(), *((BAND_GROUP,) if self.rows else ()))
+        own = (self.pixels_group(), *((BAND_GROUP,) if self.rows else ()), *((SUBSET_GROUP,) if self.subset else ()))
         own += (dispatch_group(self.loop_budget),) if self.samples_per_dispatch > 1 else ()
         own += (RAY_COUNT_GROUP,) if self.count_rays or self.count_lanes else ()
         return (scene, *own, *scene_extras)

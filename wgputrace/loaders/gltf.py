@@ -6,7 +6,7 @@ KHR_materials_ior) and it ignores cameras without the optional aspectRatio. Each
 the default scene's node tree becomes one Shape per triangle primitive, the node's world matrix its
 `transform` (a mesh that several nodes share: one Shape per primitive placed by an Instance per node,
 `placed_meshes`), NORMAL its corner normals (none: flat, as glTF asks), TEXCOORD_0 and TANGENT where its
-material's textures need them (else MikkTSpace's tangents), integer ones (KHR_mesh_quantization)
+material's textures or anisotropy need them (else MikkTSpace's tangents), integer ones (KHR_mesh_quantization)
 dequantised by `vertex_attribute`, COLOR_0 its vertex colours (`vertex_colors`). Sparse accessors,
 skins, morph targets, TEXCOORD_1 and COLOR_1 and above are not read. A required extension outside
 READ_EXTENSIONS (and Draco's where DracoPy imports; meshopt's where the meshopt package does,
@@ -39,6 +39,7 @@ from ..scene import (
 )
 from ..scene.instances import Instance
 from .errors import SceneLoadError, SceneLoadWarning
+from .gltf_anisotropy import ANISOTROPY
 from .gltf_cameras import node_camera
 from .gltf_colors import vertex_colors, warn_unread_colors
 from .gltf_compression import (
@@ -91,6 +92,7 @@ READ_EXTENSIONS = {
     TRANSFORM_EXTENSION,
     QUANTIZATION_EXTENSION,
     *LOBE_EXTENSIONS,
+    ANISOTROPY,
     SPECULAR_GLOSSINESS,
 }
 # What the refusal of a required extension says about it: what it is, and how to get support.
@@ -539,8 +541,8 @@ def _mesh_shapes(reader: _Reader, mesh_index, world: np.ndarray, materials: Gltf
             key: _corner_attribute(reader, attributes, semantic, faces, len(positions), primitive_where)
             for key, semantic, wanted in (
                 ("normals", "NORMAL", True),
-                ("uvs", "TEXCOORD_0", bool(textures)),
-                ("tangents", "TANGENT", "normal" in textures),
+                ("uvs", "TEXCOORD_0", bool(textures) or material.reads_tangent()),
+                ("tangents", "TANGENT", "normal" in textures or material.reads_tangent()),
             )
             if wanted and semantic in attributes
         }

@@ -38,10 +38,6 @@ UNMAPPED_MATERIAL_EXTENSIONS = {
         "specular strength and colour: Mitsuba's spec_tint tints towards the base colour only",
         "no parameter of Mitsuba's principled means the same",
     ),
-    "KHR_materials_anisotropy": (
-        "anisotropic roughness along the tangents: not mapped to Mitsuba's anisotropic yet",
-        "not read here",
-    ),
 }
 # the fields of each extension that Principled has no parameter for
 _IGNORED = {

@@ -21,6 +21,7 @@ from ..scene import Diffuse, Emitter, Glossy, Material, MaterialError, Principle
 from ..scene.materials.material import ALPHA_MODES
 from ..scene.texture import Texture, TextureTransform
 from .errors import SceneLoadWarning
+from .gltf_anisotropy import AnisotropyReader
 from .gltf_material_lobes import lobe_parameters
 from .gltf_specular_glossiness import SPECULAR_GLOSSINESS, converted_material
 from .gltf_volume import volume_parameters
@@ -56,6 +57,7 @@ class GltfMaterials:
         self._pixels: dict[int, object] = {}
         # whether a material was converted from specular-glossiness (and the file warned of it)
         self._converted = False
+        self._anisotropy = AnisotropyReader(reader)
 
     def material(self, index, where: str) -> Material:
         """The material a primitive at `where` names by `index` (None: it names none)."""
@@ -84,6 +86,7 @@ class GltfMaterials:
         | `KHR_materials_volume` `attenuationColor`, `attenuationDistance` (with transmission) | attenuation_color, attenuation_distance (`volume_parameters`) |
         | `alphaMode`, `alphaCutoff` (default 0.5), `doubleSided` (default false) | alpha_mode, alpha_cutoff, double_sided |
         | `KHR_materials_clearcoat`, `KHR_materials_sheen` (a factor above 0 makes a Principled) | clearcoat, clearcoat_gloss, sheen (`gltf_material_lobes`) |
+        | `KHR_materials_anisotropy` (a strength above 0 makes a Principled) | anisotropic, anisotropy_rotation (`gltf_anisotropy`) |
 
         A material with `KHR_materials_pbrSpecularGlossiness` is converted to metallic-roughness first
         (`gltf_specular_glossiness`). Ignored: `occlusionTexture` (the path tracer computes occlusion), a `texCoord` other than 0 and
@@ -132,6 +135,7 @@ class GltfMaterials:
             raise reader.fail(f"{where}.alphaMode", f"must be one of {ALPHA_MODES}, got {alpha_mode!r:.40}")
         slots = [(path, parameter, srgb) for path, parameter, srgb in TEXTURE_SLOTS if _info(entry, path) is not None]
         lobes = lobe_parameters(reader, extensions, f"{where}.extensions")
+        lobes |= self._anisotropy.parameters(extensions, roughness, f"{where}.extensions")
         try:
             if slots or alpha_mode != "OPAQUE" or transmission > 0 or max(lobes.values(), default=0.0) > 0:
                 parameters = {parameter: self._texture(entry, path, srgb, where) for path, parameter, srgb in slots}

@@ -23,6 +23,7 @@ from ..gpu.device import GpuContext
 from ..gpu.float_texture import FloatTexture
 from ..gpu.texels import TrackedTexels
 from ..gpu.tracked_buffer import TrackedBuffer, UploadCount
+from .object_motion import OBJECT_MOTIONS, TRIANGLE_OBJECTS
 from .scene_mirror import (
     ENVIRONMENT_TABLES,
     ENVIRONMENT_TEXELS,
@@ -82,6 +83,8 @@ RECORD_ARRAYS = (
     RecordArray(TEXTURES, "shading", "textures"),
     RecordArray(MATERIAL_TEXTURES, "shading", "material_textures"),
     RecordArray(TRIANGLE_LIGHT_DENSITIES, "shading", "triangle_light_densities"),
+    RecordArray(TRIANGLE_OBJECTS, "pixels", "triangle_objects"),
+    RecordArray(OBJECT_MOTIONS, "pixels", "object_motions"),
 )
 _BY_BINDING = {(array.group, array.binding): array for array in RECORD_ARRAYS}
 

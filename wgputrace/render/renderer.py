@@ -41,12 +41,14 @@ from ..scene import Camera, Scene
 from .gpu_records import GpuRecords
 from .interrupts import Deferral, deferred_signals
 from .limits import atlas_side, check_image_size, check_scene_size, fit_environment
+from .object_motion import ObjectMotion
 from .rng_seed import pixel_rng_states
 from .scene_mirror import TEXTURE_ATLAS, TRIANGLES, SceneMirror
 from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
 from .svgf_filter import VarianceGuidedFilter
 from .temporal_accumulation import TemporalAccumulation
+from .temporal_upsampling import TemporalUpsampling, check_upscale
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -221,7 +223,9 @@ class Renderer:
         self._temporal: TemporalAccumulation | None = None
         self._gbuffer: wgpu.GPUBuffer | None = None
         self._previous_frame: wgpu.GPUBuffer | None = None
+        self._motion: ObjectMotion | None = None
         self._filter: VarianceGuidedFilter | None = None
+        self._upsampling: TemporalUpsampling | None = None
         self._bind()
 
     @property
@@ -278,6 +282,8 @@ class Renderer:
         buffers = (self._frame.buffer, self._rng, self._rng_at_seed, *self._sums.values())
         if self._temporal is not None:
             buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers)
+        if self._upsampling is not None:
+            buffers += self._upsampling.buffers
         if self._filter is not None:
             buffers += self._filter.buffers
         return {buffer.label: buffer.size for buffer in buffers}
@@ -309,7 +315,7 @@ class Renderer:
         fit_environment(self.context, self.scene)
         changes = self._mirror.update()
         variant = self.variant.with_scene(self._mirror.features)
-        regrouped = self._records.sync(self._mirror.arrays, changes, variant.groups())
+        regrouped = self._records.sync(*self._record_arrays(changes), variant.groups())
         frame = self.frame_record()
         frame_changed = frame.tobytes() != self._frame_bytes
         if frame_changed:
@@ -326,6 +332,14 @@ class Renderer:
         # a new variant with no record changed still changes the picture: normals or textures dropped
         return bool(changes or frame_changed or new_variant)
 
+    def _record_arrays(self, changes: dict[str, np.ndarray]) -> tuple[dict, dict]:
+        """The record arrays GpuRecords keeps and their changed rows: the mirror's (`changes`), and
+        the objects' motions once render_frame has begun."""
+        if self._motion is None:
+            return self._mirror.arrays, changes
+        moved = self._motion.update(self.scene, self._mirror)
+        return self._mirror.arrays | self._motion.arrays, changes | moved
+
     def _bind(self) -> None:
         """Every bind group of the kernel: made again when the variant changes or an edit
         reallocates one of a group's resources."""
@@ -337,7 +351,7 @@ class Renderer:
         """What the renderer binds in `group`, by binding name."""
         if group == "pixels":
             frames = {"gbuffer": self._gbuffer, "previous_frame": self._previous_frame} if self.variant.gbuffer else {}
-            return {"rng_states": self._rng, **self._sums, **frames}
+            return {"rng_states": self._rng, **self._sums, **frames, **self._records.bound_in(group)}
         if group == "dispatch":
             return {"dispatch_samples": self._dispatch_samples, **(self._owed if self.variant.loop_budget else {})}
         extra = {"frame": self._frame.buffer} if group == "scene" else {}
@@ -389,8 +403,7 @@ class Renderer:
         self.context.submit(encoder, "restarting accumulation")
         self._replicate = 0
         self.stats = RenderStats()
-        if self._temporal is not None:
-            self._temporal.restart()
+        self._restart_frames()
 
     def _sampler_states(self, replicate: int) -> np.ndarray:
         """Every pixel's sampler state at the seed: a xoshiro128** state, or a Sobol seed for
@@ -607,8 +620,14 @@ class Renderer:
             self._replicate += 1
             write_buffer(self.context, self._rng, 0, self._sampler_states(self._replicate))
         self.stats = RenderStats()
+        self._restart_frames()
+
+    def _restart_frames(self) -> None:
+        """Start the histories of render_frame again at the next frame."""
         if self._temporal is not None:
             self._temporal.restart()
+        if self._upsampling is not None:
+            self._upsampling.restart()
 
     def render_frame(
         self,
@@ -617,6 +636,7 @@ class Renderer:
         *,
         budget: float | None = None,
         filtered: bool = False,
+        upscale: int = 1,
     ) -> np.ndarray:
         """One frame of a moving picture: look through `camera` (None: the scene's camera as it
         is, after any edits to the scene), trace `spp` samples per pixel (default 1) and add them
@@ -625,7 +645,8 @@ class Renderer:
 
         `budget`: seconds for the frame's tracing instead of a sample count: passes are traced
         until it is spent, at least one sample per pixel (`spp` then caps them), as
-        `render(seconds=...)` counts them; `stats.samples_per_pixel` says how many were taken.
+        `render(seconds=...)` counts them; `stats.samples_per_pixel` says how many were taken
+        (with `upscale`, per traced pixel).
 
         While the camera and the scene stay as they were, a frame adds its samples as `render`
         does: N frames at rest are bit for bit the mean of a fresh Renderer's `render(N * spp)`
@@ -636,11 +657,20 @@ class Renderer:
         path tracers have one: ValueError for the others) and allocates the history.
 
         `filtered`: the history's picture through SVGF's variance-guided filter instead
-        (VarianceGuidedFilter); the history itself stays unfiltered."""
+        (VarianceGuidedFilter); in a frame where something moved, the filter's first pass also
+        becomes the history the next frame takes, as in SVGF; at rest the history stays unfiltered.
+
+        `upscale`: 2, 4 or 8 traces `spp` samples of one pixel in each upscale x upscale block
+        and rebuilds every pixel from its history (TemporalUpsampling); at rest, after N * upscale**2
+        frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again.
+        With `filtered`, the filter reads the upsampled picture and what each pixel's history shows
+        (without SVGF's feedback into the history)."""
         if spp is not None and spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
         if budget is not None and not budget > 0:
             raise ValueError(f"budget must be > 0 seconds, got {budget}")
+        if upscale != 1:
+            check_upscale(upscale, self.width, self.height)
         if self._temporal is None:
             self._start_frames()
         if camera is not None:
@@ -652,19 +682,56 @@ class Renderer:
             encoder.clear_buffer(buffer)
         self.context.submit(encoder, "starting a frame")
         self.stats = RenderStats()
-        self.render(1 if spp is None and budget is None else spp, seconds=budget)
-        spp = self.stats.samples_per_pixel
-        self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+        spp = self._add_frame(spp, budget, upscale, moving)
+        self._motion.frame_done(self.scene)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
+        frames = self._temporal if upscale == 1 else self._upsampling
         if not filtered:
-            return self._temporal.image()
+            return frames.image()
         if self._filter is None:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
-        return self._filter.filter(self._temporal.history, self._gbuffer, spp)
+        if upscale != 1:
+            # what each pixel's history shows stands for the G-buffer the traced pixels alone have
+            return self._filter.filter(self._upsampling.shown, self._upsampling.surfaces, spp)
+        # SVGF's feedback only into a history that moved: a resting one (and a new one, even if the
+        # camera was just set) stays the plain mean
+        carried = self._temporal.carried if self._temporal.reprojected else None
+        return self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
+
+    def _add_frame(self, spp: int | None, budget: float | None, upscale: int, moving: bool) -> int:
+        """Trace a frame of `spp` samples per pixel or `budget` seconds (render_frame) and add it to
+        its history: every pixel's (TemporalAccumulation), or one pixel's per block
+        (TemporalUpsampling); the history of another kind or factor starts again. Returns the
+        samples each traced pixel took, also counted in `stats`."""
+        if upscale == 1:
+            if self._upsampling is not None:
+                self._upsampling = None
+                self._temporal.restart()
+            self.render(1 if spp is None and budget is None else spp, seconds=budget)
+            spp = self.stats.samples_per_pixel
+            self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+            return spp
+        if self._upsampling is None or self._upsampling.factor != upscale:
+            self._upsampling = TemporalUpsampling(self.context, self.width, self.height, upscale)
+        start = time.perf_counter()
+        if budget is None:
+            self._upsampling.trace(self, 1 if spp is None else spp)
+            self.stats.samples_per_pixel = 1 if spp is None else spp
+        else:
+            # one sample at a time while the last one's time still fits what is left
+            taken, last = 0, 0.0
+            while taken == 0 or ((spp is None or taken < spp) and time.perf_counter() - start + last <= budget):
+                traced = time.perf_counter()
+                self._upsampling.trace(self, 1)
+                taken, last = taken + 1, time.perf_counter() - traced
+            self.stats.samples_per_pixel = taken
+        self.stats.render_seconds = time.perf_counter() - start
+        self._upsampling.add_frame(self._sums["accumulation"], self._gbuffer, self.stats.samples_per_pixel, moving)
+        return self.stats.samples_per_pixel
 
     def _start_frames(self) -> None:
         """What render_frame needs: the G-buffer variant, the G-buffer, the previous frame's camera
-        (this one's, as the first frame has no history to move) and the history."""
+        (this one's, as the first frame has no history to move), the objects' motions and the history."""
         variant = replace(self.variant, gbuffer=True)
         pixels = self.width * self.height
         self._gbuffer = storage_buffer(self.context, "G-buffer", GBUFFER_PIXEL.zeros(pixels), read_back=True)
@@ -673,6 +740,8 @@ class Renderer:
         )
         self.variant = variant
         self.kernel = tracing_kernel(self.context, variant)
+        self._motion = ObjectMotion()
+        self._records.sync(*self._record_arrays({}), variant.groups())
         self._bind()
         self._temporal = TemporalAccumulation(self.context, self.width, self.height)
 
@@ -686,14 +755,18 @@ class Renderer:
         """The last frame's G-buffer (render_frame), what the ray through each pixel's centre first
         hit: "depth" (the camera ray's distance to it; 0 where nothing was hit), "normal" (shading,
         facing the camera), "albedo" (in [0, 1]), "surface" (material index + 1; 0: nothing hit),
-        "motion" (from this frame's raster position to the previous camera's, in pixels, x right and
-        y down), "previous_depth" and "previous_seen" (the previous camera's distance to the point,
-        and whether it had it in front); arrays of (height, width) or (height, width, n)."""
+        "object" (the shape's index in scene.shapes, or their count + the instance's index in
+        scene.instances; 0: nothing hit), "motion" (from this frame's raster position to where the previous camera
+        saw the point, moved back with its object, in pixels, x right and y down), "previous_depth"
+        and "previous_seen" (the previous camera's distance to the point, 0 where it did not have it
+        in front, and whether it did); arrays of (height, width) or (height, width, n). After an
+        upscaled frame only the pixels it traced hold that frame's entries."""
         if self._gbuffer is None:
             raise ValueError("no frame has been rendered yet: call render_frame first")
         records = read_buffer(self.context, self._gbuffer, GBUFFER_PIXEL.dtype, self.width * self.height)
-        fields = ("depth", "normal", "albedo", "surface", "motion", "previous_depth", "previous_seen")
-        return {name: records[name].reshape(self.height, self.width, *records[name].shape[1:]) for name in fields}
+        fields = ("depth", "normal", "albedo", "surface", "object", "motion", "previous_depth")
+        gbuffer = {name: records[name].reshape(self.height, self.width, *records[name].shape[1:]) for name in fields}
+        return gbuffer | {"previous_seen": gbuffer["previous_depth"] > 0.0}
 
 
 def render(scene: Scene, spp: int = 64, width: int = 512, height: int = 512, **options) -> np.ndarray:

@@ -99,13 +99,13 @@ class SceneMirror:
         # the shading attributes by name (VERTEX_ARRAYS: their records) and TRIANGLE_VERTICES
         # records in BVH order (VERTEX_INDICES), only those the scene has (`_update_vertices`):
         # normals where a shape has them, uvs and tangents with textures (tangents one zero record
-        # unless a material reads a normal map), colours where a shape has them
+        # unless a material reads a normal map or is anisotropic), colours where a shape has them
         self.vertices: dict[str, np.ndarray] = {}
         # for a scene with textures (else None): the atlas's texels (float32 (H, W, 4), at most
         # texture_side per side), TEXTURE and MATERIAL_TEXTURES records
         self.texture_side = texture_side
         self.atlas_texels = self.texture_records = self.material_textures = None
-        self._normal_mapped = False
+        self._reads_tangents = False
         self._textures: list = []
         # float32 in BVH order: each triangle's light table weight per unit area from what it emits
         # through a texture record (`footprint_means`); one zero where none emits so
@@ -276,9 +276,9 @@ class SceneMirror:
             or ((TRIANGLES in changes or placed) and self._has_distant_lights())
         ):
             changes.update(self._update_lights())
-        shading = (self.textured, self._normal_mapped)
+        shading = (self.textured, self._reads_tangents)
         changes.update(self._update_textures())
-        if (moved and self._moves_vertices(moved)) or shading != (self.textured, self._normal_mapped):
+        if (moved and self._moves_vertices(moved)) or shading != (self.textured, self._reads_tangents):
             changes.update(self._update_vertices())
         self._snapshot()
         return {name: rows for name, rows in self._assemble(changes).items() if rows.size}
@@ -334,11 +334,11 @@ class SceneMirror:
         """The vertex arrays with the meshes' vertices after the world's (`shared_vertices` of their
         corners, object space) and their triangles' vertex indices offset past the world's; an
         attribute one side lacks takes its default there (_MISSING_VERTEX). Empty where neither side
-        has an attribute. A textured scene without a normal map keeps the world's one zero tangent."""
+        has an attribute. A textured scene without tangents (no normal map, no anisotropy) keeps the world's one zero tangent."""
         kinds = {VERTEX_NORMALS: "normals", VERTEX_COLORS: "colors"}
         if self.textured:
             kinds[VERTEX_UVS] = "uvs"
-            if self._normal_mapped:
+            if self._reads_tangents:
                 kinds[VERTEX_TANGENTS] = "tangents"
         meshes = {name: instancing.corner_values(kind) for name, kind in kinds.items()}
         names = [name for name in kinds if name in self.vertices or meshes[name] is not None]
@@ -397,10 +397,11 @@ class SceneMirror:
         textures = used_textures(materials)
         if not textures and not any(needs_material_record(material) for material in materials):
             self.atlas_texels = self.texture_records = self.material_textures = None
-            self._textures, self._normal_mapped = [], False
+            self._textures, self._reads_tangents = [], False
             return {}
         changes = {}
-        self._normal_mapped = any("normal" in material.textures() for material in materials)
+        # normal maps and anisotropic BSDFs (`surface_frame`) read the vertex tangents
+        self._reads_tangents = any("normal" in m.textures() or m.reads_tangent() for m in materials)
         if [id(t) for t in textures] != [id(t) for t in self._textures] or self.atlas_texels is None:
             atlas = pack_atlas(textures, self.texture_side)
             changes[TEXTURE_ATLAS] = _changed_texel_rows(self.atlas_texels, atlas.texels)
@@ -416,10 +417,10 @@ class SceneMirror:
 
     def _moves_vertices(self, moved: list[int]) -> bool:
         """Whether moving the shapes `moved` (indices) can change a vertex: one with attributes of its
-        own (a turn turns its normals, a mirror swaps its corners), or any under a normal map
+        own (a turn turns its normals, a mirror swaps its corners), or any under a normal map or anisotropy
         (MikkTSpace's tangents follow the positions). Moving the others leaves the vertices as they
         are, which spares a large smooth mesh's table when something beside it moves."""
-        if self._normal_mapped:
+        if self._reads_tangents:
             return True
         shapes = [self.scene.shapes[index] for index in moved]
         return any(
@@ -428,18 +429,29 @@ class SceneMirror:
             for attribute in (shape.normals, shape.uvs, shape.tangents, shape.colors)
         )
 
+    def _input_shapes(self) -> np.ndarray:
+        """Each kept triangle's shape (its index in scene.shapes), in input order."""
+        return np.repeat(np.arange(len(self._input_start) - 1), np.diff(self._input_start))
+
+    @property
+    def triangle_shapes(self) -> np.ndarray:
+        """Each world triangle's shape (its index in scene.shapes) in BVH order, uint32."""
+        shapes = np.empty(len(self._position), np.uint32)
+        shapes[self._position] = self._input_shapes()
+        return shapes
+
     def _corner_attributes(self) -> dict[str, np.ndarray]:
         """The shading attributes the scene has, per corner (n, 3, k) float32 in BVH order, from the
         shapes as they are: normals (zero for shapes without: flat), texture coordinates with
-        textures (zero for shapes without) and tangents where a material reads a normal map,
+        textures (zero for shapes without) and tangents where a material reads them (normal maps, anisotropy),
         colours (white for shapes without)."""
         shapes = self.scene.shapes
-        shape_index = np.repeat(np.arange(len(shapes)), np.diff(self._input_start))
+        shape_index = self._input_shapes()
         scene_order = {VERTEX_NORMALS: corner_normals(shapes, shape_index, self._local_index)}
         if self.textured:
             uvs = corner_uvs(shapes, shape_index, self._local_index)
             scene_order[VERTEX_UVS] = np.zeros((len(shape_index), 3, 2), np.float32) if uvs is None else uvs
-            if self._normal_mapped:
+            if self._reads_tangents:
                 scene_order[VERTEX_TANGENTS] = corner_tangents(shapes, shape_index, self._local_index)
         scene_order[VERTEX_COLORS] = corner_colors(shapes, shape_index, self._local_index)
         corners = {}
@@ -452,14 +464,14 @@ class SceneMirror:
     def _update_vertices(self) -> dict[str, np.ndarray]:
         """The shading attributes per vertex and each triangle's vertices (`shared_vertices`), from
         the shapes as they are (none where the scene has no attribute); their changed rows. A
-        textured scene without a normal map binds one zero tangent."""
+        textured scene without tangents binds one zero tangent."""
         corners = self._corner_attributes()
         vertices = {}
         if corners:
             indices, values = shared_vertices(corners)
             vertices[VERTEX_INDICES] = triangle_vertex_records(indices)
             vertices |= {name: vertex_records(VERTEX_ARRAYS[name], v) for name, v in values.items()}
-        if self.textured and not self._normal_mapped:
+        if self.textured and not self._reads_tangents:
             vertices[VERTEX_TANGENTS] = VERTEX_TANGENT.zeros(1)
         old, self.vertices = self.vertices, vertices
         return {

@@ -5,8 +5,11 @@ then SVGF_PASSES a-trous passes that stop at depth, normal and luminance edges, 
 stop scaled by the filtered variance (shaders/temporal/svgf_atrous.wgsl), and the albedo
 multiplied back.
 
-Unlike SVGF the filtered picture does not feed the next frame's history: the history stays the
-plain mean of its samples, so a resting picture converges without the filter's bias.
+As in SVGF the first a-trous pass's result feeds the next frame's history (shaders/temporal/
+svgf_feedback.wgsl), but only for frames in motion (`filter`'s `feedback`): there the history is
+capped and clamped already, and the filtered colour lets the next frames start from a smoother
+picture; at rest the history stays the plain mean of its samples, so a resting picture converges
+to the unbiased mean, bit for bit, whether it is filtered or not.
 """
 
 from __future__ import annotations
@@ -48,28 +51,27 @@ SVGF_PARAMETERS = GpuStruct(
     "A pass of the filter: the image's size, the pass's tap spacing, whether it is the last (1: "
     "multiply the albedo back), and the history length (samples) from which its own moments count.",
 )
-_PARAMS = Binding("params", UNIFORM, SVGF_PARAMETERS)
-_GBUFFER = Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL)
-VARIANCE_GROUP = BindGroup(
-    "svgf_variance",
-    0,
-    (
-        _PARAMS,
-        _GBUFFER,
-        Binding("history", STORAGE_READ, TEMPORAL_PIXEL),
-        Binding("illuminated", STORAGE_READ_WRITE, ILLUMINATION),
-    ),
-)
-ATROUS_GROUP = BindGroup(
-    "svgf_atrous",
-    0,
-    (
-        _PARAMS,
-        _GBUFFER,
-        Binding("source", STORAGE_READ, ILLUMINATION),
-        Binding("filtered_out", STORAGE_READ_WRITE, ILLUMINATION),
-    ),
-)
+
+
+def _pass_group(name: str, reads: tuple[str, object], writes: tuple[str, object]) -> BindGroup:
+    """A pass's bind group: its parameters, the G-buffer, what it reads and what it writes (each a
+    binding name and its element type)."""
+    return BindGroup(
+        name,
+        0,
+        (
+            Binding("params", UNIFORM, SVGF_PARAMETERS),
+            Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL),
+            Binding(reads[0], STORAGE_READ, reads[1]),
+            Binding(writes[0], STORAGE_READ_WRITE, writes[1]),
+        ),
+    )
+
+
+VARIANCE_GROUP = _pass_group("svgf_variance", ("history", TEMPORAL_PIXEL), ("illuminated", ILLUMINATION))
+ATROUS_GROUP = _pass_group("svgf_atrous", ("source", ILLUMINATION), ("filtered_out", ILLUMINATION))
+# the first a-trous pass's output into the history the next frame takes
+FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carried", TEMPORAL_PIXEL))
 
 
 def svgf_constants() -> str:
@@ -105,6 +107,7 @@ class VarianceGuidedFilter:
         self.context, self.width, self.height = context, width, height
         self._variance = _kernel(context, "temporal/svgf_variance.wgsl", VARIANCE_GROUP)
         self._atrous = _kernel(context, "temporal/svgf_atrous.wgsl", ATROUS_GROUP)
+        self._feedback = _kernel(context, "temporal/svgf_feedback.wgsl", FEEDBACK_GROUP)
         pixels = np.zeros((width * height, 4), np.float32)
         # ping-pong between two, the last pass into `filtered`
         self._work = [storage_buffer(context, f"SVGF illumination {k}", pixels) for k in range(2)]
@@ -113,9 +116,17 @@ class VarianceGuidedFilter:
             uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1)) for k in range(SVGF_PASSES + 1)
         ]
 
-    def filter(self, history: wgpu.GPUBuffer, gbuffer: wgpu.GPUBuffer, samples_per_frame: int) -> np.ndarray:
+    def filter(
+        self,
+        history: wgpu.GPUBuffer,
+        gbuffer: wgpu.GPUBuffer,
+        samples_per_frame: int,
+        feedback: wgpu.GPUBuffer | None = None,
+    ) -> np.ndarray:
         """The filtered picture of `history` (TEMPORAL_PIXEL records) seen through `gbuffer`, whose
-        frames took `samples_per_frame` samples: float32 (height, width, 3), linear radiance."""
+        frames took `samples_per_frame` samples: float32 (height, width, 3), linear radiance.
+        `feedback`: the history the next frame takes (a copy of `history`), whose colour the first
+        a-trous pass's result then replaces."""
         for number, params in enumerate(self._params):
             record = SVGF_PARAMETERS.zeros(1)
             record["width"], record["height"] = self.width, self.height
@@ -134,6 +145,11 @@ class VarianceGuidedFilter:
                 "svgf_atrous", params=self._params[number], gbuffer=gbuffer, source=source, filtered_out=target
             )
             passes.append(Pass(self._atrous, size, {"svgf_atrous": group}))
+            if number == 1 and feedback is not None:
+                back = self._feedback.bind(
+                    "svgf_feedback", params=self._params[number], gbuffer=gbuffer, filtered=target, carried=feedback
+                )
+                passes.append(Pass(self._feedback, size, {"svgf_feedback": back}))
         submit(self.context, passes)
         pixels = read_buffer(self.context, self.filtered, np.float32, 4 * self.width * self.height)
         return pixels.reshape(self.height, self.width, 4)[..., :3].copy()

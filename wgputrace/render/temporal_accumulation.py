@@ -124,6 +124,8 @@ class TemporalAccumulation:
         self._previous_gbuffer = storage_buffer(context, "previous G-buffer", GBUFFER_PIXEL.zeros(pixels))
         # the first frame has no history to take
         self._fresh = True
+        # whether the last frame took a history reprojected from the one before (something moved)
+        self.reprojected = False
 
     def add_frame(self, accumulation: wgpu.GPUBuffer, gbuffer: wgpu.GPUBuffer, samples: int, moving: bool) -> None:
         """Add a frame of `samples` samples per pixel (their Kahan sums in `accumulation`, its
@@ -151,7 +153,14 @@ class TemporalAccumulation:
         encoder.copy_buffer_to_buffer(self.history, 0, self._previous_history, 0, self.history.size)
         encoder.copy_buffer_to_buffer(gbuffer, 0, self._previous_gbuffer, 0, gbuffer.size)
         self.context.submit(encoder, "temporal accumulation")
+        self.reprojected = moving and not self._fresh
         self._fresh = False
+
+    @property
+    def carried(self) -> wgpu.GPUBuffer:
+        """The history the next frame takes (add_frame copies `history` into it): what SVGF's
+        feedback replaces while moving."""
+        return self._previous_history
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:

@@ -52,8 +52,9 @@ def light_density(material: Material) -> float:
 
 
 def needs_material_record(material: Material) -> bool:
-    """Whether `material` lets rays through or emits through its MATERIAL_TEXTURES record."""
-    return material.lets_rays_through() or max(material.surface_emission()) > 0
+    """Whether `material` lets rays through, emits through its MATERIAL_TEXTURES record or turns its
+    anisotropy by the record's angle (and reads the tangents that come with the record)."""
+    return material.lets_rays_through() or max(material.surface_emission()) > 0 or material.reads_tangent()
 
 
 def used_textures(materials: list[Material]) -> list[Texture]:

@@ -10,6 +10,7 @@ from functools import partial
 from ..scene import Scene
 from .absorbing_glass import absorbing_glass
 from .alpha_cutout import alpha_blend, alpha_cutout
+from .anisotropic import principled_anisotropic
 from .axis_aligned import axis_boxes
 from .camera_views import depth_of_field, orthographic_boxes
 from .caustic import caustic
@@ -66,6 +67,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "vertex_colored_triangles": vertex_colored_triangles,
     # KHR_materials_volume (issue 25)
     "absorbing_glass": absorbing_glass,
+    # KHR_materials_anisotropy (issue 25)
+    "principled_anisotropic": principled_anisotropic,
 }
 DEFAULT_SCENE = "cornell"
 

@@ -16,6 +16,8 @@ from functools import partial
 
 from wgputrace.kernels.shading_normals import MITSUBA_SHADING_NORMALS
 
+# The overrides that shade smooth and normal-mapped surfaces as Mitsuba does (MITSUBA_SHADING_NORMALS).
+MITSUBA_TERMS = tuple(MITSUBA_SHADING_NORMALS.items())
 # Every reference is REFERENCE_SIZE x REFERENCE_SIZE: our sizes divide it.
 REFERENCE_SIZE = 128
 # Probability that a family reports a difference somewhere when there is none.
@@ -47,6 +49,7 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "principled_transmission": ReferenceSettings(max_depth=10),
     "principled_clearcoat": ReferenceSettings(max_depth=6),
     "principled_sheen": ReferenceSettings(max_depth=6),
+    "principled_anisotropic": ReferenceSettings(max_depth=6),
     "textured_quads": ReferenceSettings(max_depth=6),
     "textured_asset": ReferenceSettings(max_depth=6),
     "alpha_cutout": ReferenceSettings(max_depth=6),
@@ -204,6 +207,8 @@ MATERIAL_CASES = (
     _materials("absorbing_glass", seed=20261210),
     _materials("principled_clearcoat", seed=20261401),
     _materials("principled_sheen", seed=20261402),
+    # anisotropy: smooth spheres, shaded as Mitsuba shades smooth normals (MITSUBA_SHADING_NORMALS)
+    _materials("principled_anisotropic", seed=20261403, shader_overrides=MITSUBA_TERMS),
 )
 
 # --- Shading normals without our terms -------------------------------------------------------
@@ -216,7 +221,6 @@ MATERIAL_CASES = (
 # Ours is compared with our term and that rule off (MITSUBA_SHADING_NORMALS). With either on, ours
 # differs where it should (the smooth sphere darker near its terminator, the bumps darker on their
 # lit sides, the sphere's outline brighter); `test_shading_normal_terms` tests what the terms do.
-MITSUBA_TERMS = tuple(MITSUBA_SHADING_NORMALS.items())
 _shading_normals = partial(
     ReferenceCase, family="shading_normals", size=64, batches=16, spp=32, shader_overrides=MITSUBA_TERMS
 )

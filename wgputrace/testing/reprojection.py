@@ -1,7 +1,8 @@
 """A scene whose temporal tests have closed forms: a wall facing a pinhole camera with a card in
 front of it, both axis-aligned, so what each pixel's centre ray hits and where another camera saw
 that point are known without tracing (`centre_hits`, `raster_of`), and which history taps pass
-(`reprojection_taps`)."""
+(`reprojection_taps`). The card may move within its plane (`card_move`), as a shape or an
+instance (`card_scene(instanced=True)`, `card_object`)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import numpy as np
 
 from ..render.temporal_accumulation import BILINEAR_WEIGHT_MIN
 from ..scene import Camera, Diffuse, Material, Scene, Shape, ThinLensCamera
+from ..scene.instances import Instance
 from ..scene.lights.environment import Environment
 
 # The image is SIZE x SIZE pixels under a 90-degree field of view: seen from pinhole(0) at
@@ -17,7 +19,7 @@ SIZE = 32
 WALL_DISTANCE = 4.0
 CARD_DISTANCE = 2.0
 # The card's raster columns and rows seen from pinhole(0): whole pixels, so no pixel centre lies
-# near its edges.
+# near its edges. The camera looks along +z with +y up, so the world's +x is on the image's left.
 CARD_COLUMNS = (10, 20)
 CARD_ROWS = (8, 24)
 _WALL_HALF_SIZE = 40.0
@@ -35,11 +37,11 @@ def pinhole(x: float, yaw_degrees: float = 0.0, aperture_radius: float = 0.0) ->
 
 
 def _plane(raster: float) -> float:
-    """x (or -y) at distance 1 from pinhole(0) of a raster column (or row)."""
+    """-x (or -y) at distance 1 from pinhole(0) of a raster column (or row)."""
     return raster / (SIZE / 2) - 1.0
 
 
-_CARD_X = (_plane(CARD_COLUMNS[0]) * CARD_DISTANCE, _plane(CARD_COLUMNS[1]) * CARD_DISTANCE)
+_CARD_X = (-_plane(CARD_COLUMNS[1]) * CARD_DISTANCE, -_plane(CARD_COLUMNS[0]) * CARD_DISTANCE)
 _CARD_Y = (-_plane(CARD_ROWS[1]) * CARD_DISTANCE, -_plane(CARD_ROWS[0]) * CARD_DISTANCE)
 
 
@@ -62,12 +64,43 @@ def wall_scene(wall: Material | None = None, sky: float = 0.5) -> Scene:
     )
 
 
-def card_scene(wall: Material | None = None, card: Material | None = None, sky: float = 0.5) -> Scene:
+def card_scene(
+    wall: Material | None = None, card: Material | None = None, sky: float = 0.5, instanced: bool = False
+) -> Scene:
     """wall_scene with the card at CARD_DISTANCE covering CARD_COLUMNS x CARD_ROWS seen from
-    pinhole(0), of the wall's material unless given."""
+    pinhole(0), of the wall's material unless given; `instanced`: the card is an instance of a
+    mesh (placed by the identity) rather than a shape."""
     scene = wall_scene(wall, sky)
-    scene.add(_quad("card", _CARD_X, _CARD_Y, CARD_DISTANCE, card or scene.shapes[0].material))
+    quad = _quad("card", _CARD_X, _CARD_Y, CARD_DISTANCE, card or scene.shapes[0].material)
+    if instanced:
+        scene.add_instance(quad, np.eye(4), name="card")
+    else:
+        scene.add(quad)
     return scene
+
+
+def card_object(scene: Scene) -> Shape | Instance:
+    """The card of a card_scene: what its `transform` moves."""
+    return scene.instances[0] if scene.instances else scene.shapes[1]
+
+
+# one pixel's width on the card's plane, seen from pinhole(0)
+CARD_PIXEL = 2.0 * CARD_DISTANCE / SIZE
+
+
+def card_move(offset_pixels: tuple[float, float] = (0.0, 0.0), turn_degrees: float = 0.0) -> np.ndarray:
+    """A card transform that keeps it in its plane: turned by `turn_degrees` about its centre's
+    normal (+z), then shifted by `offset_pixels` as pinhole(0) sees them (x right, y down: its
+    right is the world's -x)."""
+    centre = np.array([np.mean(_CARD_X), np.mean(_CARD_Y), CARD_DISTANCE])
+    angle = np.radians(turn_degrees)
+    turn = np.eye(4)
+    turn[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
+    to_centre, back = np.eye(4), np.eye(4)
+    to_centre[:3, 3], back[:3, 3] = -centre, centre
+    shift = np.eye(4)
+    shift[:2, 3] = -offset_pixels[0] * CARD_PIXEL, -offset_pixels[1] * CARD_PIXEL
+    return shift @ back @ turn @ to_centre
 
 
 def pixel_centres(within: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
@@ -77,10 +110,12 @@ def pixel_centres(within: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
     return np.stack([columns + within[0], rows + within[1]], axis=-1)
 
 
-def centre_hits(camera: Camera, within: tuple[float, float] = (0.5, 0.5)) -> tuple[np.ndarray, np.ndarray]:
+def centre_hits(
+    camera: Camera, within: tuple[float, float] = (0.5, 0.5), card: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """What each pixel's centre ray (or its ray through `within`, as pixel_centres) from `camera`
     (a pinhole looking towards +z) hits: the points (SIZE, SIZE, 3) and whether each is on the
-    card (SIZE, SIZE), else on the wall."""
+    card (SIZE, SIZE), else on the wall; `card`: the card's transform (a card_move)."""
     right, up, forward = camera.image_plane(SIZE, SIZE)
     ndc = pixel_centres(within) / (SIZE / 2) - 1.0
     directions = forward + ndc[..., :1] * right - ndc[..., 1:] * up
@@ -89,14 +124,20 @@ def centre_hits(camera: Camera, within: tuple[float, float] = (0.5, 0.5)) -> tup
     def on_plane(z: float) -> np.ndarray:
         return origin + directions * ((z - origin[2]) / directions[..., 2:])
 
-    card = on_plane(CARD_DISTANCE)
+    plane = on_plane(CARD_DISTANCE)
+    unmoved = plane if card is None else moved_points(plane, np.linalg.inv(card))
     on_card = (
-        (_CARD_X[0] <= card[..., 0])
-        & (card[..., 0] <= _CARD_X[1])
-        & (_CARD_Y[0] <= card[..., 1])
-        & (card[..., 1] <= _CARD_Y[1])
+        (_CARD_X[0] <= unmoved[..., 0])
+        & (unmoved[..., 0] <= _CARD_X[1])
+        & (_CARD_Y[0] <= unmoved[..., 1])
+        & (unmoved[..., 1] <= _CARD_Y[1])
     )
-    return np.where(on_card[..., None], card, on_plane(WALL_DISTANCE)), on_card
+    return np.where(on_card[..., None], plane, on_plane(WALL_DISTANCE)), on_card
+
+
+def moved_points(points: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """`points` (..., 3) through the 4x4 affine `matrix`, in float64."""
+    return np.asarray(points, np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
 
 
 def raster_of(camera: Camera, points: np.ndarray) -> np.ndarray:

@@ -24,3 +24,8 @@ wt.save_image("principled_clearcoat.png", wt.render(wt.load_scene("principled_cl
 # %%
 # ``principled_sheen``: cloth-like spheres with a white, half-tinted and tinted sheen at their rims.
 wt.save_image("principled_sheen.png", wt.render(wt.load_scene("principled_sheen"), **SETTINGS))
+
+# %%
+# ``principled_anisotropic``: brushed metal quads whose texture coordinates (the tangent) run along x,
+# the diagonal and y, blurring the room's checkers along them; anisotropic spheres below.
+wt.save_image("principled_anisotropic.png", wt.render(wt.load_scene("principled_anisotropic"), **SETTINGS))

@@ -73,17 +73,23 @@ fn vertex_shading_weight(v: SurfaceVertex, shading: vec3<f32>, direction: vec3<f
     return shading_weight(shading, v.geometric, v.towards, direction);
 }
 
+// The BSDF's frame at `v` about `shading` (surface_frame: along the tangent where anisotropy needs it).
+fn vertex_frame(v: SurfaceVertex, shading: vec3<f32>) -> ShadingFrame {
+    let triangle = scene_triangle(v.triangle_index);
+    return surface_frame(shading, triangle.material, v.triangle_index, triangle, v.position, v.geometric);
+}
+
 // f |cos_g(direction)| of the path through `v` towards `direction`, shaded with `shading` (the
 // normal seen from the camera's side).
 fn bsdf_value(v: SurfaceVertex, shading: vec3<f32>, direction: vec3<f32>) -> vec3<f32> {
-    let local = shading_frame(shading);
+    let local = vertex_frame(v, shading);
     return bsdf_eval(v.material, to_local(local, v.towards), to_local(local, direction)) * vertex_shading_weight(v, shading, direction);
 }
 
 // The BSDF's density per steradian of sampling `to` at `v` for a path arriving from `from`, in the
 // frame of `shading` (the normal seen from `from`).
 fn direction_pdf(v: SurfaceVertex, shading: vec3<f32>, from_direction: vec3<f32>, to: vec3<f32>) -> f32 {
-    let local = shading_frame(shading);
+    let local = vertex_frame(v, shading);
     return bsdf_pdf(v.material, to_local(local, from_direction), to_local(local, to));
 }
 
@@ -129,7 +135,7 @@ struct ScatteringSample {
 const SCATTERING_DRAWS: u32 = 2u;
 
 fn sample_scattering(v: SurfaceVertex) -> ScatteringSample {
-    let local = shading_frame(v.shading);
+    let local = vertex_frame(v, v.shading);
     let wi = to_local(local, v.towards);
     let u = sample_2d();
     let sample = bsdf_sample(v.material, wi, u, sample_1d());

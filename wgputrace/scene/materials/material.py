@@ -11,6 +11,7 @@ pbrt-v4's `BxDF::Flags()` it answers what the integrator asks.
 | its GPU record                          | `fill_record`                    | `material_records`                              |
 | its BSDF code (sample, eval, pdf)       | `shader`                         | `material_dispatch`: generated dispatch         |
 | optional lobes it uses (clearcoat, ...) | `lobes`                          | `SceneFeatures.lobes`: their code compiled in   |
+| does its BSDF turn about the normal?    | `reads_tangent`                  | tangents uploaded, `surface_frame` along them   |
 | every lobe a delta?                     | `delta`                          | the default of `samples_lights`                 |
 | can a light sample land in its lobe?    | `samples_lights` (WGSL)          | `material_samples_lights`: next-event estimation |
 | the same BSDF seen from both sides?     | `two_sided`                      | `material_is_two_sided`; the Mitsuba `twosided` wrapper |
@@ -137,6 +138,11 @@ class Material(Kind):
         scenes that use them (`SceneFeatures.lobes`): none here."""
         return frozenset()
 
+    def reads_tangent(self) -> bool:
+        """Whether its BSDF is anisotropic: evaluated in a frame whose first axis is the surface's
+        tangent (`surface_frame`), which its texture record's anisotropy_rotation turns. Never here."""
+        return False
+
     def textures(self) -> dict[str, Texture]:
         """The textures it reads, by MATERIAL_TEXTURES slot ("base_color", "normal", ...): none here."""
         return {}
@@ -164,6 +170,7 @@ class Material(Kind):
         here opaque, seen from both sides, emitting nothing, its normals unscaled."""
         record["alpha"], record["alpha_mode"], record["alpha_cutoff"] = 1.0, ALPHA_MODES.index("OPAQUE"), 0.5
         record["double_sided"], record["emitted"], record["normal_scale"] = True, (0.0, 0.0, 0.0), 1.0
+        record["anisotropy_rotation"] = 0.0
 
     def mitsuba_bsdf(self) -> dict:
         """The Mitsuba 3 BSDF dict of one side where `two_sided` (the exporter wraps it in `twosided`).

@@ -25,6 +25,8 @@ need (transmission included).
 | clearcoat_gloss | float [0, 1] | 0   | the clearcoat's GTR1 alpha = lerp(0.1, 0.001, clearcoat_gloss)   |
 | sheen      | float [0, 1]  | 0       | weight of Disney's sheen: Schlick's (1 - cos_d)^5 retro-reflection at grazing angles, x (1 - metallic) |
 | sheen_tint | float [0, 1]  | 0       | blends the sheen's colour from white to base_color's hue (base_color / its luminance) |
+| anisotropic | float [0, 1] | 0       | GGX alpha_u = roughness^2 / aspect along the tangent, alpha_v = roughness^2 aspect, aspect = sqrt(1 - 0.9 anisotropic) (each at least 0.001) |
+| anisotropy_rotation | float [-2 pi, 2 pi] | 0 | radians from the tangent towards the bitangent of the direction alpha_u runs along (glTF's anisotropyRotation; not Mitsuba's) |
 
 A Disney diffuse lobe with retro-reflection, weighted by (1 - metallic)(1 - spec_trans), plus GGX
 reflection whose Fresnel term is (1 - metallic) exact dielectric Fresnel + metallic
@@ -35,16 +37,22 @@ the diffuse lobe, the clearcoat (a GTR1 normal) and the GGX lobes at the rates (
 spec_trans), 0.25 clearcoat and 1 (the GGX one split into reflection and refraction by its Fresnel
 and spec_trans: a visible GGX normal reflects or refracts). Without transmission the material is
 the same on both sides (Mitsuba's `twosided`); with it, its back is the inside (eta seen from there is 1 / eta).
+With anisotropic > 0 both GGX lobes (reflection and transmission) are Mitsuba's anisotropic GGX, in
+a frame whose first axis is the surface tangent (`surface_frame`: the mesh's tangents, a file's
+TANGENT or MikkTSpace's from its texture coordinates, as normal maps take them; where a mesh has no
+texture coordinates, Mitsuba's fallback, the first axis of `coordinate_system` of the triangle's
+normal), turned by anisotropy_rotation.
 GPU record: color = base_color, alpha = roughness, ior = eta, metallic, spec_trans, clearcoat,
-clearcoat_gloss, sheen, sheen_tint, absorption
-(sigma_a, 0 without transmission: nothing goes inside); the clearcoat and sheen code is compiled only into kernels of
+clearcoat_gloss, sheen, sheen_tint, anisotropic, absorption
+(sigma_a, 0 without transmission: nothing goes inside); the clearcoat, sheen and anisotropy code is compiled only into kernels of
 scenes with a material that uses it (`lobes`, `principled_lobes_hook`). Textures, alpha
 and normal_scale are in its MATERIAL_TEXTURES record, applied at the hit (`resolve_material`) so
 the BSDF code sees constants; alpha modes and sidedness act in the traversal's triangle test
 (`surface_blocks`), compiled only for scenes with such a material. WGSL: `principled_sample`,
 `principled_eval`, `principled_pdf`. Mitsuba 3: `principled` with the same values, in `twosided`
 without transmission; an interior `homogeneous` medium where it absorbs (`mitsuba_medium`).
-Mitsuba's anisotropic, spec_tint and flatness are not here.
+Mitsuba's spec_tint and flatness are not here; anisotropy_rotation is not Mitsuba's (its tangent is
+dP/du: `mitsuba_bsdf` refuses a turned one).
 """
 
 from __future__ import annotations
@@ -62,8 +70,8 @@ from .material import ALPHA_MODES, Material, MaterialError, MaterialShader
 from .volume import absorption_coefficients, checked_attenuation
 
 # the optional lobes (each switched on by its weight's parameter) and the parameters of their records
-PRINCIPLED_LOBES = ("clearcoat", "sheen")
-_LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint")
+PRINCIPLED_LOBES = ("clearcoat", "sheen", "anisotropic")
+_LOBE_PARAMETERS = ("clearcoat", "clearcoat_gloss", "sheen", "sheen_tint", "anisotropic")
 # the texture parameters, `<slot>_texture` for each MATERIAL_TEXTURES slot Principled reads
 _TEXTURE_SLOTS = ("base_color", "metallic_roughness", "normal", "emission")
 # glTF sets no bound on a normal map's scale; beyond this its bumps are all slope (a typo, surely)
@@ -100,6 +108,8 @@ class Principled(Material):
     clearcoat_gloss: float = 0.0
     sheen: float = 0.0
     sheen_tint: float = 0.0
+    anisotropic: float = 0.0
+    anisotropy_rotation: float = 0.0
 
     kind = 5
     shader = MaterialShader(
@@ -147,6 +157,9 @@ class Principled(Material):
             "normal_scale": self.check_number(
                 "normal_scale", self.normal_scale, low=-NORMAL_SCALE_MAX, high=NORMAL_SCALE_MAX
             ),
+            "anisotropy_rotation": self.check_number(
+                "anisotropy_rotation", self.anisotropy_rotation, low=-math.tau, high=math.tau
+            ),
             **checked_attenuation(self, self.attenuation_color, self.attenuation_distance),
             **{name: self.check_number(name, getattr(self, name), low=0.0, high=1.0) for name in _LOBE_PARAMETERS},
         }
@@ -160,6 +173,9 @@ class Principled(Material):
 
     def lobes(self) -> frozenset[str]:
         return frozenset(lobe for lobe in PRINCIPLED_LOBES if getattr(self, lobe) > 0)
+
+    def reads_tangent(self) -> bool:
+        return self.anisotropic > 0
 
     def absorption(self) -> tuple[float, float, float]:
         if self.spec_trans == 0.0:
@@ -180,6 +196,7 @@ class Principled(Material):
         record["alpha"], record["alpha_mode"] = self.alpha, ALPHA_MODES.index(self.alpha_mode)
         record["alpha_cutoff"], record["double_sided"] = self.alpha_cutoff, self.double_sided
         record["emitted"], record["normal_scale"] = self.surface_emission(), self.normal_scale
+        record["anisotropy_rotation"] = self.anisotropy_rotation
 
     def mitsuba_bsdf(self, tangent_handedness: float = 1.0) -> dict:
         """Textured parameters become `bitmap`s of the texels times their factor (the product the
@@ -196,9 +213,17 @@ class Principled(Material):
             "roughness": self.roughness,
             "eta": self.eta,
         }
-        # Mitsuba switches its transmission, clearcoat, sheen and sheen tint on by their keys' presence
+        # Mitsuba switches its transmission, clearcoat, sheen, sheen tint and anisotropy on by their keys' presence
         if self.spec_trans > 0:
             bsdf["spec_trans"] = self.spec_trans
+        if self.anisotropic > 0:
+            if self.anisotropy_rotation != 0:
+                raise MaterialError(
+                    f"{self.label}: anisotropy_rotation {self.anisotropy_rotation:g} has no Mitsuba 3 parameter "
+                    "(its anisotropy follows dP/du: turn the texture coordinates instead)",
+                    "anisotropy_rotation",
+                )
+            bsdf["anisotropic"] = self.anisotropic
         if self.clearcoat > 0:
             bsdf |= {"clearcoat": self.clearcoat, "clearcoat_gloss": self.clearcoat_gloss}
         if self.sheen > 0:
