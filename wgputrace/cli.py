@@ -31,6 +31,7 @@ from .cli_arguments import (
     add_scene_arguments,
     add_view_arguments,
     apply_lighting,
+    frames_address,
     image_path,
     method_options,
     positive_float,
@@ -98,10 +99,12 @@ def argument_parser() -> argparse.ArgumentParser:
 
     frames = commands.add_parser(
         "render-frames",
-        help="render an animation's frames (a .py file defining scene(frame)) on a Ray cluster",
+        help="render an animation's frames (a .py file defining scene(frame)) on a Ray cluster, or in order here "
+        "with --temporal",
         description="One task per frame; each file is written atomically as its frame finishes, and frames "
         "whose file exists are skipped, so the same command resumes an interrupted job. Ctrl-C (SIGINT) "
-        "ends the workers at once and keeps the frames written.",
+        "ends the workers at once and keeps the frames written. With --temporal the frames are rendered in order on "
+        "this machine, every pixel keeping its samples from frame to frame, and all are written.",
     )
     add_frames_arguments(frames, default_spp=DEFAULT_SPP)
 
@@ -200,6 +203,10 @@ def _render_on_cluster(args: argparse.Namespace) -> int:
 def _render_frames(args: argparse.Namespace) -> int:
     from .cluster.command_line import render_frames_on_cluster
 
+    args.ray = frames_address(args)
+    if args.temporal:
+        return _render_temporal_frames(args)
+    args.spp = DEFAULT_SPP if args.spp is None else args.spp
     try:
         render_frames_on_cluster(args, _renderer_options(args))
     except Aborted as abort:
@@ -208,6 +215,39 @@ def _render_frames(args: argparse.Namespace) -> int:
             "renders the rest"
         )
         return exit_status(abort.signal)
+    return 0
+
+
+def _render_temporal_frames(args: argparse.Namespace) -> int:
+    """render-frames --temporal: the frames in order on one renderer, a line per frame written."""
+    from .temporal_frames import render_temporal_frames
+
+    width, height = args.size
+    budget = None if args.frame_ms is None else args.frame_ms / 1000.0
+    shown = "filtered" if args.filtered else "accumulated"
+
+    def progress(frame) -> None:
+        print(f"frame {frame.frame:>6}  {frame.samples_per_pixel} spp  {1000 * frame.seconds:8.1f} ms  {frame.path}")
+
+    try:
+        done = render_temporal_frames(
+            args.scene,
+            args.frames,
+            args.output,
+            width,
+            height,
+            spp=args.spp,
+            budget=budget,
+            filtered=args.filtered,
+            exposure=args.exposure,
+            tonemap=args.tonemap,
+            progress=progress,
+            **_renderer_options(args),
+        )
+    except Interrupted as stop:
+        _tell(f"wgputrace: {signal_name(stop.signal)}: stopped; the frames written are kept")
+        return exit_status(stop.signal)
+    print(f"wrote            {len(done)} frames ({shown}, {width}x{height}, temporal)")
     return 0
 
 

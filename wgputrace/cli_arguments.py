@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 from .image_io import AUTO_EXPOSURE, DEFAULT_TONEMAP, TONEMAP_OPERATORS
 from .image_io import FORMATS as IMAGE_FORMATS
-from .integrators import integrator_names
+from .integrators import integrator, integrator_names
 from .kernels.sampler import DEFAULT_SAMPLER, SAMPLERS
 from .loaders import FORMATS as SCENE_FORMATS
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE
@@ -26,6 +26,9 @@ if TYPE_CHECKING:
 # --env's word for no environment at all: black, even for a scene that brings no light (a file of
 # that name is ./none)
 NO_ENVIRONMENT = "none"
+# The viewer's pictures while the camera moves (--preview): render_frame's frames, or today's reset preview.
+TEMPORAL_PREVIEW, RESET_PREVIEW = "temporal", "reset"
+PREVIEWS = (TEMPORAL_PREVIEW, RESET_PREVIEW)
 
 
 class UsageError(Exception):
@@ -237,6 +240,13 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--denoise", action="store_true", help="start with the OIDN denoiser on (Shift+D; the denoise extra)"
     )
+    parser.add_argument(
+        "--preview",
+        choices=PREVIEWS,
+        default=TEMPORAL_PREVIEW,
+        help="the picture while the camera moves: temporal (default) keeps every pixel's samples across frames "
+        "and filters them (SVGF; key V shows how it is made); reset starts again at a reduced size on every move",
+    )
     parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
     parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")
 
@@ -280,12 +290,12 @@ def add_cluster_arguments(
     parser: argparse.ArgumentParser, *, batches: bool, default_address: str | None = None
 ) -> None:
     """--ray ADDRESS and --workers N (and for one image, --batches N and --tile SIDE): rendering on a
-    Ray cluster."""
+    Ray cluster. `default_address` is what the help names as the default; --ray itself stays None
+    when not given, so that a command can tell (`frames_address` puts the default in)."""
     parser.add_argument(
         "--ray",
         type=ray_address,
         metavar="ADDRESS",
-        default=default_address,
         help="render on the Ray cluster at ADDRESS: host:port of its head, ray://host:port, or auto (the cluster "
         'this machine runs, else a new local one); needs pip install "wgputrace[ray]"'
         + (f" (default {default_address})" if default_address else ""),
@@ -311,11 +321,30 @@ def add_cluster_arguments(
 
 
 def add_frames_arguments(parser: argparse.ArgumentParser, *, default_spp: int) -> None:
-    """render-frames' arguments: the animation file, its frames, the image and the output pattern."""
+    """render-frames' arguments: the animation file, its frames, the image, the output pattern, the
+    cluster, and --temporal's frames in order on this machine (--frame-ms, --filtered)."""
     parser.add_argument("scene", type=Path, help="a .py file defining scene(frame) -> wgputrace.Scene")
     parser.add_argument("--frames", type=frame_range, required=True, help="START:STOP[:STEP] (STOP excluded), or N")
     parser.add_argument(
-        "--spp", type=positive_int, default=default_spp, help=f"samples per pixel (default {default_spp})"
+        "--spp",
+        type=positive_int,
+        help=f"samples per pixel (default {default_spp}; with --temporal per frame, default 1, and with "
+        "--frame-ms at most this many)",
+    )
+    parser.add_argument(
+        "--temporal",
+        action="store_true",
+        help="render the frames in order on this machine's device, every pixel keeping its samples from frame to "
+        "frame (Renderer.render_frame) instead of each frame on the cluster from scratch",
+    )
+    parser.add_argument(
+        "--frame-ms",
+        type=positive_float,
+        metavar="MS",
+        help="with --temporal: trace each frame for MS milliseconds (at least one sample per pixel)",
+    )
+    parser.add_argument(
+        "--filtered", action="store_true", help="with --temporal: write the variance-guided filter's picture (SVGF)"
     )
     add_image_arguments(parser, size=(512, 512))
     add_method_arguments(parser)
@@ -326,7 +355,32 @@ def add_frames_arguments(parser: argparse.ArgumentParser, *, default_spp: int) -
         default="frames/{frame:04d}.png",
         help="file of each frame, {frame} replaced by its number (default frames/{frame:04d}.png)",
     )
-    add_cluster_arguments(parser, batches=False, default_address="auto")
+    from .cluster.connection import AUTO
+
+    add_cluster_arguments(parser, batches=False, default_address=AUTO)
+
+
+def frames_address(args: argparse.Namespace) -> str | None:
+    """render-frames' cluster: --ray, else "auto" (the local cluster, or a new one); None with --temporal,
+    which renders here and refuses the cluster options and the options that only --temporal takes without it."""
+    from .cluster.connection import AUTO
+
+    if not args.temporal:
+        alone = [option for option, value in (("--frame-ms", args.frame_ms), ("--filtered", args.filtered)) if value]
+        if alone:
+            raise ValueError(f"{' and '.join(alone)}: only with --temporal (frames rendered in order on one renderer)")
+        return AUTO if args.ray is None else args.ray
+    refused = [option for option, value in (("--ray", args.ray), ("--workers", args.workers)) if value]
+    if refused:
+        raise ValueError(
+            f"{' and '.join(refused)}: not with --temporal (its frames follow one another on one renderer, "
+            "not on a cluster)"
+        )
+    try:
+        integrator(args.integrator).check_gbuffer()
+    except ValueError as error:
+        raise ValueError(f"--temporal: {error}") from None
+    return None
 
 
 def apply_lighting(scene: Scene, args) -> str | None:

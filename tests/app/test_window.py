@@ -1,5 +1,6 @@
 """The viewer in a real window on a virtual X display, driven by X key and mouse events the way a
-person would drive it: the picture is the scene, follows the camera, converges, resizes."""
+person would drive it: the picture is the scene, follows the camera, converges, resizes; while the
+camera moves it is the moving picture at full resolution, and V shows its debug views."""
 
 from __future__ import annotations
 
@@ -13,10 +14,11 @@ from wgputrace import Renderer, default_scene, load_image
 from wgputrace.app.controls import LOOK_RADIANS_PER_PIXEL, SPEED_STEP
 from wgputrace.app.pacing import REST_SECONDS
 from wgputrace.image_io import srgb8, tonemap
-from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores
+from wgputrace.testing.image_statistics import BLOCKS, CHANNELS, block_z_scores, equal_neighbour_fraction
 from wgputrace.testing.running_app import START_SECONDS, RunningApp
 from wgputrace.testing.stats import sidak, z_limit
 from wgputrace.testing.xdriver import WHEEL_UP, XDriver
+from wgputrace.view.temporal_picture import FRAME_VIEWS, FrameView
 
 pytestmark = [pytest.mark.gpu, pytest.mark.slow]
 
@@ -41,6 +43,15 @@ SRGB_CODE_TOLERANCE = 1
 RESIZED = (160, 120)
 HOLD_SECONDS = 1.0
 MIN_MOVE_SECONDS = 0.1
+# glfw takes a key's release and press closer together than this for the keyboard's auto-repeat,
+# and drops both: taps of one key come this far apart
+TAP_GAP_SECONDS = 0.1
+# W held this long before a screenshot: frames of the moving picture have come in
+MOVING_SECONDS = 0.5
+# The moving picture is the lit box, not black: its mean 8-bit value is well above this.
+NOT_BLACK_MEAN = 20
+# At full resolution few neighbouring pixels are equal; the reset preview's blocks make half or more.
+FULL_RESOLUTION_EQUAL_PAIRS = 0.25
 
 
 @pytest.fixture(scope="module")
@@ -168,6 +179,38 @@ def test_frame_key_puts_the_whole_scene_in_view(gpu_context, viewer, vfov):
     ndc = np.stack([offsets @ right / (right @ right), offsets @ up / (up @ up)], axis=1) / depth[:, None]
     assert np.abs(ndc).max() <= 1.0, f"scene corners outside the picture: {ndc}"
     assert_picture_is(shot, headless(camera))
+
+
+def test_moving_shows_the_filtered_moving_picture_and_key_v_its_debug_views(gpu_context, viewer):
+    app, driver, window = viewer
+    driver.tap("r")
+    resting_screenshot(app, driver, 0.0)
+    driver.key_down("w")
+    try:
+        time.sleep(MOVING_SECONDS)
+        driver.tap("p")
+        moving = app.screenshot_line()
+        driver.tap("v")
+        time.sleep(MOVING_SECONDS)
+        driver.tap("p")
+        motion = app.screenshot_line()
+    finally:
+        driver.key_up("w")
+    for _ in FRAME_VIEWS[:-1]:  # back to the filtered picture
+        time.sleep(TAP_GAP_SECONDS)
+        driver.tap("v")
+    time.sleep(TAP_GAP_SECONDS)
+    driver.tap("p")
+    # the filtered view chosen again, the resting picture is back
+    assert app.screenshot_line().shown not in [view.value for view in FRAME_VIEWS]
+    assert moving.shown == FrameView.FILTERED.value and moving.size == (WIDTH, HEIGHT)
+    pixels = np.asarray(Image.open(moving.png).convert("RGB"))
+    assert pixels.mean() > NOT_BLACK_MEAN, "the moving picture is black"
+    assert equal_neighbour_fraction(pixels) < FULL_RESOLUTION_EQUAL_PAIRS, "the moving picture is blocky"
+    assert motion.shown == FrameView.MOTION.value
+    # moving forward, the left half came from the right (red above the neutral 0.5), the right from the left
+    red = load_image(motion.exr)[..., 0]
+    assert red[:, : WIDTH // 2 - 4].mean() > 0.5 > red[:, WIDTH // 2 + 4 :].mean()
 
 
 def test_resizing_the_window_restarts_at_the_new_size(gpu_context, viewer, vfov):

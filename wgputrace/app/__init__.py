@@ -32,6 +32,7 @@ def options_from(args: argparse.Namespace) -> ViewerOptions:
         target_fps=args.fps,
         filter=args.filter,
         denoise=args.denoise,
+        preview=args.preview,
         env=args.env,
         env_intensity=args.env_intensity,
         env_rotation=args.env_rotation,

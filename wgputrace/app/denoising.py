@@ -45,14 +45,14 @@ class ViewerDenoiser:
             return None
         return view.denoised
 
-    def update(self, view, now: float) -> str | None:
-        """Let the denoised picture start or collect a denoise; a failure switches the denoiser off
-        and comes back as the status line saying so."""
+    def update(self, view, now: float, *, start: bool = True) -> str | None:
+        """Let the denoised picture start (where `start`) or collect a denoise; a failure switches
+        the denoiser off and comes back as the status line saying so."""
         denoised = self._denoised(view)
         if denoised is None:
             return None
         try:
-            denoised.update(now)
+            denoised.update(now, start=start)
         except DenoiseFailure as failure:
             self.on = False
             print(f"wgputrace view: {failure}; the denoiser is off", file=sys.stderr, flush=True)

@@ -22,7 +22,8 @@ DENOISER_KEY = "D"
 VIEW_KEYS = {"1": View.RADIANCE, "2": View.NORMAL, "3": View.ALBEDO, "4": View.DEPTH, "5": View.HEAT}
 HELP = (
     "WASDQE move, drag look, wheel speed, R reset, F frame the scene, click focus, , . aperture",
-    "1-5 views, N filter, Shift+D denoiser, B boxes, [ ] box level, P screenshot, Space pause, Tab info",
+    "1-5 views, V moving-picture views, N filter, Shift+D denoiser, B boxes, [ ] box level, P screenshot, "
+    "Space pause, Tab info",
     "+/- exposure, X auto-exposure, T tone curve, C the scene file's next camera",
 )
 EVENT_TYPES = ("key_down", "key_up", "pointer_down", "pointer_up", "pointer_move", "wheel")
@@ -93,6 +94,8 @@ class ViewerInput:
             viewer.paused = not viewer.paused
         elif key in VIEW_KEYS:
             settings.view = VIEW_KEYS[key]
+        elif key == "v":
+            viewer.next_frame_view()
         elif key == "n":
             settings.filter_enabled = not settings.filter_enabled
         elif key == "b":

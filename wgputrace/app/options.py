@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..cli_arguments import TEMPORAL_PREVIEW
 from ..image_io import DEFAULT_TONEMAP
 from ..scenes import DEFAULT_SCENE
 from .pacing import TARGET_FPS
@@ -22,6 +23,7 @@ class ViewerOptions:
     target_fps: float = TARGET_FPS
     filter: bool = False
     denoise: bool = False
+    preview: str = TEMPORAL_PREVIEW  # --preview: "temporal" or "reset", the picture while the camera moves
     # --env, --env-intensity, --env-rotation as cli_arguments.apply_lighting reads them
     env: str | tuple[float, float, float] | Path | None = None
     env_intensity: float | None = None

@@ -1,13 +1,15 @@
-"""Frame pacing: how much of a frame the tracing gets, how coarse the picture is while the camera
-moves, and when the camera counts as resting so that the full resolution starts. While moving the
-viewer traces one sample per pixel at the largest reduced size that fits the budget; resting, as
-many samples (or rows of one) at full size as fit it."""
+"""Frame pacing: how much of a frame the tracing gets, how coarse the reset preview is while the
+camera moves, and when the camera counts as resting so that the full-size accumulation starts.
+While moving the viewer traces a moving-picture frame within the budget (or, with the reset
+preview, one sample per pixel at the largest reduced size that fits it); resting, as many samples
+(or rows of one) at full size as fit it."""
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
+
+from ..view.reset_preview import preview_size
 
 TARGET_FPS = 20.0
 # Part of a frame kept for resolving, filtering, presenting and events, until measured.
@@ -16,10 +18,6 @@ INITIAL_OVERHEAD_SECONDS = 0.01
 MIN_TRACE_SECONDS = 0.005
 # The camera counts as resting once it has not changed for this long.
 REST_SECONDS = 0.25
-# While moving the traced image is at least 1/MAX_PREVIEW_SCALE of the window in each direction.
-MAX_PREVIEW_SCALE = 16
-# Before the first frame has measured the adapter, the preview starts this coarse.
-UNMEASURED_PREVIEW_SCALE = 8
 # The fps shown and the per-frame cost besides tracing follow each frame by this fraction
 # (smoothing over about ten frames).
 FRAME_SMOOTHING = 0.1
@@ -61,14 +59,7 @@ class FramePacing:
 
     def preview_size(self, banded) -> tuple[int, int]:
         """The largest reduced size of `banded`'s picture whose one sample per pixel fits the budget."""
-        width, height = banded.full_size
-        seconds_per_sample = banded.seconds_per_sample
-        if seconds_per_sample is None:
-            scale = UNMEASURED_PREVIEW_SCALE
-        else:
-            needed = width * height * seconds_per_sample / self.trace_budget()
-            scale = min(max(math.ceil(math.sqrt(needed)), 2), MAX_PREVIEW_SCALE)
-        return max(width // scale, 1), max(height // scale, 1)
+        return preview_size(banded.full_size, banded.seconds_per_sample, self.trace_budget())
 
     def camera_turned(self) -> None:
         """The camera was turned, reset or framed: the next frame restarts as moving."""
@@ -89,9 +80,11 @@ class FramePacing:
         if moving:
             self._last_change = now
 
-    def frame_done(self, start: float, end: float, trace_seconds: float) -> float:
-        """Measure a frame that ran from `start` to `end`; the seconds since the previous one ended."""
-        self._overhead += FRAME_SMOOTHING * ((end - start - trace_seconds) - self._overhead)
+    def frame_done(self, start: float, end: float, trace_seconds: float, setup_seconds: float = 0.0) -> float:
+        """Measure a frame that ran from `start` to `end`; the seconds since the previous one ended.
+        `setup_seconds`: what the frame spent once (a view made for a new scene or size, its kernels
+        compiled), kept out of the cost per frame, which would otherwise starve the next frames' tracing."""
+        self._overhead += FRAME_SMOOTHING * ((end - start - trace_seconds - setup_seconds) - self._overhead)
         seconds = end - self._last_frame
         self._frame_seconds = (
             seconds

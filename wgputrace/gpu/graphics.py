@@ -71,6 +71,17 @@ def write_rgba8(context: GpuContext, texture: wgpu.GPUTexture, pixels: np.ndarra
     )
 
 
+def write_image(context: GpuContext, texture: wgpu.GPUTexture, image: np.ndarray) -> None:
+    """Upload a linear (height, width, 3) image into the top-left of an rgba32float `texture`
+    (alpha 1): a picture made on the host (OIDN's, render_frame's) shown as the resolved one is."""
+    height, width, _ = image.shape
+    texels = np.ones((height, width, 4), np.float32)
+    texels[:, :, :3] = image
+    context.device.queue.write_texture(
+        {"texture": texture}, texels, {"bytes_per_row": width * texels.itemsize * 4}, (width, height, 1)
+    )
+
+
 def target_texture(context: GpuContext, label: str, width: int, height: int, target_format: str) -> wgpu.GPUTexture:
     """A texture to draw into and read back (screenshots), the same format as the window's."""
     return context.device.create_texture(

@@ -630,12 +630,23 @@ class Renderer:
             self._upsampling.restart()
 
     def render_frame(
-        self, camera: Camera | None = None, spp: int = 1, *, filtered: bool = False, upscale: int = 1
+        self,
+        camera: Camera | None = None,
+        spp: int | None = None,
+        *,
+        budget: float | None = None,
+        filtered: bool = False,
+        upscale: int = 1,
     ) -> np.ndarray:
         """One frame of a moving picture: look through `camera` (None: the scene's camera as it
-        is, after any edits to the scene), trace `spp` samples per pixel and add them to every
-        pixel's history (TemporalAccumulation). Returns the history's mean: float32 (height,
-        width, 3), linear radiance, row 0 on top.
+        is, after any edits to the scene), trace `spp` samples per pixel (default 1) and add them
+        to every pixel's history (TemporalAccumulation). Returns the history's mean: float32
+        (height, width, 3), linear radiance, row 0 on top.
+
+        `budget`: seconds for the frame's tracing instead of a sample count: passes are traced
+        until it is spent, at least one sample per pixel (`spp` then caps them), as
+        `render(seconds=...)` counts them; `stats.samples_per_pixel` says how many were taken
+        (with `upscale`, per traced pixel).
 
         While the camera and the scene stay as they were, a frame adds its samples as `render`
         does: N frames at rest are bit for bit the mean of a fresh Renderer's `render(N * spp)`
@@ -654,8 +665,10 @@ class Renderer:
         frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again.
         With `filtered`, the filter reads the upsampled picture and what each pixel's history shows
         (without SVGF's feedback into the history)."""
-        if spp < 1:
+        if spp is not None and spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
+        if budget is not None and not budget > 0:
+            raise ValueError(f"budget must be > 0 seconds, got {budget}")
         if upscale != 1:
             check_upscale(upscale, self.width, self.height)
         if self._temporal is None:
@@ -669,7 +682,7 @@ class Renderer:
             encoder.clear_buffer(buffer)
         self.context.submit(encoder, "starting a frame")
         self.stats = RenderStats()
-        self._add_frame(spp, upscale, moving)
+        spp = self._add_frame(spp, budget, upscale, moving)
         self._motion.frame_done(self.scene)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
         frames = self._temporal if upscale == 1 else self._upsampling
@@ -685,20 +698,36 @@ class Renderer:
         carried = self._temporal.carried if self._temporal.reprojected else None
         return self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
 
-    def _add_frame(self, spp: int, upscale: int, moving: bool) -> None:
-        """Trace a frame and add it to its history: every pixel's (TemporalAccumulation), or one
-        pixel's per block (TemporalUpsampling); the history of another kind or factor starts again."""
+    def _add_frame(self, spp: int | None, budget: float | None, upscale: int, moving: bool) -> int:
+        """Trace a frame of `spp` samples per pixel or `budget` seconds (render_frame) and add it to
+        its history: every pixel's (TemporalAccumulation), or one pixel's per block
+        (TemporalUpsampling); the history of another kind or factor starts again. Returns the
+        samples each traced pixel took, also counted in `stats`."""
         if upscale == 1:
             if self._upsampling is not None:
                 self._upsampling = None
                 self._temporal.restart()
-            self.render(spp)
+            self.render(1 if spp is None and budget is None else spp, seconds=budget)
+            spp = self.stats.samples_per_pixel
             self._temporal.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
-            return
+            return spp
         if self._upsampling is None or self._upsampling.factor != upscale:
             self._upsampling = TemporalUpsampling(self.context, self.width, self.height, upscale)
-        self._upsampling.trace(self, spp)
-        self._upsampling.add_frame(self._sums["accumulation"], self._gbuffer, spp, moving)
+        start = time.perf_counter()
+        if budget is None:
+            self._upsampling.trace(self, 1 if spp is None else spp)
+            self.stats.samples_per_pixel = 1 if spp is None else spp
+        else:
+            # one sample at a time while the last one's time still fits what is left
+            taken, last = 0, 0.0
+            while taken == 0 or ((spp is None or taken < spp) and time.perf_counter() - start + last <= budget):
+                traced = time.perf_counter()
+                self._upsampling.trace(self, 1)
+                taken, last = taken + 1, time.perf_counter() - traced
+            self.stats.samples_per_pixel = taken
+        self.stats.render_seconds = time.perf_counter() - start
+        self._upsampling.add_frame(self._sums["accumulation"], self._gbuffer, self.stats.samples_per_pixel, moving)
+        return self.stats.samples_per_pixel
 
     def _start_frames(self) -> None:
         """What render_frame needs: the G-buffer variant, the G-buffer, the previous frame's camera
@@ -715,6 +744,12 @@ class Renderer:
         self._records.sync(*self._record_arrays({}), variant.groups())
         self._bind()
         self._temporal = TemporalAccumulation(self.context, self.width, self.height)
+
+    def history_length(self) -> np.ndarray:
+        """The samples each pixel's history holds after the last render_frame: float32 (height, width)."""
+        if self._temporal is None:
+            raise ValueError("no frame has been rendered yet: call render_frame first")
+        return self._temporal.records()["length"].reshape(self.height, self.width)
 
     def gbuffer(self) -> dict[str, np.ndarray]:
         """The last frame's G-buffer (render_frame), what the ray through each pixel's centre first

@@ -134,3 +134,12 @@ def displayed_mse(image: np.ndarray, reference: np.ndarray) -> float:
 def displayed_psnr(image: np.ndarray, reference: np.ndarray) -> float:
     """10 log10(1 / displayed_mse), in dB: the displayed values' peak is 1."""
     return float(10.0 * np.log10(1.0 / displayed_mse(image, reference)))
+
+
+def equal_neighbour_fraction(pixels: np.ndarray) -> float:
+    """The fraction of horizontally or vertically adjacent pixels of (h, w, c) `pixels` that are
+    equal in every channel: about half or more in a picture scaled up from half the size or less
+    (blocks of copies), few in a noisy or smooth full-resolution one."""
+    across = (pixels[:, 1:] == pixels[:, :-1]).all(axis=-1)
+    down = (pixels[1:] == pixels[:-1]).all(axis=-1)
+    return float((across.sum() + down.sum()) / (across.size + down.size))

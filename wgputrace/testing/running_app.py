@@ -25,7 +25,7 @@ WAIT_SECONDS = 60.0
 
 _SAVED = re.compile(
     r"saved (?P<png>\S+) and (?P<exr>\S+): (?P<spp>[\d.]+) spp at (?P<width>\d+)x(?P<height>\d+), "
-    r"camera (?P<position>\S+ \S+ \S+) dir (?P<forward>\S+ \S+ \S+) speed (?P<speed>\S+)"
+    r"camera (?P<position>\S+ \S+ \S+) dir (?P<forward>\S+ \S+ \S+) speed (?P<speed>\S+) \(showing (?P<shown>[^)]*)\)"
 )
 
 
@@ -38,6 +38,7 @@ class Screenshot:
     position: np.ndarray
     forward: np.ndarray
     speed: float
+    shown: str  # what the radiance view showed: "raw", "SVGF filtered", "motion vectors", ...
 
     def camera(self, vfov_degrees: float) -> Camera:
         return Camera(tuple(self.position), tuple(self.forward), (0.0, 1.0, 0.0), vfov_degrees)
@@ -91,6 +92,7 @@ class RunningApp:
             np.array([float(v) for v in match["position"].split()]),
             np.array([float(v) for v in match["forward"].split()]),
             float(match["speed"]),
+            match["shown"],
         )
 
     def stop(self) -> None:

@@ -49,13 +49,16 @@ class BandedRenderer:
         self.seconds_per_sample: float | None = None
         # rows [first, end) whose samples changed since take_touched_rows() was last asked
         self._touched: tuple[int, int] | None = None
-        self._warm_up()
+        self._warm_kernel: ComputeKernel | None = None
+        self._warm_up(self.kernel)
 
-    def _warm_up(self) -> None:
+    def _warm_up(self, kernel: ComputeKernel) -> None:
         # llvmpipe compiles a pipeline at its first dispatch, which would count as seconds per
-        # sample; a band starting below the last row compiles it and touches no pixel
+        # sample; a band starting below the last row compiles it and touches no pixel. Again for
+        # each new variant (the G-buffer one once the moving picture has run, another camera kind).
         write_buffer(self.context, self._band, 0, np.array([self.full_size[1]], np.uint32))
-        self.kernel.dispatch((1, 1), self._bind_groups, wait=True)
+        kernel.dispatch((1, 1), self._bind_groups, wait=True)
+        self._warm_kernel = kernel
 
     @property
     def kernel(self) -> ComputeKernel:
@@ -114,7 +117,7 @@ class BandedRenderer:
     def advance(self, budget_seconds: float, *, whole_pass: bool = False) -> float:
         """Render what fits in `budget_seconds`: whole passes, or the next band of rows (at least
         one whole pass with `whole_pass`, from the start of a pass). Returns the seconds it took
-        (it waits for the adapter)."""
+        (it waits for the adapter), a new kernel variant's compilation included."""
         height = self.size[1]
         rows = self.rows_for(budget_seconds)
         if whole_pass and self.rows_done == 0:
@@ -134,9 +137,13 @@ class BandedRenderer:
 
     def _dispatch(self, first_row: int, band_rows: int, passes: int) -> float:
         width, height = self.size
+        begun = time.perf_counter()
+        kernel = self.kernel
+        if kernel is not self._warm_kernel:
+            self._warm_up(kernel)
         write_buffer(self.context, self._band, 0, np.array([first_row], np.uint32))
         start = time.perf_counter()
-        self.kernel.dispatch((width, band_rows), self._bind_groups, repeat=passes, wait=True)
+        kernel.dispatch((width, band_rows), self._bind_groups, repeat=passes, wait=True)
         seconds = time.perf_counter() - start
         measured = seconds / (passes * band_rows * width)
         if self.seconds_per_sample is None:
@@ -152,7 +159,8 @@ class BandedRenderer:
             self.rows_done = 0
         else:
             self.rows_done = first_row + band_rows
-        return seconds
+        # the caller's frame spent the compilation too (not counted per sample)
+        return time.perf_counter() - begun
 
     def take_touched_rows(self) -> tuple[int, int] | None:
         """Rows [first, end) whose samples changed since the last call (None: nothing changed)."""

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..denoise import denoise
-from ..gpu.graphics import image_texture
+from ..gpu.graphics import image_texture, write_image
 from .banded import BandedRenderer
 from .layout import IMAGE_FORMAT
 
@@ -108,13 +108,15 @@ class DenoisedPicture:
         self.shown_samples = None
         self.schedule.camera_changed()
 
-    def update(self, now: float) -> None:
+    def update(self, now: float, *, start: bool = True) -> None:
         """Take a finished denoise (shown if of the current camera's samples); start the next where
-        it is due. Raises DenoiseFailure where OIDN failed."""
+        it is due and `start` allows (not while the viewer's moving picture holds the renderer's
+        buffers). Raises DenoiseFailure where OIDN failed."""
         self._collect(now)
         banded = self.banded
         resting_between_passes = not banded.reduced and banded.rows_done == 0
-        if self._job is None and resting_between_passes and self.schedule.due(banded.samples_per_pixel, now):
+        due = start and resting_between_passes and self.schedule.due(banded.samples_per_pixel, now)
+        if self._job is None and due:
             self._start()
 
     def _start(self) -> None:
@@ -136,16 +138,8 @@ class DenoisedPicture:
         self.last_seconds = seconds
         self.schedule.finished(seconds, now)
         if job.generation == self._generation:
-            self._upload(denoised)
+            write_image(self.context, self.texture, denoised)
             self.shown_samples = job.samples
-
-    def _upload(self, denoised: np.ndarray) -> None:
-        height, width, _ = denoised.shape
-        texels = np.ones((height, width, 4), np.float32)
-        texels[:, :, :3] = denoised
-        self.context.device.queue.write_texture(
-            {"texture": self.texture}, texels, {"bytes_per_row": width * texels.itemsize * 4}, (width, height, 1)
-        )
 
     def label(self) -> str:
         """What the overlay says is shown: "OIDN (CPU), 16 spp"."""

@@ -36,6 +36,7 @@ from .layout import (
     View,
     generated_view_structs,
 )
+from .temporal_picture import DEFAULT_FRAME_VIEW, FrameView
 
 # a-trous passes: taps 1, 2, 4, 8, 16 pixels apart, a footprint of 2 * 2 * (1 + 2 + 4 + 8 + 16) + 1 = 125 pixels.
 FILTER_PASSES = 5
@@ -68,6 +69,7 @@ class ViewSettings:
     filter_enabled: bool = False
     depth_scale: float = 1.0  # distance shown black in the depth view: the scene's diagonal
     fade: bool = True  # False: the filter at full weight at any sample count (`python -m bench.filter_psnr`)
+    frame_view: FrameView = DEFAULT_FRAME_VIEW  # what the moving picture shows (key V, TemporalPicture)
 
 
 class Display:
@@ -118,10 +120,11 @@ class Display:
         self._resolved_as: tuple | None = None  # what `resolved` shows where no sample changed since
         self.filter_weight = 0.0  # the weight the last frame showed the filter with
 
-    def keep_as_fallback(self, size: tuple[int, int]) -> None:
-        """Show the resolved image of the last frame (`size` pixels), scaled up, where the next
-        passes have no sample yet: the last preview frame while the first full pass comes in."""
-        copy_texture(self.context, self.resolved, self._fallback, size)
+    def keep_as_fallback(self, size: tuple[int, int], source=None) -> None:
+        """Show the resolved image of the last frame (`size` pixels; or of the texture `source`, an
+        IMAGE_FORMAT one such as the moving picture's), scaled up, where the next passes have no
+        sample yet: the last preview frame while the first full pass comes in."""
+        copy_texture(self.context, self.resolved if source is None else source, self._fallback, size)
         self._fallback_size = size
 
     def camera_changed(self) -> None:
