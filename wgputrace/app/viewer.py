@@ -323,10 +323,13 @@ class Viewer:
         shown = self.shown_label() if self.settings.view == View.RADIANCE else self.settings.view.name.lower()
         self.overlay.show_status(f"saved {png.name} and {exr.name} at {samples:.2f} spp ({shown})")
         camera = self.controller.camera()
+        moving = self._moving_picture()
+        upscale = "" if moving is None else f" upscale {moving.upscale or 1}"
         print(
             f"wgputrace view: saved {png} and {exr}: {samples:.3f} spp at "
             f"{image_size[0]}x{image_size[1]}, camera {' '.join(f'{v:.9g}' for v in camera.position)} "
-            f"dir {' '.join(f'{v:.9g}' for v in camera.forward)} speed {self.controller.speed:.9g} (showing {shown})",
+            f"dir {' '.join(f'{v:.9g}' for v in camera.forward)} speed {self.controller.speed:.9g} (showing {shown})"
+            + upscale,
             flush=True,
         )
         return png, exr
