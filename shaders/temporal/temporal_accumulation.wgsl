@@ -14,9 +14,6 @@
 // taps' albedo and remodulated by this pixel's, its length capped at params.length_cap and its
 // mean clamped to this frame's neighbourhood (temporal_accumulation.py says why).
 
-// Neither surface nor sky (GBufferPixel.surface 0): nothing was hit.
-const SKY_SURFACE: u32 = 0u;
-
 // This frame's samples of `pixel`, summed.
 fn frame_sum(pixel: u32) -> vec3<f32> {
     let sums = accumulation[pixel];

@@ -20,9 +20,6 @@
 // `shown` is the picture as histories: each pixel's, or this frame's samples interpolated as a
 // history of one sample where a pixel has none (what the picture and the variance-guided filter read).
 
-// GBufferPixel.surface where nothing was hit.
-const SKY_SURFACE: u32 = 0u;
-
 fn stride() -> i32 {
     return i32(params.factor);
 }
