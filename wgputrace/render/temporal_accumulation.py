@@ -78,7 +78,7 @@ TEMPORAL_GROUP = BindGroup(
         Binding("params", UNIFORM, TEMPORAL_PARAMETERS),
         Binding("accumulation", STORAGE_READ, ACCUMULATED_PIXEL),
         Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL),
-        Binding("previous_gbuffer", STORAGE_READ, GBUFFER_PIXEL),
+        Binding("previous_surfaces", STORAGE_READ, GBUFFER_PIXEL),
         Binding("previous_history", STORAGE_READ, TEMPORAL_PIXEL),
         Binding("history", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
     ),
@@ -141,7 +141,7 @@ class TemporalAccumulation:
             params=self._params,
             accumulation=accumulation,
             gbuffer=gbuffer,
-            previous_gbuffer=self._previous_gbuffer,
+            previous_surfaces=self._previous_gbuffer,
             previous_history=self._previous_history,
             history=self.history,
         )
