@@ -71,18 +71,29 @@ TEMPORAL_PARAMETERS = GpuStruct(
     "This frame: its size and samples per pixel, whether anything moved since the last (1: "
     "reproject), whether to start every pixel's history again (1), the history's length cap in samples.",
 )
-TEMPORAL_GROUP = BindGroup(
-    "temporal",
-    0,
-    (
-        Binding("params", UNIFORM, TEMPORAL_PARAMETERS),
-        Binding("accumulation", STORAGE_READ, ACCUMULATED_PIXEL),
-        Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL),
-        Binding("previous_surfaces", STORAGE_READ, GBUFFER_PIXEL),
-        Binding("previous_history", STORAGE_READ, TEMPORAL_PIXEL),
-        Binding("history", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
-    ),
-)
+
+
+def history_group(name: str, parameters: GpuStruct, *more: Binding) -> BindGroup:
+    """The bind group of a pass keeping pixel histories (the bindings shaders/temporal/history.wgsl
+    reads): `parameters`, this frame's accumulation and G-buffer, what each pixel of the previous
+    history shows, the previous history, the history written, then `more`."""
+    return BindGroup(
+        name,
+        0,
+        (
+            Binding("params", UNIFORM, parameters),
+            Binding("accumulation", STORAGE_READ, ACCUMULATED_PIXEL),
+            Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL),
+            Binding("previous_surfaces", STORAGE_READ, GBUFFER_PIXEL),
+            Binding("previous_history", STORAGE_READ, TEMPORAL_PIXEL),
+            Binding("history", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
+            *more,
+        ),
+    )
+
+
+# a pixel's history shows what its pixel of the previous G-buffer saw
+TEMPORAL_GROUP = history_group("temporal", TEMPORAL_PARAMETERS)
 
 
 def temporal_constants() -> str:
@@ -94,6 +105,15 @@ def temporal_constants() -> str:
     lines.append(f"const NORMAL_COS_MIN: f32 = {NORMAL_COS_MIN!r};")
     lines.append(f"const BILINEAR_WEIGHT_MIN: f32 = {BILINEAR_WEIGHT_MIN!r};")
     return "\n".join(lines) + "\n"
+
+
+def history_image(records: np.ndarray, width: int, height: int) -> np.ndarray:
+    """The mean of each of a `width` x `height` image's histories (TEMPORAL_PIXEL `records`,
+    row-major): float32 (height, width, 3), linear radiance, row 0 on top; the sums are subtracted
+    and divided in float64, as the Renderer's image() does, and a pixel without history is black."""
+    total = records["sum"][:, :3].astype(np.float64) - records["compensation"][:, :3]
+    mean = total / np.maximum(records["length"], 1.0)[:, None]
+    return mean.astype(np.float32).reshape(height, width, 3)
 
 
 _kernels: dict[int, ComputeKernel] = {}
@@ -110,20 +130,82 @@ def temporal_kernel(context: GpuContext) -> ComputeKernel:
     return _kernels[key]
 
 
-class TemporalAccumulation:
+class HistoryPass:
+    """What a pass keeping the histories of a `width` x `height` image holds: its `kernel` of the
+    bind group `group` (history_group's), the parameters, the history it writes and the one the next
+    frame takes (`label` names their buffers); `_run` runs it on a frame."""
+
+    def __init__(
+        self, context: GpuContext, width: int, height: int, kernel: ComputeKernel, group: BindGroup, label: str
+    ) -> None:
+        self.context, self.width, self.height, self.kernel, self._group = context, width, height, kernel, group
+        pixels = width * height
+        # history_group's first binding
+        self._parameters = group.bindings[0].holds
+        self._params = uniform_buffer(context, f"{label} parameters", self._parameters.zeros(1))
+        self.history = storage_buffer(context, f"{label} history", TEMPORAL_PIXEL.zeros(pixels), read_back=True)
+        self._previous_history = storage_buffer(context, f"previous {label} history", TEMPORAL_PIXEL.zeros(pixels))
+        # the first frame has no history to take
+        self._fresh = True
+
+    def _run(
+        self,
+        samples: int,
+        moving: bool,
+        length_cap: int,
+        resources: dict[str, wgpu.GPUBuffer],
+        kept: tuple[tuple[wgpu.GPUBuffer, wgpu.GPUBuffer], ...],
+        **fields: int,
+    ) -> None:
+        """Run the kernel over the image for a frame of `samples` samples per pixel (`moving`: the
+        camera or the scene changed since the previous frame; `length_cap`: the history's in
+        samples; `fields`: the further parameters), with `resources` bound besides the parameters
+        and histories; then copy the history, and each (written, next frame's) pair of `kept`, for
+        the next frame."""
+        params = self._parameters.zeros(1)
+        params["width"], params["height"], params["samples"] = self.width, self.height, samples
+        params["moving"], params["reset"], params["length_cap"] = moving, self._fresh, length_cap
+        for name, value in fields.items():
+            params[name] = value
+        write_buffer(self.context, self._params, 0, params)
+        group = self.kernel.bind(
+            self._group.name,
+            params=self._params,
+            previous_history=self._previous_history,
+            history=self.history,
+            **resources,
+        )
+        encoder = self.context.device.create_command_encoder()
+        compute = encoder.begin_compute_pass()
+        self.kernel.set_bind_groups(compute, {self._group.name: group})
+        compute.dispatch_workgroups(*self.kernel.workgroups((self.width, self.height)))
+        compute.end()
+        for written, next_frames in ((self.history, self._previous_history), *kept):
+            encoder.copy_buffer_to_buffer(written, 0, next_frames, 0, written.size)
+        self.context.submit(encoder, self._group.name)
+        self._fresh = False
+
+    @property
+    def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
+        """Its GPU buffers: the parameters, the history and the previous history."""
+        return (self._params, self.history, self._previous_history)
+
+    def restart(self) -> None:
+        """Start every pixel's history again at the next frame."""
+        self._fresh = True
+
+    def records(self) -> np.ndarray:
+        """The history as TEMPORAL_PIXEL records, row-major."""
+        return read_buffer(self.context, self.history, TEMPORAL_PIXEL.dtype, self.width * self.height)
+
+
+class TemporalAccumulation(HistoryPass):
     """The history of an image of `width` x `height` and the previous frame's G-buffer, which
     `add_frame` updates from a frame's accumulation and G-buffer."""
 
     def __init__(self, context: GpuContext, width: int, height: int) -> None:
-        self.context, self.width, self.height = context, width, height
-        self.kernel = temporal_kernel(context)
-        pixels = width * height
-        self._params = uniform_buffer(context, "temporal parameters", TEMPORAL_PARAMETERS.zeros(1))
-        self.history = storage_buffer(context, "temporal history", TEMPORAL_PIXEL.zeros(pixels), read_back=True)
-        self._previous_history = storage_buffer(context, "previous temporal history", TEMPORAL_PIXEL.zeros(pixels))
-        self._previous_gbuffer = storage_buffer(context, "previous G-buffer", GBUFFER_PIXEL.zeros(pixels))
-        # the first frame has no history to take
-        self._fresh = True
+        super().__init__(context, width, height, temporal_kernel(context), TEMPORAL_GROUP, "temporal")
+        self._previous_gbuffer = storage_buffer(context, "previous G-buffer", GBUFFER_PIXEL.zeros(width * height))
         # whether the last frame took a history reprojected from the one before (something moved)
         self.reprojected = False
 
@@ -131,30 +213,9 @@ class TemporalAccumulation:
         """Add a frame of `samples` samples per pixel (their Kahan sums in `accumulation`, its
         G-buffer in `gbuffer`) to the history; `moving`: the camera or the scene changed since the
         previous frame, whose history is then reprojected."""
-        params = TEMPORAL_PARAMETERS.zeros(1)
-        params["width"], params["height"], params["samples"] = self.width, self.height, samples
-        params["moving"], params["reset"] = moving, self._fresh
-        params["length_cap"] = MOVING_HISTORY_FRAMES * samples
-        write_buffer(self.context, self._params, 0, params)
-        group = self.kernel.bind(
-            "temporal",
-            params=self._params,
-            accumulation=accumulation,
-            gbuffer=gbuffer,
-            previous_surfaces=self._previous_gbuffer,
-            previous_history=self._previous_history,
-            history=self.history,
-        )
-        encoder = self.context.device.create_command_encoder()
-        compute = encoder.begin_compute_pass()
-        self.kernel.set_bind_groups(compute, {"temporal": group})
-        compute.dispatch_workgroups(*self.kernel.workgroups((self.width, self.height)))
-        compute.end()
-        encoder.copy_buffer_to_buffer(self.history, 0, self._previous_history, 0, self.history.size)
-        encoder.copy_buffer_to_buffer(gbuffer, 0, self._previous_gbuffer, 0, gbuffer.size)
-        self.context.submit(encoder, "temporal accumulation")
         self.reprojected = moving and not self._fresh
-        self._fresh = False
+        resources = {"accumulation": accumulation, "gbuffer": gbuffer, "previous_surfaces": self._previous_gbuffer}
+        self._run(samples, moving, MOVING_HISTORY_FRAMES * samples, resources, ((gbuffer, self._previous_gbuffer),))
 
     @property
     def carried(self) -> wgpu.GPUBuffer:
@@ -165,20 +226,8 @@ class TemporalAccumulation:
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
         """Its GPU buffers: the parameters, the history, the previous history and G-buffer."""
-        return (self._params, self.history, self._previous_history, self._previous_gbuffer)
-
-    def restart(self) -> None:
-        """Start every pixel's history again at the next frame."""
-        self._fresh = True
-
-    def records(self) -> np.ndarray:
-        """The history as TEMPORAL_PIXEL records, row-major."""
-        return read_buffer(self.context, self.history, TEMPORAL_PIXEL.dtype, self.width * self.height)
+        return (*super().buffers, self._previous_gbuffer)
 
     def image(self) -> np.ndarray:
-        """Each pixel's mean over its history: float32 (height, width, 3), linear radiance, row 0 on
-        top; the sums are subtracted and divided in float64, as the Renderer's image() does."""
-        records = self.records()
-        total = records["sum"][:, :3].astype(np.float64) - records["compensation"][:, :3]
-        mean = total / np.maximum(records["length"], 1.0)[:, None]
-        return mean.astype(np.float32).reshape(self.height, self.width, 3)
+        """Each pixel's mean over its history (history_image)."""
+        return history_image(self.records(), self.width, self.height)

@@ -37,14 +37,23 @@ from dataclasses import replace
 import numpy as np
 import wgpu
 
-from ..gpu.bindings import STORAGE_READ, STORAGE_READ_WRITE, UNIFORM, BindGroup, Binding
+from ..gpu.bindings import STORAGE_READ_WRITE, Binding
 from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
 from ..gpu.kernel import ComputeKernel, Pass, submit
-from ..gpu.layout import ACCUMULATED_PIXEL, GBUFFER_PIXEL, GpuStruct
+from ..gpu.layout import GBUFFER_PIXEL, GpuStruct
 from ..kernels.compile import compute_kernel, tracing_kernel
 from .display_constants import GENERATED_DISPLAY_CONSTANTS, display_constants
-from .temporal_accumulation import GENERATED_TEMPORAL, MOVING_HISTORY_FRAMES, TEMPORAL_PIXEL, temporal_constants
+from .temporal_accumulation import (
+    GENERATED_TEMPORAL,
+    MOVING_HISTORY_FRAMES,
+    TEMPORAL_PARAMETERS,
+    TEMPORAL_PIXEL,
+    HistoryPass,
+    history_group,
+    history_image,
+    temporal_constants,
+)
 
 GENERATED_UPSAMPLING = "generated/upsampling.wgsl"
 
@@ -57,34 +66,16 @@ _BAYER_STEPS = ((0, 0), (1, 1), (1, 0), (0, 1))
 
 UPSAMPLING_PARAMETERS = GpuStruct(
     "UpsamplingParameters",
-    (
-        ("width", "u32"),
-        ("height", "u32"),
-        ("factor", "u32"),
-        ("offset_x", "u32"),
-        ("offset_y", "u32"),
-        ("samples", "u32"),
-        ("moving", "u32"),
-        ("reset", "u32"),
-        ("length_cap", "f32"),
-    ),
-    "This frame: the full image's size, the block's side and the traced pixel's place in each block, "
-    "its samples per traced pixel, whether anything moved (1: reproject), whether to start every "
-    "history again (1), the history's length cap in samples.",
+    (*TEMPORAL_PARAMETERS.fields, ("factor", "u32"), ("offset_x", "u32"), ("offset_y", "u32")),
+    "This frame as TemporalParameters (the full image's size, its samples per traced pixel), with the "
+    "block's side and the traced pixel's place in each block.",
 )
-UPSAMPLING_GROUP = BindGroup(
+# what each pixel's history shows and the picture (`shown`), besides the histories
+UPSAMPLING_GROUP = history_group(
     "upsampling",
-    0,
-    (
-        Binding("params", UNIFORM, UPSAMPLING_PARAMETERS),
-        Binding("accumulation", STORAGE_READ, ACCUMULATED_PIXEL),
-        Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL),
-        Binding("previous_surfaces", STORAGE_READ, GBUFFER_PIXEL),
-        Binding("surfaces", STORAGE_READ_WRITE, GBUFFER_PIXEL),
-        Binding("previous_history", STORAGE_READ, TEMPORAL_PIXEL),
-        Binding("history", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
-        Binding("shown", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
-    ),
+    UPSAMPLING_PARAMETERS,
+    Binding("surfaces", STORAGE_READ_WRITE, GBUFFER_PIXEL),
+    Binding("shown", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
 )
 
 
@@ -146,20 +137,17 @@ def upsampling_kernel(context: GpuContext) -> ComputeKernel:
     return _kernels[key]
 
 
-class TemporalUpsampling:
+class TemporalUpsampling(HistoryPass):
     """The history of a `width` x `height` image rebuilt from one traced pixel per `factor` x
     `factor` block per frame: `trace` adds a frame's samples to a Renderer's accumulation and
     G-buffer at those pixels, `add_frame` takes them into the history."""
 
     def __init__(self, context: GpuContext, width: int, height: int, factor: int) -> None:
         check_upscale(factor, width, height)
-        self.context, self.width, self.height, self.factor = context, width, height, factor
-        self.kernel = upsampling_kernel(context)
+        super().__init__(context, width, height, upsampling_kernel(context), UPSAMPLING_GROUP, "upsampled")
+        self.factor = factor
         pixels = width * height
-        self._params = uniform_buffer(context, "upsampling parameters", UPSAMPLING_PARAMETERS.zeros(1))
         self._subset = uniform_buffer(context, "pixel subset", np.zeros(4, np.uint32))
-        self.history = storage_buffer(context, "upsampled history", TEMPORAL_PIXEL.zeros(pixels), read_back=True)
-        self._previous_history = storage_buffer(context, "previous upsampled history", TEMPORAL_PIXEL.zeros(pixels))
         self.surfaces = storage_buffer(context, "upsampled surfaces", GBUFFER_PIXEL.zeros(pixels), read_back=True)
         self._previous_surfaces = storage_buffer(context, "previous upsampled surfaces", GBUFFER_PIXEL.zeros(pixels))
         # the picture as histories: each pixel's, or where it has none this frame's samples
@@ -167,7 +155,6 @@ class TemporalUpsampling:
         self.shown = storage_buffer(context, "upsampled picture", TEMPORAL_PIXEL.zeros(pixels), read_back=True)
         # the frame's number in the Bayer order since the history began
         self.frame = 0
-        self._fresh = True
 
     @property
     def offset(self) -> tuple[int, int]:
@@ -187,59 +174,33 @@ class TemporalUpsampling:
         """Take the frame `trace` made (its sums in `accumulation`, its G-buffer in `gbuffer`) into
         every pixel's history; `moving`: the camera or the scene changed since the previous frame,
         whose history is then reprojected."""
-        params = UPSAMPLING_PARAMETERS.zeros(1)
-        params["width"], params["height"], params["factor"] = self.width, self.height, self.factor
-        params["offset_x"], params["offset_y"] = self.offset
-        params["samples"], params["moving"], params["reset"] = samples, moving, self._fresh
-        params["length_cap"] = history_cap(self.factor, samples)
-        write_buffer(self.context, self._params, 0, params)
-        group = self.kernel.bind(
-            "upsampling",
-            params=self._params,
-            accumulation=accumulation,
-            gbuffer=gbuffer,
-            previous_surfaces=self._previous_surfaces,
-            surfaces=self.surfaces,
-            previous_history=self._previous_history,
-            history=self.history,
-            shown=self.shown,
+        resources = {
+            "accumulation": accumulation,
+            "gbuffer": gbuffer,
+            "previous_surfaces": self._previous_surfaces,
+            "surfaces": self.surfaces,
+            "shown": self.shown,
+        }
+        offset_x, offset_y = self.offset
+        length_cap = history_cap(self.factor, samples)
+        kept = ((self.surfaces, self._previous_surfaces),)
+        self._run(
+            samples, moving, length_cap, resources, kept, factor=self.factor, offset_x=offset_x, offset_y=offset_y
         )
-        submit(self.context, [Pass(self.kernel, (self.width, self.height), {"upsampling": group})])
-        # the next frame's previous history, after this one's is written
-        encoder = self.context.device.create_command_encoder()
-        for written, kept in ((self.history, self._previous_history), (self.surfaces, self._previous_surfaces)):
-            encoder.copy_buffer_to_buffer(written, 0, kept, 0, written.size)
-        self.context.submit(encoder, "keeping the upsampled history")
-        self._fresh = False
         self.frame += 1
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
-        """Its GPU buffers: the parameters, the subset, the histories, what they show and the picture."""
-        return (
-            self._params,
-            self._subset,
-            self.history,
-            self._previous_history,
-            self.surfaces,
-            self._previous_surfaces,
-            self.shown,
-        )
+        """Its GPU buffers: the parameters, the histories, the subset, what the histories show and the picture."""
+        return (*super().buffers, self._subset, self.surfaces, self._previous_surfaces, self.shown)
 
     def restart(self) -> None:
         """Start every pixel's history again at the next frame, and the Bayer order at its first pixel."""
-        self._fresh = True
+        super().restart()
         self.frame = 0
 
-    def records(self) -> np.ndarray:
-        """The history as TEMPORAL_PIXEL records, row-major."""
-        return read_buffer(self.context, self.history, TEMPORAL_PIXEL.dtype, self.width * self.height)
-
     def image(self) -> np.ndarray:
-        """The picture: each pixel's mean over its history where it has one (subtracted and divided
-        in float64, as the Renderer's image() does), else the last frame's samples interpolated;
-        float32 (height, width, 3), linear radiance, row 0 on top."""
+        """The picture (`shown`, through history_image): each pixel's mean over its history where it
+        has one, else the last frame's samples interpolated."""
         records = read_buffer(self.context, self.shown, TEMPORAL_PIXEL.dtype, self.width * self.height)
-        total = records["sum"][:, :3].astype(np.float64) - records["compensation"][:, :3]
-        mean = total / records["length"][:, None]
-        return mean.astype(np.float32).reshape(self.height, self.width, 3)
+        return history_image(records, self.width, self.height)
