@@ -20,11 +20,9 @@ import wgpu
 from ..gpu.bindings import STORAGE_READ, STORAGE_READ_WRITE, UNIFORM, BindGroup, Binding
 from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
-from ..gpu.kernel import ComputeKernel, Pass, submit
+from ..gpu.kernel import Pass, submit
 from ..gpu.layout import GBUFFER_PIXEL, GpuStruct
-from ..kernels.compile import compute_kernel
-from .display_constants import GENERATED_DISPLAY_CONSTANTS, display_constants
-from .temporal_accumulation import TEMPORAL_PIXEL
+from .temporal_accumulation import TEMPORAL_PIXEL, temporal_pass_kernel
 
 GENERATED_SVGF = "generated/svgf.wgsl"
 
@@ -89,25 +87,15 @@ def svgf_constants() -> str:
     return "\n".join(lines) + "\n"
 
 
-_kernels: dict[tuple[int, str], ComputeKernel] = {}
-
-
-def _kernel(context: GpuContext, entry: str, group: BindGroup) -> ComputeKernel:
-    key = (id(context.device), entry)
-    if key not in _kernels:
-        generated = {GENERATED_DISPLAY_CONSTANTS: display_constants(), GENERATED_SVGF: svgf_constants()}
-        _kernels[key] = compute_kernel(context, entry, (group,), generated=generated)
-    return _kernels[key]
-
-
 class VarianceGuidedFilter:
     """SVGF's spatial filter for images of `width` x `height`: `filter` reads a history and a G-buffer."""
 
     def __init__(self, context: GpuContext, width: int, height: int) -> None:
         self.context, self.width, self.height = context, width, height
-        self._variance = _kernel(context, "temporal/svgf_variance.wgsl", VARIANCE_GROUP)
-        self._atrous = _kernel(context, "temporal/svgf_atrous.wgsl", ATROUS_GROUP)
-        self._feedback = _kernel(context, "temporal/svgf_feedback.wgsl", FEEDBACK_GROUP)
+        generated = {GENERATED_SVGF: svgf_constants()}
+        self._variance = temporal_pass_kernel(context, "temporal/svgf_variance.wgsl", VARIANCE_GROUP, generated)
+        self._atrous = temporal_pass_kernel(context, "temporal/svgf_atrous.wgsl", ATROUS_GROUP, generated)
+        self._feedback = temporal_pass_kernel(context, "temporal/svgf_feedback.wgsl", FEEDBACK_GROUP, generated)
         pixels = np.zeros((width * height, 4), np.float32)
         # ping-pong between two, the last pass into `filtered`
         self._work = [storage_buffer(context, f"SVGF illumination {k}", pixels) for k in range(2)]

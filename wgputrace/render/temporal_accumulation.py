@@ -116,29 +116,39 @@ def history_image(records: np.ndarray, width: int, height: int) -> np.ndarray:
     return mean.astype(np.float32).reshape(height, width, 3)
 
 
-_kernels: dict[int, ComputeKernel] = {}
+_kernels: dict[tuple[int, str], ComputeKernel] = {}
 
 
-def temporal_kernel(context: GpuContext) -> ComputeKernel:
-    """The temporal accumulation kernel, compiled once per device."""
-    key = id(context.device)
+def temporal_pass_kernel(context: GpuContext, entry: str, group: BindGroup, generated: dict[str, str]) -> ComputeKernel:
+    """The kernel of a temporal pass: `entry` (a shader file) with its one bind group `group`, the
+    display constants and the `generated` files, compiled once per device."""
+    key = (id(context.device), entry)
     if key not in _kernels:
-        generated = {GENERATED_DISPLAY_CONSTANTS: display_constants(), GENERATED_TEMPORAL: temporal_constants()}
-        _kernels[key] = compute_kernel(
-            context, "temporal/temporal_accumulation.wgsl", (TEMPORAL_GROUP,), generated=generated
-        )
+        files = {GENERATED_DISPLAY_CONSTANTS: display_constants(), **generated}
+        _kernels[key] = compute_kernel(context, entry, (group,), generated=files)
     return _kernels[key]
 
 
 class HistoryPass:
-    """What a pass keeping the histories of a `width` x `height` image holds: its `kernel` of the
-    bind group `group` (history_group's), the parameters, the history it writes and the one the next
-    frame takes (`label` names their buffers); `_run` runs it on a frame."""
+    """What a pass keeping the histories of a `width` x `height` image holds: its kernel (`entry`
+    with the bind group `group`, history_group's, and the `generated` files besides the history's),
+    the parameters, the history it writes and the one the next frame takes (`label` names their
+    buffers); `_run` runs it on a frame."""
 
     def __init__(
-        self, context: GpuContext, width: int, height: int, kernel: ComputeKernel, group: BindGroup, label: str
+        self,
+        context: GpuContext,
+        width: int,
+        height: int,
+        entry: str,
+        group: BindGroup,
+        generated: dict[str, str],
+        label: str,
     ) -> None:
-        self.context, self.width, self.height, self.kernel, self._group = context, width, height, kernel, group
+        self.context, self.width, self.height, self._group = context, width, height, group
+        self.kernel = temporal_pass_kernel(
+            context, entry, group, {GENERATED_TEMPORAL: temporal_constants(), **generated}
+        )
         pixels = width * height
         # history_group's first binding
         self._parameters = group.bindings[0].holds
@@ -204,7 +214,7 @@ class TemporalAccumulation(HistoryPass):
     `add_frame` updates from a frame's accumulation and G-buffer."""
 
     def __init__(self, context: GpuContext, width: int, height: int) -> None:
-        super().__init__(context, width, height, temporal_kernel(context), TEMPORAL_GROUP, "temporal")
+        super().__init__(context, width, height, "temporal/temporal_accumulation.wgsl", TEMPORAL_GROUP, {}, "temporal")
         self._previous_gbuffer = storage_buffer(context, "previous G-buffer", GBUFFER_PIXEL.zeros(width * height))
         # whether the last frame took a history reprojected from the one before (something moved)
         self.reprojected = False
