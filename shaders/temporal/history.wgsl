@@ -3,6 +3,7 @@
 //! include "integrators/accumulate.wgsl"
 //! include "view/tone_curves.wgsl"
 //! include "temporal/gbuffer_neighbours.wgsl"
+//! include "temporal/history_mean.wgsl"
 //! include "generated/workgroup.wgsl"
 //
 // The including kernel binds `params` (the image's size, `samples` per pixel this frame, whether
@@ -116,8 +117,7 @@ fn passing_taps(xy: vec2<i32>, here: GBufferPixel, tolerance: f32) -> Taps {
         if old.length <= 0.0 || !consistent(here, there, tolerance) {
             continue;
         }
-        let mean = (old.sum.xyz - old.compensation.xyz) / old.length;
-        taps.illumination += weight * mean / demodulation(there.albedo);
+        taps.illumination += weight * history_mean(old) / demodulation(there.albedo);
         taps.moments += weight * old.moments;
         taps.length += weight * old.length;
         taps.weights += weight;

@@ -110,7 +110,8 @@ def temporal_constants() -> str:
 def history_image(records: np.ndarray, width: int, height: int) -> np.ndarray:
     """The mean of each of a `width` x `height` image's histories (TEMPORAL_PIXEL `records`,
     row-major): float32 (height, width, 3), linear radiance, row 0 on top; the sums are subtracted
-    and divided in float64, as the Renderer's image() does, and a pixel without history is black."""
+    and divided in float64, as the Renderer's image() does, and a pixel without history is black (as
+    history_mean in shaders/temporal/history_mean.wgsl)."""
     total = records["sum"][:, :3].astype(np.float64) - records["compensation"][:, :3]
     mean = total / np.maximum(records["length"], 1.0)[:, None]
     return mean.astype(np.float32).reshape(height, width, 3)
