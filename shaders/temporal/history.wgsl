@@ -36,9 +36,12 @@ fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
     return frame_mean(pixel) / demodulation(gbuffer[pixel].albedo);
 }
 
-fn finite_luminance(colour: vec3<f32>) -> f32 {
-    let brightness = luminance(colour);
-    return select(0.0, brightness, is_finite_f32(brightness));
+// The first two moments of `illumination`'s luminance (0 where it is not finite): what a
+// history's moments average over its samples.
+fn luminance_moments(illumination: vec3<f32>) -> vec2<f32> {
+    var brightness = luminance(illumination);
+    brightness = select(0.0, brightness, is_finite_f32(brightness));
+    return vec2<f32>(brightness, brightness * brightness);
 }
 
 fn no_history() -> TemporalPixel {
@@ -52,8 +55,7 @@ fn with_frame(old: TemporalPixel, xy: vec2<i32>) -> TemporalPixel {
     let pixel = pixel_index(xy);
     let samples = f32(params.samples);
     let length = old.length + samples;
-    let brightness = finite_luminance(frame_illumination(xy));
-    let moments = mix(old.moments, vec2<f32>(brightness, brightness * brightness), samples / length);
+    let moments = mix(old.moments, luminance_moments(frame_illumination(xy)), samples / length);
     let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), frame_sum(pixel));
     return TemporalPixel(sum.sum, sum.compensation, moments, length);
 }
@@ -90,10 +92,15 @@ struct Taps {
     heaviest: GBufferPixel,
 }
 
+// No tap (of a pixel that sees `here`).
+fn no_taps(here: GBufferPixel) -> Taps {
+    return Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
+}
+
 // The bilinear taps of the previous history where the pixel at `xy` was, moved along the motion
 // of `here` (a G-buffer entry), that show here's surface within `tolerance` (consistent).
 fn passing_taps(xy: vec2<i32>, here: GBufferPixel, tolerance: f32) -> Taps {
-    var taps = Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
+    var taps = no_taps(here);
     // the previous camera did not have the point in front
     if !(here.previous_depth > 0.0) {
         return taps;

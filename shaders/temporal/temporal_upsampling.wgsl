@@ -56,8 +56,7 @@ fn interpolated(xy: vec2<i32>, nearest: GBufferPixel) -> vec3<f32> {
 
 // `colour` as a history of one sample, its moments those of its demodulated luminance.
 fn one_sample(colour: vec3<f32>, albedo: vec3<f32>) -> TemporalPixel {
-    let brightness = finite_luminance(colour / demodulation(albedo));
-    return TemporalPixel(vec4<f32>(colour, 0.0), vec4<f32>(0.0), vec2<f32>(brightness, brightness * brightness), 1.0);
+    return TemporalPixel(vec4<f32>(colour, 0.0), vec4<f32>(0.0), luminance_moments(colour / demodulation(albedo)), 1.0);
 }
 
 // The previous history where the pixel at `xy` was, or none where no tap passes. A traced pixel
@@ -74,7 +73,7 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
     let candidates = array<vec2<i32>, 4>(sample, sample + first_step, sample + toward - first_step, sample + toward);
     let count = select(4, 1, all(away == vec2<i32>(0)));
     var source = sample;
-    var taps = Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
+    var taps = no_taps(here);
     for (var k = 0; k < count; k++) {
         let candidate = candidates[k];
         if !inside(candidate) {
