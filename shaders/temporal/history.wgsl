@@ -33,7 +33,7 @@ fn frame_mean(pixel: u32) -> vec3<f32> {
 // This frame's mean at `xy`, divided by its first hit's albedo.
 fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
     let pixel = pixel_index(xy);
-    return frame_mean(pixel) / demodulation(gbuffer[pixel].albedo);
+    return frame_sum(pixel) / (f32(params.samples) * demodulation(gbuffer[pixel].albedo));
 }
 
 // The first two moments of `illumination`'s luminance (0 where it is not finite): what a
