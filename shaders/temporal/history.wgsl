@@ -26,10 +26,6 @@ fn frame_sum(pixel: u32) -> vec3<f32> {
     return sums.sum.xyz - sums.compensation.xyz;
 }
 
-fn frame_mean(pixel: u32) -> vec3<f32> {
-    return frame_sum(pixel) / f32(params.samples);
-}
-
 // This frame's mean at `xy`, divided by its first hit's albedo.
 fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
     let pixel = pixel_index(xy);

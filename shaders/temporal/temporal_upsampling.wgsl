@@ -33,6 +33,10 @@ fn nearest_sample(xy: vec2<i32>) -> vec2<i32> {
     return k * stride() + subset_offset();
 }
 
+fn frame_mean(pixel: u32) -> vec3<f32> {
+    return frame_sum(pixel) / f32(params.samples);
+}
+
 // This frame's samples interpolated at `xy`: bilinear over the four traced pixels around it that
 // see the nearest one's surface (the nearest is one of them, of a positive weight).
 fn interpolated(xy: vec2<i32>, nearest: GBufferPixel) -> vec3<f32> {
