@@ -153,8 +153,8 @@ class PreviewPlayer:
         return image_failures(self.display.read_image(), self.banded.renderer.dropped_samples)
 
     def frame(self, index: int) -> Frame:
-        start = time.perf_counter()
         self.fly.pose(self.scene, index)
+        start = time.perf_counter()
         if self.fly.moves_shapes:
             self.banded.renderer.update()  # the shapes' new transforms (the camera alone needs none)
         self.banded.restart(self.scene.camera, self.pacing.preview_size(self.banded))
