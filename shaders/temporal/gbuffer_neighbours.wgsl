@@ -5,6 +5,9 @@
 //
 // The including kernel binds `params` (with the image's width and height) and `gbuffer`.
 
+// GBufferPixel.surface where nothing was hit: the sky.
+const SKY_SURFACE: u32 = 0u;
+
 // Radiance over this is what the filters move about; albedo channels below FILTER_ALBEDO_MIN
 // (black materials, nothing hit) divide by it instead of by ~0.
 fn demodulation(albedo: vec3<f32>) -> vec3<f32> {

@@ -32,7 +32,7 @@ fn blurred_variance(xy: vec2<i32>) -> f32 {
 fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let here = gbuffer[pixel];
     let centre = source[pixel];
-    if here.surface == 0u {
+    if here.surface == SKY_SURFACE {
         filtered_out[pixel] = select(centre, vec4<f32>(centre.xyz * demodulation(here.albedo), centre.w), params.last != 0u);
         return;
     }

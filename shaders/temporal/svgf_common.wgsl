@@ -20,10 +20,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 // across depth steps beyond the slope and across normals (Schied et al.'s depth and normal stops;
 // SVGF_DEPTH_FLOOR of the distance keeps a surface facing the camera from stopping at rounding).
 fn geometry_weight(here: GBufferPixel, there: GBufferPixel, expected: f32) -> f32 {
-    if (here.surface == 0u) != (there.surface == 0u) {
+    if (here.surface == SKY_SURFACE) != (there.surface == SKY_SURFACE) {
         return 0.0;
     }
-    if here.surface == 0u {
+    if here.surface == SKY_SURFACE {
         return 1.0;
     }
     let depth = exp(-abs(here.depth - there.depth) / (SVGF_DEPTH_SIGMA * expected + SVGF_DEPTH_FLOOR * here.depth));

@@ -11,7 +11,7 @@ fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let here = gbuffer[pixel];
     let old = carried[pixel];
     let colour = filtered[pixel].xyz * demodulation(here.albedo) * old.length;
-    if here.surface == 0u || !(old.length > 0.0) || !is_finite_vec3(colour) {
+    if here.surface == SKY_SURFACE || !(old.length > 0.0) || !is_finite_vec3(colour) {
         return;
     }
     carried[pixel] = TemporalPixel(vec4<f32>(colour, old.sum.w), vec4<f32>(vec3<f32>(0.0), old.compensation.w), old.moments, old.length);

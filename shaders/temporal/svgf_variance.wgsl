@@ -1,5 +1,6 @@
 // The variance-guided filter's input: each pixel's demodulated history and the variance of its luminance.
 //! include "temporal/svgf_common.wgsl"
+//! include "temporal/history_mean.wgsl"
 //! include "generated/bindings/svgf_variance.wgsl"
 //
 // A history of SVGF_TEMPORAL_FRAMES frames or more has its own moments (TemporalAccumulation);
@@ -7,9 +8,7 @@
 // instead, weighted by the geometry, as SVGF does after a disocclusion.
 
 fn illumination(pixel: u32) -> vec3<f32> {
-    let old = history[pixel];
-    let mean = (old.sum.xyz - old.compensation.xyz) / max(old.length, 1.0);
-    return mean / demodulation(gbuffer[pixel].albedo);
+    return history_mean(history[pixel]) / demodulation(gbuffer[pixel].albedo);
 }
 
 fn svgf_pass(xy: vec2<i32>, pixel: u32) {

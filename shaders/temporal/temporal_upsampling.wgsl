@@ -1,11 +1,7 @@
 // Temporal upsampling: this frame's samples (one pixel of each block) added to the full image's history, reprojected along the traced pixels' motion, and interpolated for pixels without history.
-//! include "generated/temporal.wgsl"
+//! include "temporal/history.wgsl"
 //! include "generated/upsampling.wgsl"
-//! include "integrators/accumulate.wgsl"
-//! include "view/tone_curves.wgsl"
-//! include "temporal/gbuffer_neighbours.wgsl"
 //! include "generated/bindings/upsampling.wgsl"
-//! include "generated/workgroup.wgsl"
 //
 // This frame traced the pixels offset + stride * k (main_subset), one in each stride x stride
 // block, each with its own sampler sequence: their accumulation and G-buffer entries are this
@@ -19,9 +15,6 @@
 // surface at the depth expected within their distance (temporal_upsampling.py says why).
 // `shown` is the picture as histories: each pixel's, or this frame's samples interpolated as a
 // history of one sample where a pixel has none (what the picture and the variance-guided filter read).
-
-// GBufferPixel.surface where nothing was hit.
-const SKY_SURFACE: u32 = 0u;
 
 fn stride() -> i32 {
     return i32(params.factor);
@@ -41,14 +34,7 @@ fn nearest_sample(xy: vec2<i32>) -> vec2<i32> {
 }
 
 fn frame_mean(pixel: u32) -> vec3<f32> {
-    let sums = accumulation[pixel];
-    return (sums.sum.xyz - sums.compensation.xyz) / f32(params.samples);
-}
-
-// This frame's mean at the traced pixel `xy`, divided by its first hit's albedo.
-fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
-    let pixel = pixel_index(xy);
-    return frame_mean(pixel) / demodulation(gbuffer[pixel].albedo);
+    return frame_sum(pixel) / f32(params.samples);
 }
 
 // This frame's samples interpolated at `xy`: bilinear over the four traced pixels around it that
@@ -72,119 +58,17 @@ fn interpolated(xy: vec2<i32>, nearest: GBufferPixel) -> vec3<f32> {
     return select(vec3<f32>(0.0), colour / weights, weights > 0.0);
 }
 
-// The box of this frame's demodulated samples at the traced pixels around `sample` (itself one).
-struct ColourBox {
-    low: vec3<f32>,
-    high: vec3<f32>,
-}
-
-fn neighbourhood(sample: vec2<i32>) -> ColourBox {
-    var box = ColourBox(vec3<f32>(FLOAT_MAX), vec3<f32>(-FLOAT_MAX));
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let tap = sample + stride() * vec2<i32>(dx, dy);
-            if inside(tap) {
-                let colour = frame_illumination(tap);
-                box = ColourBox(min(box.low, colour), max(box.high, colour));
-            }
-        }
-    }
-    return box;
-}
-
-fn no_history() -> TemporalPixel {
-    return TemporalPixel(vec4<f32>(0.0), vec4<f32>(0.0), vec2<f32>(0.0), 0.0);
-}
-
-fn finite_luminance(colour: vec3<f32>) -> f32 {
-    let brightness = luminance(colour);
-    return select(0.0, brightness, is_finite_f32(brightness));
-}
-
 // `colour` as a history of one sample, its moments those of its demodulated luminance.
 fn one_sample(colour: vec3<f32>, albedo: vec3<f32>) -> TemporalPixel {
-    let brightness = finite_luminance(colour / demodulation(albedo));
-    return TemporalPixel(vec4<f32>(colour, 0.0), vec4<f32>(0.0), vec2<f32>(brightness, brightness * brightness), 1.0);
-}
-
-// A pixel's history and what it shows.
-struct Reprojection {
-    history: TemporalPixel,
-    shows: GBufferPixel,
-}
-
-// Whether the previous frame's history pixel `there` shows the surface `here` expects, its
-// depth from the previous camera within `tolerance` of here's.
-fn consistent(here: GBufferPixel, there: GBufferPixel, tolerance: f32) -> bool {
-    if !same_surface(here, there) {
-        return false;
-    }
-    if here.surface == SKY_SURFACE {
-        return true;
-    }
-    return abs(here.previous_depth - there.depth) <= tolerance && dot(here.normal, there.normal) >= NORMAL_COS_MIN;
-}
-
-// The previous history's taps that pass for the pixel at `xy` moved along the motion of the traced
-// pixel `sample` (G-buffer `here`): their weights, demodulated colour, its luminance moments and
-// length (weighted sums), and the heaviest tap's surface.
-struct Taps {
-    weights: f32,
-    illumination: vec3<f32>,
-    moments: vec2<f32>,
-    length: f32,
-    heaviest: GBufferPixel,
-}
-
-// The pixel at `xy` expects the sample's surface at the sample's depth, give or take the depth's
-// change over the distance between them (none for the sample itself).
-fn passing_taps(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Taps {
-    var taps = Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
-    // the previous camera did not have the point in front
-    if !(here.previous_depth > 0.0) {
-        return taps;
-    }
-    // pixel centres at integers: the taps are the four around it
-    let position = vec2<f32>(xy) + here.motion;
-    let corner = floor(position);
-    let fraction = position - corner;
-    let gradient = depth_gradient_over(sample, here, stride());
-    let distance = length(vec2<f32>(xy - sample));
-    let tolerance = DEPTH_RELATIVE_TOLERANCE * here.previous_depth
-        + DEPTH_GRADIENT_MARGIN * (gradient.x + gradient.y) * (1.0 + distance);
-    var heaviest = 0.0;
-    for (var k = 0u; k < 4u; k++) {
-        let offset = vec2<u32>(k & 1u, k >> 1u);
-        let tap = vec2<i32>(corner) + vec2<i32>(offset);
-        let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
-        let weight = along.x * along.y;
-        if !(weight >= BILINEAR_WEIGHT_MIN) || !inside(tap) {
-            continue;
-        }
-        let index = pixel_index(tap);
-        let there = previous_surfaces[index];
-        let old = previous_history[index];
-        if old.length <= 0.0 || !consistent(here, there, tolerance) {
-            continue;
-        }
-        let mean = (old.sum.xyz - old.compensation.xyz) / old.length;
-        taps.illumination += weight * mean / demodulation(there.albedo);
-        taps.moments += weight * old.moments;
-        taps.length += weight * old.length;
-        taps.weights += weight;
-        if weight > heaviest {
-            heaviest = weight;
-            taps.heaviest = there;
-        }
-    }
-    return taps;
+    return TemporalPixel(vec4<f32>(colour, 0.0), vec4<f32>(0.0), luminance_moments(colour / demodulation(albedo)), 1.0);
 }
 
 // The previous history where the pixel at `xy` was, or none where no tap passes. A traced pixel
 // moves along its own motion; another along that of the nearest of the four traced pixels around
-// it (`sample` the nearest) whose surface its history shows there: a pixel beside an edge moves
-// with its own side.
-fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojection {
+// it (`here` the nearest's G-buffer) whose surface its history shows there: a pixel beside an edge
+// moves with its own side.
+fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
+    let sample = nearest_sample(xy);
     // nearest first: the sample, its neighbour along the axis on which the pixel is farther from
     // it, the other, the diagonal one; a traced pixel is its own sample
     let away = xy - sample;
@@ -193,13 +77,16 @@ fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojec
     let candidates = array<vec2<i32>, 4>(sample, sample + first_step, sample + toward - first_step, sample + toward);
     let count = select(4, 1, all(away == vec2<i32>(0)));
     var source = sample;
-    var taps = Taps(0.0, vec3<f32>(0.0), vec2<f32>(0.0), 0.0, here);
+    var taps = no_taps(here);
     for (var k = 0; k < count; k++) {
         let candidate = candidates[k];
         if !inside(candidate) {
             continue;
         }
-        taps = passing_taps(xy, candidate, gbuffer[pixel_index(candidate)]);
+        // the pixel expects the candidate's surface at its depth, give or take the depth's change
+        // over the distance between them (none for the traced pixel itself)
+        let there = gbuffer[pixel_index(candidate)];
+        taps = passing_taps(xy, there, depth_tolerance(candidate, there, stride(), length(vec2<f32>(xy - candidate))));
         if taps.weights > 0.0 {
             source = candidate;
             break;
@@ -209,35 +96,21 @@ fn reprojected(xy: vec2<i32>, sample: vec2<i32>, here: GBufferPixel) -> Reprojec
     if !(taps.weights > 0.0) {
         return Reprojection(no_history(), here);
     }
-    let box = neighbourhood(source);
-    let clamped = clamp(taps.illumination / taps.weights, box.low, box.high);
-    let kept = min(taps.length / taps.weights, params.length_cap);
     // a traced pixel knows its own albedo; another takes its heaviest tap's, which keeps textures
     // as sharp as the nearest history
     let best = taps.heaviest;
     let albedo = select(best.albedo, here.albedo, all(xy == sample));
-    let history = TemporalPixel(vec4<f32>(clamped * demodulation(albedo) * kept, 0.0), vec4<f32>(0.0), taps.moments / taps.weights, kept);
+    let history = reprojected_history(taps, neighbourhood(source, stride()), albedo);
     // its point's distance from this camera: the tap's, changed as the source's changed (a traced
-    // pixel shows its own G-buffer instead: main)
+    // pixel shows its own G-buffer instead: history_pass)
     let depth = best.depth + moved.depth - moved.previous_depth;
     return Reprojection(history, GBufferPixel(best.normal, depth, albedo, moved.surface, vec2<f32>(0.0), 0.0, moved.object));
 }
 
-@compute @workgroup_size(WORKGROUP_X, WORKGROUP_Y)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    let xy = vec2<i32>(id.xy);
-    let pixel = id.y * params.width + id.x;
+fn history_pass(xy: vec2<i32>, pixel: u32) {
     let sample = nearest_sample(xy);
     let here = gbuffer[pixel_index(sample)];
-    var kept = Reprojection(no_history(), here);
-    if params.reset == 0u && params.moving == 0u {
-        kept = Reprojection(previous_history[pixel], previous_surfaces[pixel]);
-    } else if params.reset == 0u {
-        kept = reprojected(xy, sample, here);
-    }
+    let kept = previous(xy, here);
     if any(xy != sample) {
         history[pixel] = kept.history;
         surfaces[pixel] = kept.shows;
@@ -248,16 +121,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         return;
     }
-    let old = kept.history;
-    let samples = f32(params.samples);
-    let length = old.length + samples;
-    // luminance's first two moments over frames, weighted by their samples (as temporal
-    // accumulation keeps them): the variance-guided filter's
-    let brightness = finite_luminance(frame_illumination(xy));
-    let moments = mix(old.moments, vec2<f32>(brightness, brightness * brightness), samples / length);
-    let sums = accumulation[pixel];
-    let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), sums.sum.xyz - sums.compensation.xyz);
-    let updated = TemporalPixel(sum.sum, sum.compensation, moments, length);
+    let updated = with_frame(kept.history, xy);
     history[pixel] = updated;
     shown[pixel] = updated;
     surfaces[pixel] = here;
