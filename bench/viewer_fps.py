@@ -5,9 +5,10 @@
 
 The viewer's glfw window (on a virtual X display started for the run where there is no DISPLAY)
 on the default scene. Each size: a warm-up, then a moving phase in which the camera turns a little
-every frame as a steady mouse drag does (the reduced-resolution path), then a resting phase at full
-resolution. Reported per phase: frames per second, median and 90th percentile frame times, the
-traced resolution, and at rest samples per second and the samples per pixel reached. Writes
+every frame as a steady mouse drag does (the moving picture, upsampled where the budget asks for
+it), then a resting phase at full resolution. Reported per phase: frames per second, median and
+90th percentile frame times, the traced resolution, the frames of each upscale factor, and at rest
+samples per second and the samples per pixel reached. Writes
 bench/results/viewer_fps_<adapter>.json and .png.
 """
 
@@ -32,6 +33,7 @@ from wgputrace.app.window import create_canvas, has_display
 from wgputrace.cli_arguments import parse_size
 from wgputrace.scenes import DEFAULT_SCENE
 from wgputrace.testing.display import virtual_display
+from wgputrace.view.upscale_choice import FACTORS
 
 WARMUP_SECONDS = 4.0
 # The camera turns this many pixels' worth of mouse drag per frame while moving, to the right for
@@ -94,6 +96,8 @@ def phase(frames) -> dict:
         "p90_frame_ms": 1e3 * float(np.percentile(seconds, 90)),
         "median_trace_ms": 1e3 * statistics.median(frame.trace_seconds for frame in frames),
         "median_traced_size": list(median_traced),
+        # the moving picture's upscale factors (FrameRecord.upscale): how many frames took each
+        "upscale_frames": {str(f): sum(frame.upscale == f for frame in frames) for f in FACTORS},
         "all_moving": all(frame.moving for frame in frames),
     }
 
@@ -136,7 +140,8 @@ def main(argv: list[str] | None = None) -> int:
             sizes.append(entry)
             log(
                 f"{size[0]}x{size[1]}: moving {entry['moving']['fps']:.1f} fps (traced "
-                f"{'x'.join(map(str, entry['moving']['median_traced_size']))}), resting {entry['resting']['fps']:.1f} fps, "
+                f"{'x'.join(map(str, entry['moving']['median_traced_size']))}, frames per upscale "
+                f"{entry['moving']['upscale_frames']}), resting {entry['resting']['fps']:.1f} fps, "
                 f"{entry['resting']['samples_per_second'] / 1e6:.3f} M samples/s"
             )
         import glfw

@@ -126,6 +126,8 @@ def test_without_oidn_the_overlay_says_how_to_install_it_and_the_a_trous_filter_
     assert capsys.readouterr().err.count("wgputrace[denoise]") == 1, "said once on the console"
     view = viewer.view
     assert view.denoised is None and not view.renderer.guides_enabled, "guides without a denoiser"
+    # at rest: the first moving frames (upsampled, one sample) may take less than REST_SECONDS
+    draw_until(viewer, lambda: resting_pass(viewer), "a full-size pass at rest")
     assert viewer.shown_label() == "a-trous" and view.display.filter_weight > 0.0
 
     viewer.input.press(DENOISER_KEY)

@@ -14,6 +14,7 @@ import pytest
 from PIL import Image
 
 from wgputrace import Renderer, load_image
+from wgputrace.app.pacing import TARGET_FPS
 from wgputrace.loaders import load_scene
 from wgputrace.testing.image_statistics import displayed_mse, equal_neighbour_fraction
 from wgputrace.testing.offscreen_viewer import SIZE, frames, offscreen_viewer
@@ -35,6 +36,10 @@ BLOCKY_EQUAL_PAIRS = 0.45
 FULL_RESOLUTION_EQUAL_PAIRS = 0.25
 # The picture is the lit box, not black: its mean 8-bit value is well above this.
 NOT_BLACK_MEAN = 20
+# Target frame rates: one whose budget fits a full frame of SIZE on lavapipe (a frame and its
+# filter take tens of milliseconds), and one whose budget (MIN_TRACE_SECONDS) no frame fits.
+GENEROUS_FPS = 4.0
+HOPELESS_FPS = 1000.0
 
 
 def _key(viewer, kind: str, key: str) -> None:
@@ -67,15 +72,24 @@ def _converged(camera) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def moved(gpu_context, tmp_path_factory):
-    """Each preview's viewer after MOVING_FRAMES frames of W: (viewer, PNG pixels, EXR) by preview."""
+    """Each preview's viewer after MOVING_FRAMES frames of W: (viewer, PNG pixels, EXR) by preview;
+    "upscaled": the moving picture with a budget no full frame fits."""
     shots = {}
-    for preview, options in (("temporal", {}), ("reset", {"filter": True})):
-        viewer = offscreen_viewer(SCENE, tmp_path_factory.mktemp(preview), preview=preview, **options)
+    previews = (
+        ("temporal", {"target_fps": GENEROUS_FPS}),
+        ("reset", {"filter": True}),
+        ("upscaled", {"target_fps": HOPELESS_FPS}),
+    )
+    for name, options in previews:
+        preview = "reset" if name == "reset" else "temporal"
+        viewer = offscreen_viewer(SCENE, tmp_path_factory.mktemp(name), preview=preview, **options)
         viewer.input.press("Tab")  # no overlay over the picture
         frames(viewer, 1)
+        # the same way in as at the default frame rate, whose frames are shorter
+        viewer.controller.speed *= min(options.get("target_fps", TARGET_FPS) / TARGET_FPS, 1.0)
         _moving(viewer)
         assert viewer.pacing.moving
-        shots[preview] = (viewer, *_screenshot(viewer))
+        shots[name] = (viewer, *_screenshot(viewer))
     return shots
 
 
@@ -83,6 +97,8 @@ def test_a_moving_camera_shows_the_scene_at_full_resolution_closer_than_the_rese
     viewer, pixels, linear = moved["temporal"]
     assert viewer.shown_label() == FrameView.FILTERED.value
     assert viewer.frames[-1].traced_size == SIZE and viewer.frames[-1].moving
+    # the first moving frame starts coarse, then the budget fits every pixel
+    assert viewer.frames[1].upscale == 8 and viewer.frames[-1].upscale == 1
     assert pixels.mean() > NOT_BLACK_MEAN, "the moving picture is black"
     reset_viewer, reset_pixels, reset_linear = moved["reset"]
     assert equal_neighbour_fraction(reset_pixels) > BLOCKY_EQUAL_PAIRS, "the reset preview was not blocky"
@@ -92,6 +108,18 @@ def test_a_moving_camera_shows_the_scene_at_full_resolution_closer_than_the_rese
         for name, shot_viewer, image in (("temporal", viewer, linear), ("reset", reset_viewer, reset_linear))
     }
     assert errors["temporal"] < errors["reset"], f"displayed MSE against a converged render: {errors}"
+
+
+def test_a_budget_no_full_frame_fits_upsamples_the_moving_picture_and_it_is_not_blocky(moved):
+    viewer, pixels, linear = moved["upscaled"]
+    moving = [frame for frame in viewer.frames if frame.moving]
+    assert moving and all(frame.upscale > 1 for frame in moving), [frame.upscale for frame in moving]
+    last = moving[-1]
+    assert last.traced_size == (-(-SIZE[0] // last.upscale), -(-SIZE[1] // last.upscale))
+    assert any(f"upscale {last.upscale}" in line for line in viewer.info_lines())
+    assert linear.shape == (SIZE[1], SIZE[0], 3) and np.isfinite(linear).all()
+    assert pixels.mean() > NOT_BLACK_MEAN, "the upsampled moving picture is black"
+    assert equal_neighbour_fraction(pixels) < FULL_RESOLUTION_EQUAL_PAIRS, "the upsampled moving picture is blocky"
 
 
 def test_key_v_steps_through_the_debug_views_and_the_overlay_names_them(moved):

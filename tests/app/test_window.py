@@ -1,10 +1,12 @@
 """The viewer in a real window on a virtual X display, driven by X key and mouse events the way a
 person would drive it: the picture is the scene, follows the camera, converges, resizes; while the
-camera moves it is the moving picture at full resolution, and V shows its debug views."""
+camera moves it is the moving picture at full resolution, and V shows its debug views; with a
+budget no full frame fits, the moving picture is upsampled and still the scene, not blocks."""
 
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
 
 import numpy as np
 import pytest
@@ -52,12 +54,25 @@ MOVING_SECONDS = 0.5
 NOT_BLACK_MEAN = 20
 # At full resolution few neighbouring pixels are equal; the reset preview's blocks make half or more.
 FULL_RESOLUTION_EQUAL_PAIRS = 0.25
+# What a screenshot of the moving picture says it shows.
+MOVING_PICTURE_VIEWS = [view.value for view in FRAME_VIEWS]
+# A target frame rate whose budget (MIN_TRACE_SECONDS) no frame of WIDTH x HEIGHT with its filter
+# fits on lavapipe: the moving picture upsamples every frame.
+HOPELESS_FPS = 1000
+# Screenshots taken while W is held with that budget, this far apart.
+UPSAMPLED_SHOTS = 3
+UPSAMPLED_SHOT_SECONDS = 0.3
+# Where an upsampled pixel has no history yet it shows the traced pixels around interpolated:
+# smooth, so 8-bit neighbours repeat in flat regions more than at full resolution (0.18-0.25 of
+# the pairs in the first frames at 8x here, 0.05-0.13 later), far less than in blocks (7/8 of the
+# pairs at 8x, half at 2x).
+UPSAMPLED_EQUAL_PAIRS = 0.4
 
 
-@pytest.fixture(scope="module")
-def viewer(x_display, tmp_path_factory):
-    folder = tmp_path_factory.mktemp("viewer")
-    app = RunningApp(["cornell", "--size", f"{WIDTH}x{HEIGHT}", "--screenshots", str(folder)], folder)
+@contextmanager
+def started_viewer(x_display, folder, *arguments: str):
+    """(app, driver, window): the viewer of cornell in a WIDTH x HEIGHT window, with `arguments`."""
+    app = RunningApp(["cornell", "--size", f"{WIDTH}x{HEIGHT}", "--screenshots", str(folder), *arguments], folder)
     driver = XDriver(x_display)
     try:
         app.wait_for("showing cornell", START_SECONDS)
@@ -70,17 +85,24 @@ def viewer(x_display, tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
+def viewer(x_display, tmp_path_factory):
+    with started_viewer(x_display, tmp_path_factory.mktemp("viewer")) as started:
+        yield started
+
+
+@pytest.fixture(scope="module")
 def vfov():
     return default_scene().camera.vfov_degrees
 
 
 def resting_screenshot(app: RunningApp, driver: XDriver, min_spp: float = MIN_SPP, size=(WIDTH, HEIGHT)):
-    """Screenshots until one is at the full `size` with at least `min_spp` samples per pixel."""
+    """Screenshots until one of the resting accumulation is at the full `size` with at least
+    `min_spp` samples per pixel (an upsampled moving frame may take that many per traced pixel)."""
     time.sleep(REST_SECONDS)
     while True:
         driver.tap("p")
         shot = app.screenshot_line()
-        if shot.size == size and shot.spp >= min_spp:
+        if shot.size == size and shot.spp >= min_spp and shot.shown not in MOVING_PICTURE_VIEWS:
             return shot
         time.sleep(0.2)
 
@@ -202,7 +224,7 @@ def test_moving_shows_the_filtered_moving_picture_and_key_v_its_debug_views(gpu_
     time.sleep(TAP_GAP_SECONDS)
     driver.tap("p")
     # the filtered view chosen again, the resting picture is back
-    assert app.screenshot_line().shown not in [view.value for view in FRAME_VIEWS]
+    assert app.screenshot_line().shown not in MOVING_PICTURE_VIEWS
     assert moving.shown == FrameView.FILTERED.value and moving.size == (WIDTH, HEIGHT)
     pixels = np.asarray(Image.open(moving.png).convert("RGB"))
     assert pixels.mean() > NOT_BLACK_MEAN, "the moving picture is black"
@@ -220,3 +242,26 @@ def test_resizing_the_window_restarts_at_the_new_size(gpu_context, viewer, vfov)
     shot = resting_screenshot(app, driver, size=RESIZED)
     assert load_image(shot.exr).shape == (RESIZED[1], RESIZED[0], 3)
     assert_picture_is(shot, headless(shot.camera(vfov), RESIZED))
+
+
+def test_moving_with_a_budget_no_full_frame_fits_shows_the_upsampled_scene_not_blocks(gpu_context, x_display, tmp_path):
+    with started_viewer(x_display, tmp_path, "--fps", str(HOPELESS_FPS)) as (app, driver, window):
+        driver.tap("Tab")  # no overlay over the picture
+        driver.key_down("w")
+        shots = []
+        try:
+            for _ in range(UPSAMPLED_SHOTS):
+                time.sleep(UPSAMPLED_SHOT_SECONDS)
+                driver.tap("p")
+                shots.append(app.screenshot_line())
+        finally:
+            driver.key_up("w")
+    positions = [shot.position[2] for shot in shots]
+    assert positions == sorted(positions) and positions[0] < positions[-1], f"the camera did not move: {positions}"
+    for shot in shots:
+        assert shot.shown == FrameView.FILTERED.value and shot.size == (WIDTH, HEIGHT)
+        assert shot.upscale > 1, f"{shot.png}: a frame of every pixel within {1 / HOPELESS_FPS} s"
+        pixels = np.asarray(Image.open(shot.png).convert("RGB"))
+        assert pixels.mean() > NOT_BLACK_MEAN, f"{shot.png}: the upsampled moving picture is black"
+        blocky = equal_neighbour_fraction(pixels)
+        assert blocky < UPSAMPLED_EQUAL_PAIRS, f"{shot.png}: the upsampled moving picture is blocky ({blocky})"

@@ -34,6 +34,7 @@ class FrameRecord:
     traced_size: tuple[int, int]
     samples_per_pixel: float
     moving: bool
+    upscale: int = 1  # the moving picture's factor: one pixel of every upscale x upscale block traced
 
 
 class FramePacing:

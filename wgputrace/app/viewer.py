@@ -260,9 +260,10 @@ class Viewer:
             if not self.frames:
                 print(f"wgputrace view: showing {self.options.scene} in a {size[0]}x{size[1]} window", flush=True)
             moving = view.moving if view.moving is not None and self.pacing.moving else None
-            traced = view.banded.size if moving is None else moving.size
+            traced = view.banded.size if moving is None else moving.traced_size
             spp = view.banded.samples_done if moving is None else moving.samples_per_pixel
-            self.pacing.record(FrameRecord(seconds, trace_seconds, traced, spp, self.pacing.moving))
+            upscale = 1 if moving is None else moving.upscale or 1
+            self.pacing.record(FrameRecord(seconds, trace_seconds, traced, spp, self.pacing.moving, upscale))
 
     def info_lines(self) -> list[str]:
         """The overlay's information: frame rate, samples, camera, scene, what is shown, adapter, keys."""
@@ -279,7 +280,7 @@ class Viewer:
                 f"tracing {banded.size[0]}x{banded.size[1]} of {banded.full_size[0]}x{banded.full_size[1]} ({state})"
                 if moving is None
                 else f"{moving.samples_per_pixel} spp a frame, kept across frames   "
-                f"{moving.size[0]}x{moving.size[1]} ({state}, frame {moving.frames})"
+                f"{moving.size[0]}x{moving.size[1]} upscale {moving.upscale or 1} ({state}, frame {moving.frames})"
             )
             lines += [
                 tracing,
@@ -322,10 +323,13 @@ class Viewer:
         shown = self.shown_label() if self.settings.view == View.RADIANCE else self.settings.view.name.lower()
         self.overlay.show_status(f"saved {png.name} and {exr.name} at {samples:.2f} spp ({shown})")
         camera = self.controller.camera()
+        moving = self._moving_picture()
+        upscale = "" if moving is None else f" upscale {moving.upscale or 1}"
         print(
             f"wgputrace view: saved {png} and {exr}: {samples:.3f} spp at "
             f"{image_size[0]}x{image_size[1]}, camera {' '.join(f'{v:.9g}' for v in camera.position)} "
-            f"dir {' '.join(f'{v:.9g}' for v in camera.forward)} speed {self.controller.speed:.9g} (showing {shown})",
+            f"dir {' '.join(f'{v:.9g}' for v in camera.forward)} speed {self.controller.speed:.9g} (showing {shown})"
+            + upscale,
             flush=True,
         )
         return png, exr

@@ -48,7 +48,7 @@ from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
 from .svgf_filter import VarianceGuidedFilter
 from .temporal_accumulation import TemporalAccumulation
-from .temporal_upsampling import TemporalUpsampling, check_upscale
+from .temporal_upsampling import TemporalUpsampling, check_upscale, subset_offset
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -746,10 +746,23 @@ class Renderer:
         self._temporal = TemporalAccumulation(self.context, self.width, self.height)
 
     def history_length(self) -> np.ndarray:
-        """The samples each pixel's history holds after the last render_frame: float32 (height, width)."""
+        """The samples each pixel's history holds after the last render_frame (the upsampled
+        history's after an upscaled frame): float32 (height, width)."""
         if self._temporal is None:
             raise ValueError("no frame has been rendered yet: call render_frame first")
-        return self._temporal.records()["length"].reshape(self.height, self.width)
+        frames = self._temporal if self._upsampling is None else self._upsampling
+        return frames.records()["length"].reshape(self.height, self.width)
+
+    def traced_subset(self) -> tuple[int, tuple[int, int]]:
+        """(factor, (x, y)): the last render_frame traced pixel (x, y) of every factor x factor
+        block, the others hold no sample of it (`image()`) nor a G-buffer entry; (1, (0, 0)) where
+        it traced every pixel."""
+        if self._temporal is None:
+            raise ValueError("no frame has been rendered yet: call render_frame first")
+        upsampling = self._upsampling
+        if upsampling is None:
+            return 1, (0, 0)
+        return upsampling.factor, subset_offset(upsampling.frame - 1, upsampling.factor)
 
     def gbuffer(self) -> dict[str, np.ndarray]:
         """The last frame's G-buffer (render_frame), what the ray through each pixel's centre first

@@ -26,6 +26,7 @@ WAIT_SECONDS = 60.0
 _SAVED = re.compile(
     r"saved (?P<png>\S+) and (?P<exr>\S+): (?P<spp>[\d.]+) spp at (?P<width>\d+)x(?P<height>\d+), "
     r"camera (?P<position>\S+ \S+ \S+) dir (?P<forward>\S+ \S+ \S+) speed (?P<speed>\S+) \(showing (?P<shown>[^)]*)\)"
+    r"(?: upscale (?P<upscale>\d+))?"
 )
 
 
@@ -39,6 +40,7 @@ class Screenshot:
     forward: np.ndarray
     speed: float
     shown: str  # what the radiance view showed: "raw", "SVGF filtered", "motion vectors", ...
+    upscale: int  # the moving picture's upscale factor; 1 where the picture was not moving
 
     def camera(self, vfov_degrees: float) -> Camera:
         return Camera(tuple(self.position), tuple(self.forward), (0.0, 1.0, 0.0), vfov_degrees)
@@ -93,6 +95,7 @@ class RunningApp:
             np.array([float(v) for v in match["forward"].split()]),
             float(match["speed"]),
             match["shown"],
+            int(match["upscale"] or 1),
         )
 
     def stop(self) -> None:

@@ -1,0 +1,67 @@
+"""The moving picture's upscale factor as a function of the measured costs and the budget
+(`choose_upscale`): the smallest factor whose frame fits, unmeasured factors estimated from the
+nearest measured one, the coarsest before any measurement or where none fits."""
+
+from __future__ import annotations
+
+import pytest
+
+from wgputrace.view.upscale_choice import FINER_MARGIN, FrameCost, choose_upscale, estimated_cost, usable_factors
+
+SIZE = (320, 240)
+# at 8x: 10 ms of tracing one sample of 1/64 of the pixels, 20 ms for the rest of the frame
+COARSE = {8: FrameCost(0.010, 0.020)}
+
+
+def test_before_any_measurement_the_first_frame_is_the_coarsest():
+    assert choose_upscale({}, 1.0, SIZE) == 8
+    assert choose_upscale({}, 1.0, (6, 6)) == 4  # an 8 x 8 block does not fit a 6 x 6 image
+
+
+def test_an_unmeasured_factor_scales_the_nearest_measured_ones_tracing_by_the_pixels_traced():
+    # 8x -> 1x traces 64 times the pixels; the rest of the frame stays
+    assert estimated_cost(COARSE, 1) == pytest.approx(0.020 + 64 * 0.010)
+    assert estimated_cost(COARSE, 4) == pytest.approx(0.020 + 4 * 0.010)
+    costs = {**COARSE, 2: FrameCost(0.100, 0.030)}
+    assert estimated_cost(costs, 4) == pytest.approx(0.030 + 0.100 / 4)  # 2x is as near as 8x: the finer
+    assert estimated_cost(costs, 1) == pytest.approx(0.030 + 4 * 0.100)
+    assert estimated_cost(costs, 2) == pytest.approx(0.130)  # measured
+
+
+@pytest.mark.parametrize(
+    "budget, expected",
+    [
+        (0.020 + 64 * 0.010, 1),  # a full pass fits exactly
+        (0.020 + 64 * 0.010 - 1e-6, 2),
+        (0.020 + 16 * 0.010, 2),
+        (0.020 + 4 * 0.010, 4),
+        (0.030, 8),  # only the measured coarsest fits
+        (0.001, 8),  # nothing fits: the coarsest
+    ],
+)
+def test_the_smallest_factor_whose_frame_fits_the_budget(budget, expected):
+    assert choose_upscale(COARSE, budget, SIZE) == expected
+
+
+def test_a_finer_factor_than_the_current_one_must_fit_within_the_margin():
+    at_two = 0.020 + 16 * 0.010
+    assert choose_upscale(COARSE, at_two, SIZE, current=8) == 4
+    assert choose_upscale(COARSE, at_two / FINER_MARGIN, SIZE, current=8) == 2
+    # a coarser or the same factor needs only the budget
+    assert choose_upscale(COARSE, at_two, SIZE, current=2) == 2
+    assert choose_upscale(COARSE, at_two, SIZE, current=1) == 2
+
+
+def test_a_measured_cost_over_the_budget_keeps_the_factor_coarser():
+    costs = {**COARSE, 1: FrameCost(0.5, 0.1)}  # measured dearer than 8x's estimate of it
+    assert choose_upscale(costs, 0.4, SIZE) == 2
+
+
+def test_small_images_take_only_the_factors_whose_block_fits():
+    assert usable_factors((3, 100)) == (1, 2)
+    assert choose_upscale({2: FrameCost(1.0, 1.0)}, 0.001, (3, 100)) == 2
+
+
+def test_smoothing_moves_a_cost_a_tenth_of_the_way():
+    cost = FrameCost(0.010, 0.020).smoothed(FrameCost(0.020, 0.040))
+    assert cost.trace == pytest.approx(0.011) and cost.rest == pytest.approx(0.022)
