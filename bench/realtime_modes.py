@@ -9,6 +9,10 @@ with its own renderer and its own copy of the fly-through's scene.
   the last with Intel Open Image Denoise on the filtered picture, guided by the frame's albedo and
   normal, its time counted in the frame. `TemporalPlayer` holds them; `SampleBudget` picks the
   samples per pixel that fit the budget, at least one.
+- `upsampled+svgf`: the viewer's own moving picture (`TemporalPicture`, its default while the
+  camera moves): `render_frame(filtered=True)` at the upscale factor `choose_upscale` takes for the
+  frame's budget from each factor's measured cost, tracing one pixel of every f x f block where a
+  full frame does not fit. `ViewerPlayer` holds it.
 
 A mode is one entry of MODES: a name, a label, a colour and how to make its player.
 """
@@ -31,6 +35,7 @@ from wgputrace.denoise import denoise
 from wgputrace.view.banded import COST_SMOOTHING, BandedRenderer
 from wgputrace.view.display import Display, ViewSettings
 from wgputrace.view.present import Presenter
+from wgputrace.view.temporal_picture import TemporalPicture
 
 # OIDN's quality in the timed mode: its interactive one.
 OIDN_QUALITY = "fast"
@@ -168,6 +173,37 @@ class PreviewPlayer:
         return Frame(pixels / 255.0, end - start, self.banded.samples_done, self.banded.size)
 
 
+class ViewerPlayer:
+    """The viewer's moving picture (`TemporalPicture`): the upscale factor and the samples chosen
+    from the whole frame's budget and each factor's measured cost, as the viewer chooses them."""
+
+    def __init__(self, fly: FlyThrough, settings: Settings) -> None:
+        self.fly, self.budget_seconds = fly, settings.budget_seconds
+        self.scene = fly.build()
+        fly.pose(self.scene, 0)
+        renderer = Renderer(
+            self.scene, settings.width, settings.height, seed=settings.seed, max_depth=settings.max_depth
+        )
+        self.picture = TemporalPicture(renderer)
+
+    def warm_up(self) -> list[str]:
+        """Frames of the first pose until the factor it settles on has been measured (each factor's
+        first frame compiles and is not measured), then every history forgotten, the costs kept."""
+        for _ in range(1 + 2 * WARM_UP_FRAMES):
+            self.frame(0)
+        renderer = self.picture.renderer
+        renderer.restart()
+        return image_failures(self._last, renderer.dropped_samples)
+
+    def frame(self, index: int) -> Frame:
+        self.fly.pose(self.scene, index)
+        start = time.perf_counter()
+        self._last = self.picture.frame(self.scene.camera, self.budget_seconds)
+        seconds = time.perf_counter() - start
+        traced = self.picture.traced_size
+        return Frame(displayed(self._last), seconds, self.picture.samples_per_pixel, traced)
+
+
 @dataclass(frozen=True)
 class Mode:
     """`denoised`: the mode runs OIDN, which a machine without pyoidn lacks."""
@@ -175,7 +211,7 @@ class Mode:
     name: str
     label: str
     color: str
-    player: Callable[[FlyThrough, Settings], TemporalPlayer | PreviewPlayer]
+    player: Callable[[FlyThrough, Settings], TemporalPlayer | PreviewPlayer | ViewerPlayer]
     denoised: bool = False
 
 
@@ -202,7 +238,7 @@ MODES = {
             lambda fly, settings: TemporalPlayer(fly, settings, filtered=True, oidn=True),
             denoised=True,
         ),
-        # `upsampled` (issue 26 item 4) is one more entry here once render_frame takes it.
+        Mode("upsampled+svgf", "the viewer's picture: + temporal upsampling", "#a040a0", ViewerPlayer),
     )
 }
 # The baseline the targets are ratios to.
