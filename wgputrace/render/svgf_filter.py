@@ -32,6 +32,10 @@ GENERATED_SVGF = "generated/svgf.wgsl"
 SVGF_PASSES = 5
 SVGF_DEPTH_SIGMA = 1.0
 SVGF_NORMAL_POWER = 128.0
+# The normal stop raises a cosine to SVGF_NORMAL_POWER by squaring it this many times: cheaper than
+# pow's exp2(log2), which lavapipe computes per tap.
+assert SVGF_NORMAL_POWER == 2.0 ** round(np.log2(SVGF_NORMAL_POWER)), "the normal power must be a power of two"
+SVGF_NORMAL_SQUARINGS = round(np.log2(SVGF_NORMAL_POWER))
 SVGF_LUMINANCE_SIGMA = 4.0
 SVGF_TEMPORAL_FRAMES = 4
 # The depth stop's tolerance beyond the slope, as a fraction of the distance: a surface facing the
@@ -74,8 +78,9 @@ FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carr
 
 def svgf_constants() -> str:
     """The WGSL of GENERATED_SVGF: the filter's struct and constants."""
-    constants = ("SVGF_DEPTH_SIGMA", "SVGF_DEPTH_FLOOR", "SVGF_NORMAL_POWER", "SVGF_LUMINANCE_SIGMA", "SVGF_SPREAD_MIN")
-    return generated_wgsl(globals(), (TEMPORAL_PIXEL, SVGF_PARAMETERS), constants)
+    constants = ("SVGF_DEPTH_SIGMA", "SVGF_DEPTH_FLOOR", "SVGF_LUMINANCE_SIGMA", "SVGF_SPREAD_MIN")
+    squarings = f"const SVGF_NORMAL_SQUARINGS: u32 = {SVGF_NORMAL_SQUARINGS}u;\n"
+    return generated_wgsl(globals(), (TEMPORAL_PIXEL, SVGF_PARAMETERS), constants) + squarings
 
 
 class VarianceGuidedFilter:
