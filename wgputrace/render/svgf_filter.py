@@ -55,9 +55,19 @@ SVGF_PARAMETERS = GpuStruct(
 )
 
 
-def _pass_group(name: str, reads: tuple[str, object], writes: tuple[str, object]) -> BindGroup:
+# What the a-trous passes' stops read of each pixel, written once a frame by the variance pass so
+# that each tap reads 16 bytes instead of a 48-byte GBufferPixel: the normal and the depth
+# (SVGF_SKY_DEPTH where the sky was seen), and the depth's change per pixel along x and y on the
+# pixel's surface (depth_gradient, the same in every pass).
+GUIDE = "vec4<f32>"
+SLOPE = "vec2<f32>"
+
+
+def _pass_group(
+    name: str, reads: tuple[str, object], writes: tuple[str, object], guides: tuple[Binding, ...] = ()
+) -> BindGroup:
     """A pass's bind group: its parameters, the G-buffer, what it reads and what it writes (each a
-    binding name and its element type)."""
+    binding name and its element type), then the `guides` it reads or writes."""
     return BindGroup(
         name,
         0,
@@ -66,12 +76,23 @@ def _pass_group(name: str, reads: tuple[str, object], writes: tuple[str, object]
             Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL),
             Binding(reads[0], STORAGE_READ, reads[1]),
             Binding(writes[0], STORAGE_READ_WRITE, writes[1]),
+            *guides,
         ),
     )
 
 
-VARIANCE_GROUP = _pass_group("svgf_variance", ("history", TEMPORAL_PIXEL), ("illuminated", ILLUMINATION))
-ATROUS_GROUP = _pass_group("svgf_atrous", ("source", ILLUMINATION), ("filtered_out", ILLUMINATION))
+VARIANCE_GROUP = _pass_group(
+    "svgf_variance",
+    ("history", TEMPORAL_PIXEL),
+    ("illuminated", ILLUMINATION),
+    (Binding("guides", STORAGE_READ_WRITE, GUIDE), Binding("slopes", STORAGE_READ_WRITE, SLOPE)),
+)
+ATROUS_GROUP = _pass_group(
+    "svgf_atrous",
+    ("source", ILLUMINATION),
+    ("filtered_out", ILLUMINATION),
+    (Binding("guides", STORAGE_READ, GUIDE), Binding("slopes", STORAGE_READ, SLOPE)),
+)
 # the first a-trous pass's output into the history the next frame takes
 FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carried", TEMPORAL_PIXEL))
 
@@ -96,6 +117,8 @@ class VarianceGuidedFilter:
         # ping-pong between two, the last pass into `filtered`
         self._work = [storage_buffer(context, f"SVGF illumination {k}", pixels) for k in range(2)]
         self.filtered = storage_buffer(context, "SVGF filtered", pixels, read_back=True)
+        self._guides = storage_buffer(context, "SVGF guides", pixels)
+        self._slopes = storage_buffer(context, "SVGF slopes", np.zeros((width * height, 2), np.float32))
         self._params = [
             uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1)) for k in range(SVGF_PASSES + 1)
         ]
@@ -119,14 +142,26 @@ class VarianceGuidedFilter:
             write_buffer(self.context, params, 0, record)
         size = (self.width, self.height)
         variance = self._variance.bind(
-            "svgf_variance", params=self._params[0], gbuffer=gbuffer, history=history, illuminated=self._work[0]
+            "svgf_variance",
+            params=self._params[0],
+            gbuffer=gbuffer,
+            history=history,
+            illuminated=self._work[0],
+            guides=self._guides,
+            slopes=self._slopes,
         )
         passes = [Pass(self._variance, size, {"svgf_variance": variance})]
         for number in range(1, SVGF_PASSES + 1):
             source = self._work[(number - 1) % 2]
             target = self.filtered if number == SVGF_PASSES else self._work[number % 2]
             group = self._atrous.bind(
-                "svgf_atrous", params=self._params[number], gbuffer=gbuffer, source=source, filtered_out=target
+                "svgf_atrous",
+                params=self._params[number],
+                gbuffer=gbuffer,
+                source=source,
+                filtered_out=target,
+                guides=self._guides,
+                slopes=self._slopes,
             )
             passes.append(Pass(self._atrous, size, {"svgf_atrous": group}))
             if number == 1 and feedback is not None:
@@ -140,4 +175,4 @@ class VarianceGuidedFilter:
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
-        return (*self._work, self.filtered, *self._params)
+        return (*self._work, self.filtered, self._guides, self._slopes, *self._params)
