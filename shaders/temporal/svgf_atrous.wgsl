@@ -37,7 +37,7 @@ fn remodulated(filtered: vec4<f32>, pixel: u32) -> vec4<f32> {
 }
 
 fn svgf_pass(xy: vec2<i32>, pixel: u32) {
-    let here = guides[pixel];
+    let here = textureLoad(guides, xy, 0);
     let centre = source[pixel];
     if here.w == SVGF_SKY_DEPTH {
         filtered_out[pixel] = remodulated(centre, pixel);
@@ -55,9 +55,9 @@ fn svgf_pass(xy: vec2<i32>, pixel: u32) {
         for (var dx = -2; dx <= 2; dx++) {
             let offset = vec2<i32>(dx, dy) * i32(params.step);
             let tap = xy + offset;
-            let index = clamped_index(tap);
-            let there = guides[index];
-            let value = source[index];
+            let nearest = clamped(tap);
+            let there = textureLoad(guides, nearest, 0);
+            let value = source[pixel_index(nearest)];
             let exponent = depth_stop_log2(here.w, there.w, dot(gradient, abs(vec2<f32>(offset))))
                 + luminance_scale * abs(luminance(value.xyz) - brightness);
             let stops = exp2(exponent) * normal_stop(here.xyz, there.xyz);

@@ -20,8 +20,12 @@ const SVGF_SKY_DEPTH: f32 = -1.0;
 
 // The pixel in the image nearest `tap`: taps beyond the edge read it and weigh 0, rather than
 // branching away (lavapipe runs a workgroup's pixels in lockstep, and a branch splits them).
+fn clamped(tap: vec2<i32>) -> vec2<i32> {
+    return clamp(tap, vec2<i32>(0), vec2<i32>(i32(params.width), i32(params.height)) - 1);
+}
+
 fn clamped_index(tap: vec2<i32>) -> u32 {
-    return pixel_index(clamp(tap, vec2<i32>(0), vec2<i32>(i32(params.width), i32(params.height)) - 1));
+    return pixel_index(clamped(tap));
 }
 
 // log2(e): the stops are exp2 of their exponents times it (lavapipe's exp is exp2 of a product anyway).

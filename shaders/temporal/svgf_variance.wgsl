@@ -16,7 +16,7 @@ fn illumination(pixel: u32) -> vec3<f32> {
 fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let here = gbuffer[pixel];
     let gradient = depth_gradient(xy, here);
-    guides[pixel] = vec4<f32>(here.normal, select(here.depth, SVGF_SKY_DEPTH, here.surface == SKY_SURFACE));
+    textureStore(guides, xy, vec4<f32>(here.normal, select(here.depth, SVGF_SKY_DEPTH, here.surface == SKY_SURFACE)));
     slopes[pixel] = gradient;
     let old = history[pixel];
     var moments = old.moments;

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import wgpu
 
-from ..gpu.bindings import STORAGE_READ, STORAGE_READ_WRITE, UNIFORM, BindGroup, Binding
+from ..gpu.bindings import STORAGE_READ, STORAGE_READ_WRITE, STORAGE_TEXTURE, TEXTURE_F32, UNIFORM, BindGroup, Binding
 from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
 from ..gpu.kernel import Pass, submit
@@ -57,9 +57,10 @@ SVGF_PARAMETERS = GpuStruct(
 
 # What the a-trous passes' stops read of each pixel, written once a frame by the variance pass so
 # that each tap reads 16 bytes instead of a 48-byte GBufferPixel: the normal and the depth
-# (SVGF_SKY_DEPTH where the sky was seen), and the depth's change per pixel along x and y on the
-# pixel's surface (depth_gradient, the same in every pass).
-GUIDE = "vec4<f32>"
+# (SVGF_SKY_DEPTH where the sky was seen), as a texture (lavapipe loads a texel cheaper than a
+# storage buffer's element), and the depth's change per pixel along x and y on the pixel's surface
+# (depth_gradient, the same in every pass).
+GUIDE_FORMAT = "rgba32float"
 SLOPE = "vec2<f32>"
 
 
@@ -85,13 +86,13 @@ VARIANCE_GROUP = _pass_group(
     "svgf_variance",
     ("history", TEMPORAL_PIXEL),
     ("illuminated", ILLUMINATION),
-    (Binding("guides", STORAGE_READ_WRITE, GUIDE), Binding("slopes", STORAGE_READ_WRITE, SLOPE)),
+    (Binding("guides", STORAGE_TEXTURE, GUIDE_FORMAT), Binding("slopes", STORAGE_READ_WRITE, SLOPE)),
 )
 ATROUS_GROUP = _pass_group(
     "svgf_atrous",
     ("source", ILLUMINATION),
     ("filtered_out", ILLUMINATION),
-    (Binding("guides", STORAGE_READ, GUIDE), Binding("slopes", STORAGE_READ, SLOPE)),
+    (Binding("guides", TEXTURE_F32), Binding("slopes", STORAGE_READ, SLOPE)),
 )
 # the first a-trous pass's output into the history the next frame takes
 FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carried", TEMPORAL_PIXEL))
@@ -117,7 +118,12 @@ class VarianceGuidedFilter:
         # ping-pong between two, the last pass into `filtered`
         self._work = [storage_buffer(context, f"SVGF illumination {k}", pixels) for k in range(2)]
         self.filtered = storage_buffer(context, "SVGF filtered", pixels, read_back=True)
-        self._guides = storage_buffer(context, "SVGF guides", pixels)
+        self._guides = context.device.create_texture(
+            label="SVGF guides",
+            size=(width, height, 1),
+            format=GUIDE_FORMAT,
+            usage=wgpu.TextureUsage.STORAGE_BINDING | wgpu.TextureUsage.TEXTURE_BINDING,
+        )
         self._slopes = storage_buffer(context, "SVGF slopes", np.zeros((width * height, 2), np.float32))
         self._params = [
             uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1)) for k in range(SVGF_PASSES + 1)
