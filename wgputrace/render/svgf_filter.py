@@ -181,4 +181,5 @@ class VarianceGuidedFilter:
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
-        return (*self._work, self.filtered, self._guides, self._slopes, *self._params)
+        """The filter's buffers (the guides' texture, 16 bytes a pixel, is not one)."""
+        return (*self._work, self.filtered, self._slopes, *self._params)
