@@ -15,7 +15,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-// The depth of the guides (GUIDE) where the sky was seen: no surface's distance is negative.
+// The guides' depth (svgf_filter.py's GUIDE_FORMAT) where the sky was seen: no surface's distance
+// is negative.
 const SVGF_SKY_DEPTH: f32 = -1.0;
 
 // The pixel in the image nearest `tap`: taps beyond the edge read it and weigh 0, rather than

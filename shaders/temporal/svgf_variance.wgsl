@@ -3,7 +3,8 @@
 //! include "temporal/history_mean.wgsl"
 //! include "generated/bindings/svgf_variance.wgsl"
 //
-// It also writes the guides the a-trous passes' stops read (svgf_filter.py's GUIDE and SLOPE).
+// It also writes what the a-trous passes' stops read: the guides' texture and the slopes
+// (svgf_filter.py's GUIDE_FORMAT and SLOPE).
 //
 // A history of SVGF_TEMPORAL_FRAMES frames or more has its own moments (TemporalAccumulation);
 // a younger one, whose moments are too few to trust, takes them over its 7x7 neighbourhood

@@ -20,6 +20,7 @@ import wgpu
 from ..gpu.bindings import STORAGE_READ, STORAGE_READ_WRITE, STORAGE_TEXTURE, TEXTURE_F32, UNIFORM, BindGroup, Binding
 from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
+from ..gpu.graphics import image_texture
 from ..gpu.kernel import Pass, submit
 from ..gpu.layout import GBUFFER_PIXEL, GpuStruct
 from .temporal_accumulation import TEMPORAL_PIXEL, generated_wgsl, temporal_pass_kernel
@@ -118,12 +119,7 @@ class VarianceGuidedFilter:
         # ping-pong between two, the last pass into `filtered`
         self._work = [storage_buffer(context, f"SVGF illumination {k}", pixels) for k in range(2)]
         self.filtered = storage_buffer(context, "SVGF filtered", pixels, read_back=True)
-        self._guides = context.device.create_texture(
-            label="SVGF guides",
-            size=(width, height, 1),
-            format=GUIDE_FORMAT,
-            usage=wgpu.TextureUsage.STORAGE_BINDING | wgpu.TextureUsage.TEXTURE_BINDING,
-        )
+        self._guides = image_texture(context, "SVGF guides", width, height, GUIDE_FORMAT)
         self._slopes = storage_buffer(context, "SVGF slopes", np.zeros((width * height, 2), np.float32))
         self._params = [
             uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1)) for k in range(SVGF_PASSES + 1)
