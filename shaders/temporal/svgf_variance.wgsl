@@ -3,6 +3,9 @@
 //! include "temporal/history_mean.wgsl"
 //! include "generated/bindings/svgf_variance.wgsl"
 //
+// It also writes what the a-trous passes' stops read: the guides' texture and the slopes
+// (svgf_filter.py's GUIDE_FORMAT and SLOPE).
+//
 // A history of SVGF_TEMPORAL_FRAMES frames or more has its own moments (TemporalAccumulation);
 // a younger one, whose moments are too few to trust, takes them over its 7x7 neighbourhood
 // instead, weighted by the geometry, as SVGF does after a disocclusion.
@@ -12,22 +15,21 @@ fn illumination(pixel: u32) -> vec3<f32> {
 }
 
 fn svgf_pass(xy: vec2<i32>, pixel: u32) {
+    let here = gbuffer[pixel];
+    let gradient = depth_gradient(xy, here);
+    textureStore(guides, xy, vec4<f32>(here.normal, select(here.depth, SVGF_SKY_DEPTH, here.surface == SKY_SURFACE)));
+    slopes[pixel] = gradient;
     let old = history[pixel];
     var moments = old.moments;
     if old.length < params.temporal_length {
-        let here = gbuffer[pixel];
-        let gradient = depth_gradient(xy, here);
         var sums = vec2<f32>(0.0);
         var weights = 0.0;
         for (var dy = -3; dy <= 3; dy++) {
             for (var dx = -3; dx <= 3; dx++) {
                 let tap = xy + vec2<i32>(dx, dy);
-                if !inside(tap) {
-                    continue;
-                }
-                let index = pixel_index(tap);
+                let index = clamped_index(tap);
                 let expected = dot(gradient, abs(vec2<f32>(f32(dx), f32(dy))));
-                let weight = geometry_weight(here, gbuffer[index], expected);
+                let weight = select(0.0, geometry_weight(here, gbuffer[index], expected), inside(tap));
                 sums += weight * history[index].moments;
                 weights += weight;
             }

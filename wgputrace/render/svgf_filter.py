@@ -17,9 +17,10 @@ from __future__ import annotations
 import numpy as np
 import wgpu
 
-from ..gpu.bindings import STORAGE_READ, STORAGE_READ_WRITE, UNIFORM, BindGroup, Binding
+from ..gpu.bindings import STORAGE_READ, STORAGE_READ_WRITE, STORAGE_TEXTURE, TEXTURE_F32, UNIFORM, BindGroup, Binding
 from ..gpu.buffers import read_buffer, storage_buffer, uniform_buffer, write_buffer
 from ..gpu.device import GpuContext
+from ..gpu.graphics import image_texture
 from ..gpu.kernel import Pass, submit
 from ..gpu.layout import GBUFFER_PIXEL, GpuStruct
 from .temporal_accumulation import TEMPORAL_PIXEL, generated_wgsl, temporal_pass_kernel
@@ -32,6 +33,10 @@ GENERATED_SVGF = "generated/svgf.wgsl"
 SVGF_PASSES = 5
 SVGF_DEPTH_SIGMA = 1.0
 SVGF_NORMAL_POWER = 128.0
+# The normal stop raises a cosine to SVGF_NORMAL_POWER by squaring it this many times: cheaper than
+# pow's exp2(log2), which lavapipe computes per tap.
+assert SVGF_NORMAL_POWER == 2.0 ** round(np.log2(SVGF_NORMAL_POWER)), "the normal power must be a power of two"
+SVGF_NORMAL_SQUARINGS = round(np.log2(SVGF_NORMAL_POWER))
 SVGF_LUMINANCE_SIGMA = 4.0
 SVGF_TEMPORAL_FRAMES = 4
 # The depth stop's tolerance beyond the slope, as a fraction of the distance: a surface facing the
@@ -51,9 +56,20 @@ SVGF_PARAMETERS = GpuStruct(
 )
 
 
-def _pass_group(name: str, reads: tuple[str, object], writes: tuple[str, object]) -> BindGroup:
+# What the a-trous passes' stops read of each pixel, written once a frame by the variance pass so
+# that each tap reads 16 bytes instead of a 48-byte GBufferPixel: the normal and the depth
+# (SVGF_SKY_DEPTH where the sky was seen), as a texture (lavapipe loads a texel cheaper than a
+# storage buffer's element), and the depth's change per pixel along x and y on the pixel's surface
+# (depth_gradient, the same in every pass).
+GUIDE_FORMAT = "rgba32float"
+SLOPE = "vec2<f32>"
+
+
+def _pass_group(
+    name: str, reads: tuple[str, object], writes: tuple[str, object], guides: tuple[Binding, ...] = ()
+) -> BindGroup:
     """A pass's bind group: its parameters, the G-buffer, what it reads and what it writes (each a
-    binding name and its element type)."""
+    binding name and its element type), then the `guides` it reads or writes."""
     return BindGroup(
         name,
         0,
@@ -62,20 +78,32 @@ def _pass_group(name: str, reads: tuple[str, object], writes: tuple[str, object]
             Binding("gbuffer", STORAGE_READ, GBUFFER_PIXEL),
             Binding(reads[0], STORAGE_READ, reads[1]),
             Binding(writes[0], STORAGE_READ_WRITE, writes[1]),
+            *guides,
         ),
     )
 
 
-VARIANCE_GROUP = _pass_group("svgf_variance", ("history", TEMPORAL_PIXEL), ("illuminated", ILLUMINATION))
-ATROUS_GROUP = _pass_group("svgf_atrous", ("source", ILLUMINATION), ("filtered_out", ILLUMINATION))
+VARIANCE_GROUP = _pass_group(
+    "svgf_variance",
+    ("history", TEMPORAL_PIXEL),
+    ("illuminated", ILLUMINATION),
+    (Binding("guides", STORAGE_TEXTURE, GUIDE_FORMAT), Binding("slopes", STORAGE_READ_WRITE, SLOPE)),
+)
+ATROUS_GROUP = _pass_group(
+    "svgf_atrous",
+    ("source", ILLUMINATION),
+    ("filtered_out", ILLUMINATION),
+    (Binding("guides", TEXTURE_F32), Binding("slopes", STORAGE_READ, SLOPE)),
+)
 # the first a-trous pass's output into the history the next frame takes
 FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carried", TEMPORAL_PIXEL))
 
 
 def svgf_constants() -> str:
     """The WGSL of GENERATED_SVGF: the filter's struct and constants."""
-    constants = ("SVGF_DEPTH_SIGMA", "SVGF_DEPTH_FLOOR", "SVGF_NORMAL_POWER", "SVGF_LUMINANCE_SIGMA", "SVGF_SPREAD_MIN")
-    return generated_wgsl(globals(), (TEMPORAL_PIXEL, SVGF_PARAMETERS), constants)
+    constants = ("SVGF_DEPTH_SIGMA", "SVGF_DEPTH_FLOOR", "SVGF_LUMINANCE_SIGMA", "SVGF_SPREAD_MIN")
+    squarings = f"const SVGF_NORMAL_SQUARINGS: u32 = {SVGF_NORMAL_SQUARINGS}u;\n"
+    return generated_wgsl(globals(), (TEMPORAL_PIXEL, SVGF_PARAMETERS), constants) + squarings
 
 
 class VarianceGuidedFilter:
@@ -91,6 +119,8 @@ class VarianceGuidedFilter:
         # ping-pong between two, the last pass into `filtered`
         self._work = [storage_buffer(context, f"SVGF illumination {k}", pixels) for k in range(2)]
         self.filtered = storage_buffer(context, "SVGF filtered", pixels, read_back=True)
+        self._guides = image_texture(context, "SVGF guides", width, height, GUIDE_FORMAT)
+        self._slopes = storage_buffer(context, "SVGF slopes", np.zeros((width * height, 2), np.float32))
         self._params = [
             uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1)) for k in range(SVGF_PASSES + 1)
         ]
@@ -114,14 +144,26 @@ class VarianceGuidedFilter:
             write_buffer(self.context, params, 0, record)
         size = (self.width, self.height)
         variance = self._variance.bind(
-            "svgf_variance", params=self._params[0], gbuffer=gbuffer, history=history, illuminated=self._work[0]
+            "svgf_variance",
+            params=self._params[0],
+            gbuffer=gbuffer,
+            history=history,
+            illuminated=self._work[0],
+            guides=self._guides,
+            slopes=self._slopes,
         )
         passes = [Pass(self._variance, size, {"svgf_variance": variance})]
         for number in range(1, SVGF_PASSES + 1):
             source = self._work[(number - 1) % 2]
             target = self.filtered if number == SVGF_PASSES else self._work[number % 2]
             group = self._atrous.bind(
-                "svgf_atrous", params=self._params[number], gbuffer=gbuffer, source=source, filtered_out=target
+                "svgf_atrous",
+                params=self._params[number],
+                gbuffer=gbuffer,
+                source=source,
+                filtered_out=target,
+                guides=self._guides,
+                slopes=self._slopes,
             )
             passes.append(Pass(self._atrous, size, {"svgf_atrous": group}))
             if number == 1 and feedback is not None:
@@ -135,4 +177,5 @@ class VarianceGuidedFilter:
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
-        return (*self._work, self.filtered, *self._params)
+        """The filter's buffers (the guides' texture, 16 bytes a pixel, is not one)."""
+        return (*self._work, self.filtered, self._slopes, *self._params)
