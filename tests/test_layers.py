@@ -25,7 +25,7 @@ LAYERS: tuple[frozenset[str], ...] = (
     frozenset({"loaders", "scenes", "reference"}),  # scenes from files and names, and to Mitsuba
     frozenset({"gpu"}),  # the only layer that talks to wgpu's device
     frozenset({"kernels", "integrators"}),  # what a kernel compiles in, and the integrators' descriptors
-    frozenset({"render", "provenance", "", "cluster"}),  # "": the package, which offers wt.cluster
+    frozenset({"render", "provenance", "", "cluster", "temporal_frames"}),  # "": the package, which offers wt.cluster
     frozenset({"view"}),  # the viewer's GPU side
     frozenset({"cli_arguments"}),  # arguments the command line and the viewer share
     frozenset({"app", "cli", "__main__"}),

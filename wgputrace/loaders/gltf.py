@@ -455,7 +455,7 @@ def read_gltf(path: Path) -> GltfContents:
         visited.add(index)
         world = parent @ _local_matrix(reader, node, where)
         if "mesh" in node:
-            placements.append((node["mesh"], world, where))
+            placements.append((reader.get(node, "mesh", int, where), world, where))
         placed = node_camera(reader, node, world, where) if "camera" in node else None
         if placed is not None:
             cameras.append(placed)
