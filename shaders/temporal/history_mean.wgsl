@@ -2,8 +2,9 @@
 //
 // The including kernel declares TemporalPixel (generated: TEMPORAL_PIXEL).
 
-// The mean of `old`'s samples; black where it holds none (a history holds at least one sample or
-// none, so max keeps every other mean as it is).
+// The mean of `old`'s samples; black where it holds none. A length may be fractional: upsampled
+// histories count interpolated samples as a part of one (INTERPOLATED_SAMPLE_WEIGHT).
 fn history_mean(old: TemporalPixel) -> vec3<f32> {
-    return (old.sum.xyz - old.compensation.xyz) / max(old.length, 1.0);
+    let total = old.sum.xyz - old.compensation.xyz;
+    return select(vec3<f32>(0.0), total / old.length, old.length > 0.0);
 }

@@ -1,4 +1,4 @@
-// Temporal upsampling: this frame's samples (one pixel of each block) added to the full image's history, reprojected along the traced pixels' motion, and interpolated for pixels without history.
+// Temporal upsampling: this frame's samples (one pixel of each block) added to the full image's history, reprojected along the traced pixels' motion, and interpolated over the pixels not traced.
 //! include "temporal/history.wgsl"
 //! include "generated/upsampling.wgsl"
 //! include "generated/bindings/upsampling.wgsl"
@@ -8,13 +8,14 @@
 // frame's, the others' are stale. Every pixel's history is a Kahan sum of radiance and its length
 // in samples, as temporal accumulation's; `surfaces` says what each pixel's history shows (the
 // G-buffer of its last sample, or of the history it took), which the next frame's taps are
-// tested against. A traced pixel adds its samples to its history; the others keep theirs. While
-// nothing moves a history is taken as it is, so a resting camera's pixels are the plain means of
-// their samples. While something moves, each pixel takes the previous history where the motion
-// vector of a traced pixel near it says its point was, kept where the taps show that pixel's
-// surface at the depth expected within their distance (temporal_upsampling.py says why).
-// `shown` is the picture as histories: each pixel's, or this frame's samples interpolated as a
-// history of one sample where a pixel has none (what the picture and the variance-guided filter read).
+// tested against. A traced pixel adds its samples to its history; at rest the others keep theirs,
+// so a resting camera's pixels are the plain means of their samples. While something moves, each
+// pixel takes the previous history where the motion vector of a traced pixel near it says its
+// point was, kept where the taps show that pixel's surface at the depth expected within their
+// distance, and a pixel not traced adds this frame's samples interpolated over it as a part of a
+// sample (temporal_upsampling.py says why). `shown` is the picture as histories: each pixel's, or
+// this frame's samples interpolated where a pixel has none (what the picture and the
+// variance-guided filter read).
 
 fn stride() -> i32 {
     return i32(params.factor);
@@ -37,9 +38,10 @@ fn frame_mean(pixel: u32) -> vec3<f32> {
     return frame_sum(pixel) / f32(params.samples);
 }
 
-// This frame's samples interpolated at `xy`: bilinear over the four traced pixels around it that
-// see the nearest one's surface (the nearest is one of them, of a positive weight).
-fn interpolated(xy: vec2<i32>, nearest: GBufferPixel) -> vec3<f32> {
+// This frame's demodulated samples interpolated at `xy` (rgb) and their weight (w, 0 for none):
+// bilinear over the four traced pixels around it that see `surface` (the nearest traced pixel's
+// surface is one of them, of a positive weight).
+fn interpolated(xy: vec2<i32>, surface: GBufferPixel) -> vec4<f32> {
     let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
     let corner = floor(cell);
     let fraction = cell - corner;
@@ -49,18 +51,28 @@ fn interpolated(xy: vec2<i32>, nearest: GBufferPixel) -> vec3<f32> {
         let offset = vec2<u32>(k & 1u, k >> 1u);
         let tap = (vec2<i32>(corner) + vec2<i32>(offset)) * stride() + subset_offset();
         let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
-        if !inside(tap) || !same_surface(gbuffer[pixel_index(tap)], nearest) {
+        if !inside(tap) {
             continue;
         }
-        colour += along.x * along.y * frame_mean(pixel_index(tap));
+        let there = gbuffer[pixel_index(tap)];
+        if !same_surface(there, surface) {
+            continue;
+        }
+        colour += along.x * along.y * frame_mean(pixel_index(tap)) / demodulation(there.albedo);
         weights += along.x * along.y;
     }
-    return select(vec3<f32>(0.0), colour / weights, weights > 0.0);
+    return select(vec4<f32>(0.0), vec4<f32>(colour / weights, weights), weights > 0.0);
 }
 
-// `colour` as a history of one sample, its moments those of its demodulated luminance.
-fn one_sample(colour: vec3<f32>, albedo: vec3<f32>) -> TemporalPixel {
-    return TemporalPixel(vec4<f32>(colour, 0.0), vec4<f32>(0.0), luminance_moments(colour / demodulation(albedo)), 1.0);
+// `old` with this frame's interpolated samples (`illumination`, demodulated, for a pixel whose
+// history shows `albedo`) added as INTERPOLATED_SAMPLE_WEIGHT of each sample the frame took: a
+// pixel traced once every factor x factor frames gains every frame what its neighbours saw.
+fn with_interpolated(old: TemporalPixel, illumination: vec3<f32>, albedo: vec3<f32>) -> TemporalPixel {
+    let weight = INTERPOLATED_SAMPLE_WEIGHT * f32(params.samples);
+    let length = old.length + weight;
+    let moments = mix(old.moments, luminance_moments(illumination), weight / length);
+    let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), weight * illumination * demodulation(albedo));
+    return TemporalPixel(sum.sum, sum.compensation, moments, length);
 }
 
 // The previous history where the pixel at `xy` was, or none where no tap passes. A traced pixel
@@ -111,18 +123,26 @@ fn history_pass(xy: vec2<i32>, pixel: u32) {
     let sample = nearest_sample(xy);
     let here = gbuffer[pixel_index(sample)];
     let kept = previous(xy, here);
-    if any(xy != sample) {
-        history[pixel] = kept.history;
-        surfaces[pixel] = kept.shows;
-        if kept.history.length > 0.0 {
-            shown[pixel] = kept.history;
-        } else {
-            shown[pixel] = one_sample(interpolated(xy, here), here.albedo);
-        }
+    if all(xy == sample) {
+        let updated = with_frame(kept.history, xy);
+        history[pixel] = updated;
+        shown[pixel] = updated;
+        surfaces[pixel] = here;
         return;
     }
-    let updated = with_frame(kept.history, xy);
-    history[pixel] = updated;
+    // at rest a pixel's history holds its own samples alone (render()'s mean); while anything
+    // moves, and where a pixel has no history, it takes this frame's samples of the surface its
+    // history shows too
+    var updated = kept.history;
+    let around = interpolated(xy, kept.shows);
+    if (params.moving != 0u || !(updated.length > 0.0)) && around.w > 0.0 {
+        updated = with_interpolated(updated, around.xyz, kept.shows.albedo);
+    }
     shown[pixel] = updated;
-    surfaces[pixel] = here;
+    if params.moving != 0u {
+        history[pixel] = updated;
+    } else {
+        history[pixel] = kept.history;
+    }
+    surfaces[pixel] = kept.shows;
 }

@@ -13,7 +13,12 @@ import pytest
 from wgputrace import Camera, Diffuse, Emitter, Renderer, default_scene
 from wgputrace.integrators import integrator
 from wgputrace.kernels.variant import KernelVariant
-from wgputrace.render.temporal_upsampling import UPSCALE_FACTORS, history_cap, subset_offset
+from wgputrace.render.temporal_upsampling import (
+    INTERPOLATED_SAMPLE_WEIGHT,
+    UPSCALE_FACTORS,
+    history_cap,
+    subset_offset,
+)
 from wgputrace.testing.image_statistics import displayed_psnr
 from wgputrace.testing.reprojection import (
     SIZE,
@@ -134,7 +139,7 @@ def test_a_pan_carries_the_card_to_the_pixels_the_closed_form_puts_it(factor):
 
 @pytest.mark.gpu
 def test_a_moving_history_is_capped_and_grows_again_at_rest():
-    factor, cycles = 2, 6
+    factor, cycles = 2, 12
     cap = history_cap(factor, 1)
     assert cap < cycles
     renderer = Renderer(card_scene(), SIZE, SIZE)
@@ -151,7 +156,10 @@ def test_a_moving_history_is_capped_and_grows_again_at_rest():
     offset_x, offset_y = subset_offset(cycles * factor * factor, factor)
     traced[offset_y::factor, offset_x::factor] = True
     moved = lengths()
-    np.testing.assert_array_equal(moved[kept & ~traced], cap)
+    # a pixel not traced adds the samples interpolated around it on its surface, where there are any
+    untraced = moved[kept & ~traced]
+    assert np.isin(untraced, [cap, cap + INTERPOLATED_SAMPLE_WEIGHT]).all()
+    assert (untraced == cap + INTERPOLATED_SAMPLE_WEIGHT).mean() > 0.9
     np.testing.assert_array_equal(moved[kept & traced], cap + 1)
     # at rest a cycle adds one sample to every pixel, as render() would
     for _ in range(factor * factor):
@@ -188,10 +196,11 @@ def _pan(step: int) -> Camera:
     return Camera(position=(0.004 * step, 0.31, -1.2), forward=(0.0, 0.0, 1.0), vfov_degrees=53.13)
 
 
-# Measured with seeds 5 to 8 (sRGB PSNR against 256 samples per pixel): 2x gains 4.63 to 4.77 dB
-# over the blocky upscale, 4x 2.50 to 2.82 dB.
+# Measured with seeds 5 to 8 (sRGB PSNR against 256 samples per pixel): 2x gains 6.35 to 6.76 dB
+# over the blocky upscale, 4x 4.77 to 5.56 dB; without the interpolated samples a moving history
+# takes (INTERPOLATED_SAMPLE_WEIGHT), 4.63 to 4.77 and 2.50 to 2.82 dB.
 @pytest.mark.gpu
-@pytest.mark.parametrize(("factor", "gain_db"), [(2, 4.0), (4, 2.0)])
+@pytest.mark.parametrize(("factor", "gain_db"), [(2, 5.5), (4, 3.8)])
 def test_moving_frames_beat_the_blocky_upscale_of_the_same_samples(factor, gain_db):
     width, height, frames = 64, 48, 12
     renderer = Renderer(default_scene(), width, height, seed=5)
@@ -208,7 +217,8 @@ def test_moving_frames_beat_the_blocky_upscale_of_the_same_samples(factor, gain_
     assert upsampled_db > blocky_db + gain_db, (upsampled_db, blocky_db)
 
 
-# Measured with seeds 5 and 6: the filter adds 1.67 and 1.83 dB at 2x (1.37 and 1.64 at 4x).
+# Measured with seeds 5 to 8: the filter adds 0.73 to 1.35 dB at 2x (0.38 to 0.57 at 4x, where the
+# interpolated samples smooth the unfiltered picture more).
 @pytest.mark.gpu
 def test_the_variance_guided_filter_improves_upsampled_frames():
     width, height, frames, factor = 64, 48, 12, 2
@@ -222,7 +232,7 @@ def test_the_variance_guided_filter_improves_upsampled_frames():
     reference.set_camera(_pan(frames - 1))
     reference.render(256)
     gain = displayed_psnr(pictures[True], reference.image()) - displayed_psnr(pictures[False], reference.image())
-    assert gain > 1.0, gain
+    assert gain > 0.4, gain
 
 
 @pytest.mark.gpu

@@ -120,7 +120,8 @@ def history_image(records: np.ndarray, width: int, height: int) -> np.ndarray:
     and divided in float64, as the Renderer's image() does, and a pixel without history is black (as
     history_mean in shaders/temporal/history_mean.wgsl)."""
     total = records["sum"][:, :3].astype(np.float64) - records["compensation"][:, :3]
-    mean = total / np.maximum(records["length"], 1.0)[:, None]
+    length = records["length"][:, None].astype(np.float64)
+    mean = np.divide(total, length, out=np.zeros_like(total), where=length > 0.0)
     return mean.astype(np.float32).reshape(height, width, 3)
 
 

@@ -19,15 +19,21 @@ what a frame saves at 4x): of the four traced pixels around it, the nearest whos
 history shows where its motion leads, so a pixel beside an edge moves with its own side. Four
 bilinear taps, each kept where the history there shows that surface, with a normal within
 NORMAL_COS_MIN and a depth within the temporal tolerances widened by the depth's slope over the
-distance to the traced pixel. `surfaces` carries what each history shows from frame to frame. Taps are demodulated by their albedo and
-the mean clamped to the box of this frame's samples around, as temporal accumulation does. A
-pixel's history holds at most `history_cap` samples: about MOVING_HISTORY_FRAMES frames' worth,
-as a pixel takes a sample every f * f frames. A pixel without history (the first frames,
-disocclusions) shows this frame's samples interpolated (bilinear over the traced pixels around
-it that see the nearest one's surface), never black where they are not and never NaN.
+distance to the traced pixel. `surfaces` carries what each history shows from frame to frame.
+Taps are demodulated by their albedo and the mean clamped to the box of this frame's samples
+around, as temporal accumulation does. A pixel the frame did not trace then adds this frame's
+samples interpolated over it (bilinear over the traced pixels around it that see the surface its
+history shows, demodulated, remodulated by that surface's albedo), each counted as
+INTERPOLATED_SAMPLE_WEIGHT of a sample: as FSR 2 and TAAU let every sample reach the pixels around
+it, so that a pixel gains something every frame instead of once every f * f frames. A pixel's
+history holds at most `history_cap` samples: MOVING_HISTORY_FRAMES frames' worth of what it gains.
+A pixel without history (the first frames, disocclusions) shows this frame's samples interpolated
+(from the traced pixels that see the nearest one's surface), never black where they are not and
+never NaN.
 
-`shown` holds the picture as histories (each pixel's, or the interpolated frame as one sample)
-and `surfaces` what each shows: the variance-guided filter's input where frames are upsampled.
+`shown` holds the picture as histories (each pixel's, or the interpolated frame's samples where
+it has none) and `surfaces` what each shows: the variance-guided filter's input where frames are
+upsampled.
 """
 
 from __future__ import annotations
@@ -58,6 +64,14 @@ GENERATED_UPSAMPLING = "generated/upsampling.wgsl"
 # The scale factors render_frame(upscale=...) takes: powers of two, whose blocks the Bayer order
 # of `subset_offset` covers.
 UPSCALE_FACTORS = (2, 4, 8)
+# While anything moves, a pixel the frame did not trace adds the frame's samples interpolated from
+# the traced pixels around it (on its surface), each counted as this part of a sample: without
+# them a pixel traced once every 16 or 64 frames would hold one sample of its own at most. Measured
+# with bench.realtime's fly-throughs at 320x240, one sample per traced pixel, 30 frames: mean FLIP
+# at 4x 0.195, 0.194, 0.194 (Cornell box), 0.120, 0.120, 0.120 (asset), 0.305, 0.303, 0.302
+# (moving objects) for weights 0.25, 0.5 and 1, against 0.237, 0.155 and 0.377 without them; the
+# middle one is taken, as the choice barely matters.
+INTERPOLATED_SAMPLE_WEIGHT = 0.5
 # The base-4 digits of a frame's index, most significant position bit first: each picks one
 # quadrant of the block at its level, the diagonal first (Bayer's 2 x 2 matrix).
 _BAYER_STEPS = ((0, 0), (1, 1), (1, 0), (0, 1))
@@ -99,22 +113,21 @@ def subset_offset(frame: int, factor: int) -> tuple[int, int]:
     return x, y
 
 
-def history_cap(factor: int, samples: int) -> int:
-    """The most samples a moving pixel's history keeps: MOVING_HISTORY_FRAMES frames' worth of a
-    pixel's samples, which come every factor * factor frames (at least one frame's).
+def history_cap(factor: int, samples: int) -> float:
+    """The most samples a moving pixel's history keeps: MOVING_HISTORY_FRAMES frames' worth of what
+    a pixel gains a frame, its own samples every factor * factor frames and the interpolated ones
+    (INTERPOLATED_SAMPLE_WEIGHT of a sample each) in the others.
 
-    Measured on the Cornell box at 64x48, one sample per frame, the camera sliding 0.004 a frame:
-    sRGB PSNR of frames 12 and 24 against 256 samples per pixel, for caps of 1, 2, 4, 8, 16
-    samples: at 2x 16.67/16.82, 17.01/17.33, 17.09/17.59, 17.09/17.63, 17.09/17.63 dB (this cap
-    is 4, within 0.04 dB of the longest); at 4x 14.74/15.19 dB for a cap of 1 (this one), 14.75/
-    15.21 for every longer one: a pixel's own samples come every 16 frames, so its history is
-    rarely longer than the cap."""
-    return max(MOVING_HISTORY_FRAMES // (factor * factor), 1) * samples
+    A stale history (a reflection that moved differently, a lighting change) then fades within
+    as many frames as temporal accumulation's (MOVING_HISTORY_FRAMES, measured there).
+    """
+    own = 1.0 / (factor * factor)
+    return MOVING_HISTORY_FRAMES * samples * (own + INTERPOLATED_SAMPLE_WEIGHT * (1.0 - own))
 
 
 def upsampling_constants() -> str:
-    """The WGSL of GENERATED_UPSAMPLING: the parameters' struct."""
-    return generated_wgsl(globals(), (UPSAMPLING_PARAMETERS,))
+    """The WGSL of GENERATED_UPSAMPLING: the parameters' struct and INTERPOLATED_SAMPLE_WEIGHT."""
+    return generated_wgsl(globals(), (UPSAMPLING_PARAMETERS,), ("INTERPOLATED_SAMPLE_WEIGHT",))
 
 
 class TemporalUpsampling(HistoryPass):
