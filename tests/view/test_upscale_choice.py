@@ -1,12 +1,20 @@
 """The moving picture's upscale factor as a function of the measured costs and the budget
 (`choose_upscale`): the smallest factor whose frame fits, unmeasured factors estimated from the
-nearest measured one, the coarsest before any measurement or where none fits."""
+nearest measured one, the coarsest before any measurement; where none fits, the finest within
+OVER_BUDGET_SLACK of the cheapest."""
 
 from __future__ import annotations
 
 import pytest
 
-from wgputrace.view.upscale_choice import FINER_MARGIN, FrameCost, choose_upscale, estimated_cost, usable_factors
+from wgputrace.view.upscale_choice import (
+    FINER_MARGIN,
+    OVER_BUDGET_SLACK,
+    FrameCost,
+    choose_upscale,
+    estimated_cost,
+    usable_factors,
+)
 
 SIZE = (320, 240)
 # at 8x: 10 ms of tracing one sample of 1/64 of the pixels, 20 ms for the rest of the frame
@@ -36,11 +44,21 @@ def test_an_unmeasured_factor_scales_the_nearest_measured_ones_tracing_by_the_pi
         (0.020 + 16 * 0.010, 2),
         (0.020 + 4 * 0.010, 4),
         (0.030, 8),  # only the measured coarsest fits
-        (0.001, 8),  # nothing fits: the coarsest
+        (0.001, 8),  # nothing fits, and the finer factors cost far more than the coarsest
     ],
 )
 def test_the_smallest_factor_whose_frame_fits_the_budget(budget, expected):
     assert choose_upscale(COARSE, budget, SIZE) == expected
+
+
+def test_where_nothing_fits_a_finer_factor_within_the_slack_is_taken():
+    # the rest of the frame outweighs tracing, as on lavapipe: 4x costs 1.1 times 8x's, 2x 1.5 times
+    rest_heavy = {8: FrameCost(0.002, 0.058)}
+    assert estimated_cost(rest_heavy, 4) <= (1 + OVER_BUDGET_SLACK) * estimated_cost(rest_heavy, 8)
+    assert choose_upscale(rest_heavy, 0.050, SIZE) == 4
+    assert choose_upscale(rest_heavy, 0.050, SIZE, current=8) == 4
+    # a little dearer tracing and 4x is no longer within the slack
+    assert choose_upscale({8: FrameCost(0.004, 0.058)}, 0.050, SIZE) == 8
 
 
 def test_a_finer_factor_than_the_current_one_must_fit_within_the_margin():
