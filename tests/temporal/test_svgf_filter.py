@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Emitter, Environment, PointLight, Renderer, Scene, make_box
+from wgputrace.render.svgf_filter import SVGF_MAX_PASSES, SVGF_PASSES, svgf_passes
 from wgputrace.scene.lights.directional import DirectionalLight
 from wgputrace.testing.reprojection import (
     CARD_DISTANCE,
@@ -149,3 +150,8 @@ def test_the_filter_crosses_no_crease():
     for face in (left, right):
         error = _standard_error(unfiltered[face])
         assert abs(filtered[face].mean() - unfiltered[face].mean()) < Z_BOUND * error
+
+
+def test_upsampled_pictures_take_a_pass_more_per_doubling_up_to_schieds_five():
+    assert [svgf_passes(factor) for factor in (1, 2, 4, 8)] == [SVGF_PASSES, SVGF_PASSES + 1, SVGF_PASSES + 2, 5]
+    assert SVGF_PASSES + 2 <= SVGF_MAX_PASSES == 5

@@ -692,7 +692,7 @@ class Renderer:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
         if upscale != 1:
             # what each pixel's history shows stands for the G-buffer the traced pixels alone have
-            return self._filter.filter(self._upsampling.shown, self._upsampling.surfaces, spp)
+            return self._filter.filter(self._upsampling.shown, self._upsampling.surfaces, spp, upscale=upscale)
         # SVGF's feedback only into a history that moved: a resting one (and a new one, even if the
         # camera was just set) stays the plain mean
         carried = self._temporal.carried if self._temporal.reprojected else None

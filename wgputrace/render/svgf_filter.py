@@ -1,7 +1,7 @@
 """The variance-guided filter of SVGF (Schied et al. 2017) on temporal accumulation's history:
 each pixel's demodulated illumination and the variance of its luminance (from the history's
 moments, or over its neighbourhood where the history is young: shaders/temporal/svgf_variance.wgsl),
-then SVGF_PASSES a-trous passes that stop at depth, normal and luminance edges, the luminance
+then `svgf_passes` a-trous passes that stop at depth, normal and luminance edges, the luminance
 stop scaled by the filtered variance (shaders/temporal/svgf_atrous.wgsl), and the albedo
 multiplied back.
 
@@ -27,10 +27,20 @@ from .temporal_accumulation import TEMPORAL_PIXEL, generated_wgsl, temporal_pass
 
 GENERATED_SVGF = "generated/svgf.wgsl"
 
-# Schied et al.'s choices: five passes (a 125-pixel footprint), depth stop 1 (times the depth's
-# change along the surface's slope), normal power 128, luminance stop 4 standard deviations; a
-# history younger than 4 frames estimates its variance spatially.
-SVGF_PASSES = 5
+# Schied et al.'s choices: depth stop 1 (times the depth's change along the surface's slope),
+# normal power 128, luminance stop 4 standard deviations; a history younger than 4 frames estimates
+# its variance spatially. Their five a-trous passes (a 125-pixel footprint) are this file's most,
+# taken for upsampled pictures (svgf_passes).
+SVGF_MAX_PASSES = 5
+# The a-trous passes of a full-resolution picture; an upsampled one takes one more per doubling of
+# the upscale factor, up to SVGF_MAX_PASSES. Measured with bench.realtime's fly-throughs at 320x240,
+# one sample per traced pixel, 30 frames, mean FLIP (Cornell box, asset, moving objects) for 3, 4
+# and 5 passes: at 1x 0.143/0.072/0.239, 0.145/0.073/0.238, 0.148/0.074/0.239 (three passes as
+# good as five, and two fewer); at 2x 0.173/0.089/0.286, 0.173/0.086/0.283, 0.174/0.086/0.282;
+# at 4x 0.197/0.130/0.311, 0.194/0.123/0.305, 0.194/0.120/0.303; at 8x 0.230/0.179/0.336,
+# 0.229/0.174/0.331, 0.229/0.170/0.329: an upsampled picture's noise spans the traced pixels'
+# spacing, and a wider footprint keeps helping there.
+SVGF_PASSES = 3
 SVGF_DEPTH_SIGMA = 1.0
 SVGF_NORMAL_POWER = 128.0
 # The normal stop raises a cosine to SVGF_NORMAL_POWER by squaring it this many times: cheaper than
@@ -99,6 +109,12 @@ ATROUS_GROUP = _pass_group(
 FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carried", TEMPORAL_PIXEL))
 
 
+def svgf_passes(upscale: int) -> int:
+    """The a-trous passes for a picture upsampled by `upscale` (1: full resolution): SVGF_PASSES,
+    one more per doubling of the factor, at most SVGF_MAX_PASSES."""
+    return min(SVGF_PASSES + upscale.bit_length() - 1, SVGF_MAX_PASSES)
+
+
 def svgf_constants() -> str:
     """The WGSL of GENERATED_SVGF: the filter's struct and constants."""
     constants = ("SVGF_DEPTH_SIGMA", "SVGF_DEPTH_FLOOR", "SVGF_LUMINANCE_SIGMA", "SVGF_SPREAD_MIN")
@@ -122,7 +138,8 @@ class VarianceGuidedFilter:
         self._guides = image_texture(context, "SVGF guides", width, height, GUIDE_FORMAT)
         self._slopes = storage_buffer(context, "SVGF slopes", np.zeros((width * height, 2), np.float32))
         self._params = [
-            uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1)) for k in range(SVGF_PASSES + 1)
+            uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1))
+            for k in range(SVGF_MAX_PASSES + 1)
         ]
 
     def filter(
@@ -131,15 +148,18 @@ class VarianceGuidedFilter:
         gbuffer: wgpu.GPUBuffer,
         samples_per_frame: int,
         feedback: wgpu.GPUBuffer | None = None,
+        upscale: int = 1,
     ) -> np.ndarray:
         """The filtered picture of `history` (TEMPORAL_PIXEL records) seen through `gbuffer`, whose
         frames took `samples_per_frame` samples: float32 (height, width, 3), linear radiance.
         `feedback`: the history the next frame takes (a copy of `history`), whose colour the first
-        a-trous pass's result then replaces."""
-        for number, params in enumerate(self._params):
+        a-trous pass's result then replaces. `upscale`: the factor the picture was upsampled by,
+        which sets the passes (svgf_passes)."""
+        count = svgf_passes(upscale)
+        for number, params in enumerate(self._params[: count + 1]):
             record = SVGF_PARAMETERS.zeros(1)
             record["width"], record["height"] = self.width, self.height
-            record["step"], record["last"] = 1 << max(number - 1, 0), number == SVGF_PASSES
+            record["step"], record["last"] = 1 << max(number - 1, 0), number == count
             record["temporal_length"] = SVGF_TEMPORAL_FRAMES * samples_per_frame
             write_buffer(self.context, params, 0, record)
         size = (self.width, self.height)
@@ -153,9 +173,9 @@ class VarianceGuidedFilter:
             slopes=self._slopes,
         )
         passes = [Pass(self._variance, size, {"svgf_variance": variance})]
-        for number in range(1, SVGF_PASSES + 1):
+        for number in range(1, count + 1):
             source = self._work[(number - 1) % 2]
-            target = self.filtered if number == SVGF_PASSES else self._work[number % 2]
+            target = self.filtered if number == count else self._work[number % 2]
             group = self._atrous.bind(
                 "svgf_atrous",
                 params=self._params[number],
