@@ -35,10 +35,12 @@ def default_cache() -> Path:
 
 @dataclass
 class FrameReference:
-    """A frame's reference as displayed (float64 in [0, 1]) and its noise (`reference_noise`)."""
+    """A frame's reference as displayed (float64 in [0, 1]), its noise (`reference_noise`) and its
+    halves (each half the samples) as displayed."""
 
     shown: np.ndarray
     noise: float
+    halves: tuple[np.ndarray, np.ndarray]
 
 
 class FrameReferences:
@@ -67,7 +69,7 @@ class FrameReferences:
             self._render(frame, path)
         with np.load(path) as stored:
             halves = [stored[name] / 255.0 for name in ("half_a", "half_b")]
-            return FrameReference(stored["full"] / 255.0, reference_noise(*halves))
+            return FrameReference(stored["full"] / 255.0, reference_noise(*halves), (halves[0], halves[1]))
 
     def _half(self, seed: int) -> np.ndarray:
         renderer = self._renderer
