@@ -20,6 +20,7 @@ from wgputrace.testing.image_statistics import displayed_mse, equal_neighbour_fr
 from wgputrace.testing.offscreen_viewer import SIZE, frames, offscreen_viewer
 from wgputrace.view.reset_preview import scaled_up
 from wgputrace.view.temporal_picture import FRAME_VIEWS, FrameView
+from wgputrace.view.upscale_choice import FIRST_FACTOR
 
 pytestmark = pytest.mark.gpu
 
@@ -97,8 +98,8 @@ def test_a_moving_camera_shows_the_scene_at_full_resolution_closer_than_the_rese
     viewer, pixels, linear = moved["temporal"]
     assert viewer.shown_label() == FrameView.FILTERED.value
     assert viewer.frames[-1].traced_size == SIZE and viewer.frames[-1].moving
-    # the first moving frame starts coarse, then the budget fits every pixel
-    assert viewer.frames[1].upscale == 8 and viewer.frames[-1].upscale == 1
+    # the first moving frame starts upsampled, then the budget fits every pixel
+    assert viewer.frames[1].upscale == FIRST_FACTOR and viewer.frames[-1].upscale == 1
     assert pixels.mean() > NOT_BLACK_MEAN, "the moving picture is black"
     reset_viewer, reset_pixels, reset_linear = moved["reset"]
     assert equal_neighbour_fraction(reset_pixels) > BLOCKY_EQUAL_PAIRS, "the reset preview was not blocky"

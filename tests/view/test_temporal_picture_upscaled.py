@@ -1,5 +1,5 @@
 """The moving picture upsampled (`TemporalPicture.frame(..., upscale=)`): its factor chosen from the
-budget (coarsest first, 1 once a full frame is measured to fit), and every debug view of an
+budget (FIRST_FACTOR first, 1 once a full frame is measured to fit), and every debug view of an
 upscaled frame finite and not black: the raw frame is the traced pixels' samples, each over its
 block, and the history length comes from the upsampled history."""
 
@@ -14,6 +14,7 @@ from wgputrace import Renderer
 from wgputrace.loaders import load_scene
 from wgputrace.render.temporal_upsampling import subset_offset
 from wgputrace.view.temporal_picture import FRAME_VIEWS, FrameView, TemporalPicture, traced_blocks
+from wgputrace.view.upscale_choice import FIRST_FACTOR, choose_upscale
 
 pytestmark = pytest.mark.gpu
 
@@ -38,14 +39,21 @@ def picture(gpu_context):
     return TemporalPicture(Renderer(scene, *SIZE, seed=3)), _cameras(scene)
 
 
-def test_the_factor_is_the_coarsest_while_nothing_fits_and_1_once_a_full_frame_does(picture):
+def test_the_factor_starts_in_the_middle_stays_upsampled_while_nothing_fits_and_is_1_once_a_full_frame_does(
+    picture,
+):
     moving, cameras = picture
     factors = []
-    for _ in range(3):
+    for _ in range(2):
         moving.frame(next(cameras), NO_TIME)
         factors.append(moving.upscale)
-    assert factors == [8, 8, 8]
-    assert 8 in moving.costs and moving.traced_size == (SIZE[0] // 8, SIZE[1] // 8)
+    # the first frame at a factor is not measured: the second is
+    assert factors == [FIRST_FACTOR, FIRST_FACTOR] and list(moving.costs) == [FIRST_FACTOR]
+    costs = dict(moving.costs)
+    moving.frame(next(cameras), NO_TIME)
+    factors.append(moving.upscale)
+    assert factors[-1] == choose_upscale(costs, NO_TIME, SIZE, FIRST_FACTOR) > 1
+    assert moving.traced_size == (SIZE[0] // factors[-1], SIZE[1] // factors[-1])
     for _ in range(2):
         moving.frame(next(cameras), ALL_THE_TIME)
         factors.append(moving.upscale)

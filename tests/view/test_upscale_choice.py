@@ -1,6 +1,6 @@
 """The moving picture's upscale factor as a function of the measured costs and the budget
 (`choose_upscale`): the smallest factor whose frame fits, unmeasured factors estimated from the
-nearest measured one, the coarsest before any measurement; where none fits, the finest within
+nearest measured one, FIRST_FACTOR before any measurement; where none fits, the finest within
 OVER_BUDGET_SLACK of the cheapest."""
 
 from __future__ import annotations
@@ -9,6 +9,7 @@ import pytest
 
 from wgputrace.view.upscale_choice import (
     FINER_MARGIN,
+    FIRST_FACTOR,
     OVER_BUDGET_SLACK,
     FrameCost,
     choose_upscale,
@@ -21,9 +22,9 @@ SIZE = (320, 240)
 COARSE = {8: FrameCost(0.010, 0.020)}
 
 
-def test_before_any_measurement_the_first_frame_is_the_coarsest():
-    assert choose_upscale({}, 1.0, SIZE) == 8
-    assert choose_upscale({}, 1.0, (6, 6)) == 4  # an 8 x 8 block does not fit a 6 x 6 image
+def test_before_any_measurement_the_first_frame_is_the_middle_factor():
+    assert choose_upscale({}, 1.0, SIZE) == FIRST_FACTOR == 4
+    assert choose_upscale({}, 1.0, (3, 3)) == 2  # a 4 x 4 block does not fit a 3 x 3 image
 
 
 def test_an_unmeasured_factor_scales_the_nearest_measured_ones_tracing_by_the_pixels_traced():

@@ -5,8 +5,7 @@ A frame's cost has two parts, measured apart: tracing one sample per traced pixe
 many pixels at each doubling of the factor) and the rest (rebuilding, filtering, reading back
 and uploading the full picture, about the same at every factor). A factor not measured yet is
 estimated from the nearest measured one: its rest, and its tracing scaled by the traced pixels.
-Before anything is measured the first frame starts at the coarsest factor, as the reset preview
-started at its coarsest size. Where no factor fits, the frame is late whichever is taken, and the
+Before anything is measured the first frame starts at FIRST_FACTOR. Where no factor fits, the frame is late whichever is taken, and the
 rest of the frame, not the tracing, is what makes it late: the finest factor within
 OVER_BUDGET_SLACK of the cheapest one's cost is taken, rather than the cheapest, whose picture is
 the worst."""
@@ -30,6 +29,13 @@ FINER_MARGIN = 0.8
 # about 1.05; its fly-throughs' mean FLIP is 0.194 against 0.229 (Cornell box) and 0.120 against
 # 0.170 (asset; bench.realtime, 30 frames).
 OVER_BUDGET_SLACK = 0.15
+# The factor of the first frame, before anything is measured: the middle one. An estimate from a
+# coarser factor over-counts a finer one's tracing (a small dispatch costs more per pixel) and one
+# from a finer factor under-counts a coarser one's, so the middle reaches both ways: a fast adapter
+# goes finer at once, and where the rest of the frame outweighs tracing (lavapipe) 4x stays within
+# OVER_BUDGET_SLACK of 8x's estimate. Started at 8x, bench.realtime's Cornell box stayed at 8x on
+# every frame (4x estimated from it beyond the slack) at FLIP 0.235 in its first 20 frames.
+FIRST_FACTOR = 4
 # A new measurement of a factor's cost moves its estimate by this fraction (as FramePacing smooths
 # the cost besides tracing).
 COST_SMOOTHING = 0.1
@@ -73,11 +79,12 @@ def choose_upscale(
 ) -> int:
     """The factor of the next frame of an image of `size` with `budget` seconds to trace it: the
     smallest usable one whose cost (`estimated_cost`) fits the budget, or FINER_MARGIN of it where
-    it is finer than `current` (the last frame's); the coarsest where none is measured; where none
-    fits, the smallest whose cost is within OVER_BUDGET_SLACK of the cheapest's."""
+    it is finer than `current` (the last frame's); FIRST_FACTOR (or the coarsest usable one below it)
+    where none is measured; where none fits, the smallest whose cost is within OVER_BUDGET_SLACK of
+    the cheapest's."""
     factors = usable_factors(size)
     if not costs:
-        return factors[-1]
+        return min(FIRST_FACTOR, factors[-1])
     estimates = {factor: estimated_cost(costs, factor) for factor in factors}
     for factor in factors:
         allowed = budget * (FINER_MARGIN if current is not None and factor < current else 1.0)
