@@ -112,18 +112,20 @@ def test_filtering_at_rest_leaves_the_history_the_plain_mean_bit_for_bit():
     np.testing.assert_array_equal(frames._temporal.image(), plain.image())
 
 
-def _history_after_sliding(filtered: bool) -> np.ndarray:
+def _history_after_sliding(filtered: bool, upscale: int) -> np.ndarray:
     """The unfiltered history's picture of the wall after FRAMES frames of a camera sliding along it
-    (a twenty-fifth of a pixel a frame), filtered or not. Independent samples: the Sobol sampler's
-    frames are stratified against each other, so their plain mean is nearly as smooth already."""
+    (a twenty-fifth of a pixel a frame), filtered or not, upsampled by `upscale` or not. Independent
+    samples: the Sobol sampler's frames are stratified against each other, so their plain mean is
+    nearly as smooth already."""
     renderer = Renderer(wall_scene(sky=SKY), SIZE, SIZE, seed=11, sampler="independent")
     for step in range(FRAMES):
-        renderer.render_frame(pinhole(0.01 * step), filtered=filtered)
-    return renderer._temporal.image()
+        renderer.render_frame(pinhole(0.01 * step), filtered=filtered, upscale=upscale)
+    return (renderer._temporal if upscale == 1 else renderer._upsampling).image()
 
 
-def test_while_moving_the_first_pass_feeds_the_history():
-    fed, plain = _history_after_sliding(filtered=True), _history_after_sliding(filtered=False)
+@pytest.mark.parametrize("upscale", [1, 2])
+def test_while_moving_the_first_pass_feeds_the_history(upscale):
+    fed, plain = _history_after_sliding(True, upscale), _history_after_sliding(False, upscale)
     # the history took the filtered colour: its spread falls about as 1 / frames, the plain mean's
     # as 1 / sqrt(frames) (less with the reprojection's blur and clamp; 2 times measured) ...
     assert fed.std() < plain.std() / FED_SPREAD_RATIO

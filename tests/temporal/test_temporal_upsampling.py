@@ -217,7 +217,7 @@ def test_moving_frames_beat_the_blocky_upscale_of_the_same_samples(factor, gain_
     assert upsampled_db > blocky_db + gain_db, (upsampled_db, blocky_db)
 
 
-# Measured with seeds 5 to 8: the filter adds 0.73 to 1.35 dB at 2x (0.38 to 0.57 at 4x, where the
+# Measured with seeds 5 to 8: the filter adds 0.79 to 1.66 dB at 2x (0.35 to 0.59 at 4x, where the
 # interpolated samples smooth the unfiltered picture more).
 @pytest.mark.gpu
 def test_the_variance_guided_filter_improves_upsampled_frames():

@@ -663,8 +663,8 @@ class Renderer:
         `upscale`: 2, 4 or 8 traces `spp` samples of one pixel in each upscale x upscale block
         and rebuilds every pixel from its history (TemporalUpsampling); at rest, after N * upscale**2
         frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again.
-        With `filtered`, the filter reads the upsampled picture and what each pixel's history shows
-        (without SVGF's feedback into the history)."""
+        With `filtered`, the filter reads the upsampled picture and what each pixel's history shows,
+        and feeds its first pass back into the moving history as at full resolution."""
         if spp is not None and spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
         if budget is not None and not budget > 0:
@@ -690,12 +690,13 @@ class Renderer:
             return frames.image()
         if self._filter is None:
             self._filter = VarianceGuidedFilter(self.context, self.width, self.height)
-        if upscale != 1:
-            # what each pixel's history shows stands for the G-buffer the traced pixels alone have
-            return self._filter.filter(self._upsampling.shown, self._upsampling.surfaces, spp, upscale=upscale)
         # SVGF's feedback only into a history that moved: a resting one (and a new one, even if the
         # camera was just set) stays the plain mean
-        carried = self._temporal.carried if self._temporal.reprojected else None
+        carried = frames.carried if frames.reprojected else None
+        if upscale != 1:
+            # what each pixel's history shows stands for the G-buffer the traced pixels alone have
+            surfaces = self._upsampling.surfaces
+            return self._filter.filter(self._upsampling.shown, surfaces, spp, feedback=carried, upscale=upscale)
         return self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
 
     def _add_frame(self, spp: int | None, budget: float | None, upscale: int, moving: bool) -> int:

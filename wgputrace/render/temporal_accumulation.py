@@ -166,6 +166,8 @@ class HistoryPass:
         self._previous_history = storage_buffer(context, f"previous {label} history", TEMPORAL_PIXEL.zeros(pixels))
         # the first frame has no history to take
         self._fresh = True
+        # whether the last frame took a history reprojected from the one before (something moved)
+        self.reprojected = False
 
     def _run(
         self,
@@ -202,7 +204,14 @@ class HistoryPass:
         for written, next_frames in ((self.history, self._previous_history), *kept):
             encoder.copy_buffer_to_buffer(written, 0, next_frames, 0, written.size)
         self.context.submit(encoder, self._group.name)
+        self.reprojected = moving and not self._fresh
         self._fresh = False
+
+    @property
+    def carried(self) -> wgpu.GPUBuffer:
+        """The history the next frame takes (`_run` copies `history` into it): what SVGF's
+        feedback replaces while moving."""
+        return self._previous_history
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
@@ -225,22 +234,13 @@ class TemporalAccumulation(HistoryPass):
     def __init__(self, context: GpuContext, width: int, height: int) -> None:
         super().__init__(context, width, height, "temporal/temporal_accumulation.wgsl", TEMPORAL_GROUP, {}, "temporal")
         self._previous_gbuffer = storage_buffer(context, "previous G-buffer", GBUFFER_PIXEL.zeros(width * height))
-        # whether the last frame took a history reprojected from the one before (something moved)
-        self.reprojected = False
 
     def add_frame(self, accumulation: wgpu.GPUBuffer, gbuffer: wgpu.GPUBuffer, samples: int, moving: bool) -> None:
         """Add a frame of `samples` samples per pixel (their Kahan sums in `accumulation`, its
         G-buffer in `gbuffer`) to the history; `moving`: the camera or the scene changed since the
         previous frame, whose history is then reprojected."""
-        self.reprojected = moving and not self._fresh
         resources = {"accumulation": accumulation, "gbuffer": gbuffer, "previous_surfaces": self._previous_gbuffer}
         self._run(samples, moving, MOVING_HISTORY_FRAMES * samples, resources, ((gbuffer, self._previous_gbuffer),))
-
-    @property
-    def carried(self) -> wgpu.GPUBuffer:
-        """The history the next frame takes (add_frame copies `history` into it): what SVGF's
-        feedback replaces while moving."""
-        return self._previous_history
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
