@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Emitter, Environment, PointLight, Renderer, Scene, make_box
-from wgputrace.render.svgf_filter import SVGF_MAX_PASSES, SVGF_PASSES, svgf_passes
+from wgputrace.render.svgf_filter import svgf_steps
 from wgputrace.scene.lights.directional import DirectionalLight
 from wgputrace.testing.reprojection import (
     CARD_DISTANCE,
@@ -154,6 +154,8 @@ def test_the_filter_crosses_no_crease():
         assert abs(filtered[face].mean() - unfiltered[face].mean()) < Z_BOUND * error
 
 
-def test_upsampled_pictures_take_a_pass_more_per_doubling_up_to_schieds_five():
-    assert [svgf_passes(factor) for factor in (1, 2, 4, 8)] == [SVGF_PASSES, SVGF_PASSES + 1, SVGF_PASSES + 2, 5]
-    assert SVGF_PASSES + 2 <= SVGF_MAX_PASSES == 5
+def test_upsampled_pictures_spread_their_taps_wider_up_to_schieds_widest():
+    assert svgf_steps(1) == (1, 2, 4)
+    assert svgf_steps(2) == (1, 2, 4, 8)
+    # the interpolated samples smoothed the pixel scale already: from 4x the first step is 2
+    assert svgf_steps(4) == svgf_steps(8) == (2, 4, 8, 16)

@@ -1,7 +1,7 @@
 """The variance-guided filter of SVGF (Schied et al. 2017) on temporal accumulation's history:
 each pixel's demodulated illumination and the variance of its luminance (from the history's
 moments, or over its neighbourhood where the history is young: shaders/temporal/svgf_variance.wgsl),
-then `svgf_passes` a-trous passes that stop at depth, normal and luminance edges, the luminance
+then a-trous passes (`svgf_steps`) that stop at depth, normal and luminance edges, the luminance
 stop scaled by the filtered variance (shaders/temporal/svgf_atrous.wgsl), and the albedo
 multiplied back.
 
@@ -29,18 +29,24 @@ GENERATED_SVGF = "generated/svgf.wgsl"
 
 # Schied et al.'s choices: depth stop 1 (times the depth's change along the surface's slope),
 # normal power 128, luminance stop 4 standard deviations; a history younger than 4 frames estimates
-# its variance spatially. Their five a-trous passes (a 125-pixel footprint) are this file's most,
-# taken for upsampled pictures (svgf_passes).
-SVGF_MAX_PASSES = 5
-# The a-trous passes of a full-resolution picture; an upsampled one takes one more per doubling of
-# the upscale factor, up to SVGF_MAX_PASSES. Measured with bench.realtime's fly-throughs at 320x240,
-# one sample per traced pixel, 30 frames, mean FLIP (Cornell box, asset, moving objects) for 3, 4
-# and 5 passes: at 1x 0.143/0.072/0.239, 0.145/0.073/0.238, 0.148/0.074/0.239 (three passes as
-# good as five, and two fewer); at 2x 0.173/0.089/0.286, 0.173/0.086/0.283, 0.174/0.086/0.282;
-# at 4x 0.197/0.130/0.311, 0.194/0.123/0.305, 0.194/0.120/0.303; at 8x 0.230/0.179/0.336,
-# 0.229/0.174/0.331, 0.229/0.170/0.329: an upsampled picture's noise spans the traced pixels'
-# spacing, and a wider footprint keeps helping there.
-SVGF_PASSES = 3
+# its variance spatially. Their five a-trous passes spread taps 1 to 16 pixels apart; this filter
+# takes fewer (svgf_steps).
+SVGF_WIDEST_STEP = 16
+# The widest step of a full-resolution picture's passes; an upsampled one's doubles with each
+# doubling of the upscale factor, up to SVGF_WIDEST_STEP. Measured with bench.realtime's
+# fly-throughs at 320x240, one sample per traced pixel, 30 frames, mean FLIP (Cornell box, asset,
+# moving objects) for steps up to 4, 8 and 16 (3, 4 and 5 passes from 1): at 1x 0.143/0.072/0.239,
+# 0.145/0.073/0.238, 0.148/0.074/0.239 (three passes as good as five, and two fewer); at 2x
+# 0.173/0.089/0.286, 0.173/0.086/0.283, 0.174/0.086/0.282; at 4x 0.197/0.130/0.311,
+# 0.194/0.123/0.305, 0.194/0.120/0.303; at 8x 0.230/0.179/0.336, 0.229/0.174/0.331,
+# 0.229/0.170/0.329: an upsampled picture's noise spans the traced pixels' spacing, and a wider
+# footprint keeps helping there.
+SVGF_FULL_RESOLUTION_STEP = 4
+# From this upscale factor on, the passes start with taps 2 pixels apart: the interpolated samples
+# (INTERPOLATED_SAMPLE_WEIGHT) have smoothed the picture over neighbouring pixels already. Measured
+# as above with SVGF's feedback, steps 2 to 16 against 1 to 16: at 4x 0.189/0.125/0.282 against
+# 0.191/0.123/0.292, at 8x 0.225/0.171/0.317 against 0.228/0.171/0.325, a pass fewer.
+SVGF_SKIP_FIRST_STEP_FROM = 4
 SVGF_DEPTH_SIGMA = 1.0
 SVGF_NORMAL_POWER = 128.0
 # The normal stop raises a cosine to SVGF_NORMAL_POWER by squaring it this many times: cheaper than
@@ -109,10 +115,13 @@ ATROUS_GROUP = _pass_group(
 FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carried", TEMPORAL_PIXEL))
 
 
-def svgf_passes(upscale: int) -> int:
-    """The a-trous passes for a picture upsampled by `upscale` (1: full resolution): SVGF_PASSES,
-    one more per doubling of the factor, at most SVGF_MAX_PASSES."""
-    return min(SVGF_PASSES + upscale.bit_length() - 1, SVGF_MAX_PASSES)
+def svgf_steps(upscale: int) -> tuple[int, ...]:
+    """The tap spacing of each a-trous pass, in order, for a picture upsampled by `upscale` (1: full
+    resolution): doubling from 1 (2 from SVGF_SKIP_FIRST_STEP_FROM on) to SVGF_FULL_RESOLUTION_STEP
+    times the factor, at most SVGF_WIDEST_STEP."""
+    first = 2 if upscale >= SVGF_SKIP_FIRST_STEP_FROM else 1
+    widest = min(SVGF_FULL_RESOLUTION_STEP * upscale, SVGF_WIDEST_STEP)
+    return tuple(1 << k for k in range(first.bit_length() - 1, widest.bit_length()))
 
 
 def svgf_constants() -> str:
@@ -139,7 +148,7 @@ class VarianceGuidedFilter:
         self._slopes = storage_buffer(context, "SVGF slopes", np.zeros((width * height, 2), np.float32))
         self._params = [
             uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1))
-            for k in range(SVGF_MAX_PASSES + 1)
+            for k in range(SVGF_WIDEST_STEP.bit_length() + 1)
         ]
 
     def filter(
@@ -154,12 +163,13 @@ class VarianceGuidedFilter:
         frames took `samples_per_frame` samples: float32 (height, width, 3), linear radiance.
         `feedback`: the history the next frame takes (a copy of `history`), whose colour the first
         a-trous pass's result then replaces. `upscale`: the factor the picture was upsampled by,
-        which sets the passes (svgf_passes)."""
-        count = svgf_passes(upscale)
+        which sets the passes (svgf_steps)."""
+        steps = svgf_steps(upscale)
+        count = len(steps)
         for number, params in enumerate(self._params[: count + 1]):
             record = SVGF_PARAMETERS.zeros(1)
             record["width"], record["height"] = self.width, self.height
-            record["step"], record["last"] = 1 << max(number - 1, 0), number == count
+            record["step"], record["last"] = steps[max(number - 1, 0)], number == count
             record["temporal_length"] = SVGF_TEMPORAL_FRAMES * samples_per_frame
             write_buffer(self.context, params, 0, record)
         size = (self.width, self.height)
