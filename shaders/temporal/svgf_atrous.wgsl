@@ -7,7 +7,8 @@
 // deviation from the variance, blurred over 3x3 first (Schied et al. 2017). The stops read the
 // guides the variance pass wrote, the depth and luminance stops one exp2 of their exponents'
 // sum. The variance is filtered with the squared weights, so each pass's luminance stop trusts the
-// last's result more. The last pass multiplies the albedo back (params.last). The sky passes
+// last's result more. The last pass at full resolution multiplies the albedo back (params.last;
+// at half resolution svgf_upsample.wgsl does). The sky passes
 // through: seen directly it carries no path's noise, and filtering would only blur the environment
 // map and mix in the pixels at its edge; a tap on the sky weighs 0.
 
@@ -27,13 +28,6 @@ fn blurred_variance(xy: vec2<i32>) -> f32 {
         }
     }
     return sum / weights;
-}
-
-fn remodulated(filtered: vec4<f32>, pixel: u32) -> vec4<f32> {
-    if params.last == 0u {
-        return filtered;
-    }
-    return vec4<f32>(filtered.xyz * demodulation(gbuffer[pixel].albedo), filtered.w);
 }
 
 fn svgf_pass(xy: vec2<i32>, pixel: u32) {

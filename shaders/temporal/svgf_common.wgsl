@@ -29,6 +29,25 @@ fn clamped_index(tap: vec2<i32>) -> u32 {
     return pixel_index(clamped(tap));
 }
 
+// `filtered` (demodulated illumination, variance) as the pass at `pixel` writes it: times the
+// pixel's albedo where the pass is the last (params.last), as it is otherwise.
+fn remodulated(filtered: vec4<f32>, pixel: u32) -> vec4<f32> {
+    if params.last == 0u {
+        return filtered;
+    }
+    return vec4<f32>(filtered.xyz * demodulation(gbuffer[pixel].albedo), filtered.w);
+}
+
+// The size of the half-resolution image a full one of params.width x params.height reduces to
+// (svgf_downsample.wgsl): a pixel per 2 x 2 block, the blocks cut by the edge included.
+fn half_size() -> vec2<i32> {
+    return (vec2<i32>(i32(params.width), i32(params.height)) + 1) / 2;
+}
+
+fn half_index(xy: vec2<i32>) -> u32 {
+    return u32(xy.y * half_size().x + xy.x);
+}
+
 // log2(e): the stops are exp2 of their exponents times it (lavapipe's exp is exp2 of a product anyway).
 const LOG2_E: f32 = 1.4426950408889634;
 

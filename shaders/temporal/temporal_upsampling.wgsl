@@ -39,8 +39,9 @@ fn frame_mean(pixel: u32) -> vec3<f32> {
 }
 
 // This frame's demodulated samples interpolated at `xy` (rgb) and their weight (w, 0 for none):
-// bilinear over the four traced pixels around it that see `surface` (the nearest traced pixel's
-// surface is one of them, of a positive weight).
+// bilinear over the four traced pixels around it that see `surface`, facing as it faces (not
+// across a crease of one object; the nearest traced pixel's surface is one of them, of a positive
+// weight).
 fn interpolated(xy: vec2<i32>, surface: GBufferPixel) -> vec4<f32> {
     let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
     let corner = floor(cell);
@@ -55,7 +56,7 @@ fn interpolated(xy: vec2<i32>, surface: GBufferPixel) -> vec4<f32> {
             continue;
         }
         let there = gbuffer[pixel_index(tap)];
-        if !same_surface(there, surface) {
+        if !same_surface(there, surface) || dot(there.normal, surface.normal) < NORMAL_COS_MIN {
             continue;
         }
         colour += along.x * along.y * frame_mean(pixel_index(tap)) / demodulation(there.albedo);
@@ -134,9 +135,14 @@ fn history_pass(xy: vec2<i32>, pixel: u32) {
     // moves, and where a pixel has no history, it takes this frame's samples of the surface its
     // history shows too
     var updated = kept.history;
-    let around = interpolated(xy, kept.shows);
+    // a pixel without history shows what the traced pixel nearest it sees
+    var shows = kept.shows;
+    if !(updated.length > 0.0) {
+        shows = here;
+    }
+    let around = interpolated(xy, shows);
     if (params.moving != 0u || !(updated.length > 0.0)) && around.w > 0.0 {
-        updated = with_interpolated(updated, around.xyz, kept.shows.albedo);
+        updated = with_interpolated(updated, around.xyz, shows.albedo);
     }
     shown[pixel] = updated;
     if params.moving != 0u {
@@ -144,5 +150,5 @@ fn history_pass(xy: vec2<i32>, pixel: u32) {
     } else {
         history[pixel] = kept.history;
     }
-    surfaces[pixel] = kept.shows;
+    surfaces[pixel] = shows;
 }

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from wgputrace import Diffuse, Emitter, Environment, PointLight, Renderer, Scene, make_box
-from wgputrace.render.svgf_filter import svgf_steps
+from wgputrace.render.svgf_filter import SVGF_HALF_RESOLUTION_FROM, svgf_steps
 from wgputrace.scene.lights.directional import DirectionalLight
 from wgputrace.testing.reprojection import (
     CARD_DISTANCE,
@@ -34,6 +34,9 @@ FED_SPREAD_RATIO = 1.5
 CREASE_PIXELS = 4
 LIGHT_POSITION = (-0.6, 0.0, 0.0)
 LIGHT_INTENSITY = 3.0
+# radiance that counts as black: a black wall's filtered light, where the lamp's taps beside it
+# weigh next to nothing through the stops (up to 8e-13 measured, the lamp's being 2)
+BLACK_ATOL = 1e-9
 
 
 # the box filter's footprint of a pixel, as a grid of points per axis
@@ -49,29 +52,39 @@ def _card_radiance(within: tuple[float, float]) -> np.ndarray:
     return WHITE[0] / np.pi * LIGHT_INTENSITY * cosine / distance_squared
 
 
-def _frames(renderer: Renderer) -> tuple[np.ndarray, np.ndarray]:
-    """The filtered picture and the history's mean after FRAMES frames at rest."""
-    for _ in range(FRAMES):
-        filtered = renderer.render_frame(filtered=True)
-    return filtered, renderer._temporal.image()
+def _frames(renderer: Renderer, upscale: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """The filtered picture and the history's mean (upsampled by `upscale`: the rebuilt picture)
+    after FRAMES samples per pixel at rest (upsampled, FRAMES * upscale**2 frames)."""
+    for _ in range(FRAMES * upscale**2):
+        filtered = renderer.render_frame(filtered=True, upscale=upscale)
+    return filtered, (renderer._temporal if upscale == 1 else renderer._upsampling).image()
+
+
+# full resolution, and upsampled at a factor whose filter runs at half resolution
+UPSCALES = [1, SVGF_HALF_RESOLUTION_FROM]
 
 
 def _standard_error(values: np.ndarray) -> float:
     return float(values.std() / np.sqrt(values.size))
 
 
-def test_a_flat_wall_keeps_its_energy():
-    filtered, unfiltered = _frames(Renderer(wall_scene(sky=SKY), SIZE, SIZE, seed=11))
+@pytest.mark.parametrize("upscale", UPSCALES)
+def test_a_flat_wall_keeps_its_energy(upscale):
+    filtered, unfiltered = _frames(Renderer(wall_scene(sky=SKY), SIZE, SIZE, seed=11), upscale)
     truth = WHITE[0] * SKY
     assert abs(unfiltered.mean() - truth) < Z_BOUND * _standard_error(unfiltered)
-    assert abs(filtered.mean() - truth) < Z_BOUND * _standard_error(unfiltered)
+    # the filter keeps its input's energy (upsampled, its taps reach across the whole image, whose
+    # pixels' errors it weighs unevenly: seeds 11-13 moved the mean by 0.05, 0.05 and 0.7 standard
+    # errors at full resolution, 2.6, 0.9 and 0.8 at 4x)
+    assert abs(filtered.mean() - unfiltered.mean()) < Z_BOUND * _standard_error(unfiltered)
     # and it did filter: the pixels spread far less than the history's
     assert filtered.std() < unfiltered.std() / 3
 
 
-def test_a_lit_card_keeps_its_light_and_the_wall_its_own():
+@pytest.mark.parametrize("upscale", UPSCALES)
+def test_a_lit_card_keeps_its_light_and_the_wall_its_own(upscale):
     scene = card_scene(sky=0.0).add_light(PointLight(position=LIGHT_POSITION, intensity=LIGHT_INTENSITY))
-    filtered, unfiltered = _frames(Renderer(scene, SIZE, SIZE, seed=11))
+    filtered, unfiltered = _frames(Renderer(scene, SIZE, SIZE, seed=11), upscale)
     _, on_card = centre_hits(pinhole(0.0))
     radiance = np.mean([_card_radiance((x, y)) for x in SUBPIXELS for y in SUBPIXELS], axis=0)
     # the card's pixels whose whole footprint is on it
@@ -88,16 +101,39 @@ def test_a_lit_card_keeps_its_light_and_the_wall_its_own():
     assert abs(filtered[wall].mean() - unfiltered[wall].mean()) < Z_BOUND * _standard_error(unfiltered[wall])
 
 
-def test_black_surfaces_the_sky_and_young_histories_stay_finite():
+@pytest.mark.parametrize("upscale", UPSCALES)
+def test_black_surfaces_the_sky_and_young_histories_stay_finite(upscale):
     # max_depth 1: a black wall (albedo 0), a lamp card and the sky, each without noise (variance 0)
     scene = card_scene(wall=Diffuse("black", color=(0.0, 0.0, 0.0)), card=Emitter("lamp", emittance=2.0))
     renderer = Renderer(scene, SIZE, SIZE, max_depth=1)
+    guide = Renderer(scene, SIZE, SIZE, max_depth=1)
     for camera in (pinhole(0.0), pinhole(0.5, 40.0), pinhole(-0.5, 75.0)):
-        filtered = renderer.render_frame(camera, filtered=True)
+        filtered = renderer.render_frame(camera, filtered=True, upscale=upscale)
         assert np.isfinite(filtered).all()
-        # the sky passes through as it is
-        sky = renderer.gbuffer()["surface"] == 0
-        np.testing.assert_allclose(filtered[sky], renderer._temporal.image()[sky], rtol=1e-6)
+        # the sky passes through as it is (where a full-resolution frame sees it: an upsampled
+        # frame's G-buffer is the traced pixels', and beside the sky an upsampled pixel's history
+        # may show the black wall, whose light is 0 either way)
+        guide.render_frame(camera)
+        sky = guide.gbuffer()["surface"] == 0
+        unfiltered = (renderer._temporal if upscale == 1 else renderer._upsampling).image()
+        np.testing.assert_allclose(filtered[sky], unfiltered[sky], rtol=1e-6, atol=BLACK_ATOL)
+
+
+@pytest.mark.parametrize("upscale", [SVGF_HALF_RESOLUTION_FROM, 8])
+def test_a_half_resolution_filter_of_an_odd_sized_image_keeps_the_walls_energy(upscale):
+    # 33 x 31: the half-resolution blocks of the last column and row are cut by the edge
+    width, height = 33, 31
+    renderer = Renderer(wall_scene(sky=SKY), width, height, seed=11)
+    for _ in range(upscale**2):
+        filtered = renderer.render_frame(filtered=True, upscale=upscale)
+    unfiltered = renderer._upsampling.image()
+    assert np.isfinite(filtered).all() and filtered.shape == (height, width, 3)
+    assert abs(filtered.mean() - unfiltered.mean()) < Z_BOUND * _standard_error(unfiltered)
+    # the edge's cut blocks are neither black nor brighter than the wall's light allows
+    edges = np.concatenate([filtered[-1], filtered[:, -1]])
+    assert abs(edges.mean() - unfiltered.mean()) < Z_BOUND * _standard_error(
+        np.concatenate([unfiltered[-1], unfiltered[:, -1]])
+    )
 
 
 def test_filtering_at_rest_leaves_the_history_the_plain_mean_bit_for_bit():
@@ -133,7 +169,8 @@ def test_while_moving_the_first_pass_feeds_the_history(upscale):
     assert abs(fed.mean() - WHITE[0] * SKY) < Z_BOUND * _standard_error(plain)
 
 
-def test_the_filter_crosses_no_crease():
+@pytest.mark.parametrize("upscale", UPSCALES)
+def test_the_filter_crosses_no_crease(upscale):
     # A box seen corner-on, its near edge on the image's middle pixel boundary: the left face lit by
     # a directional light and the sky, the right face by the sky alone, both noisy. The right face
     # keeps its own light beside the crease, where the normal stop is all that holds the left's back.
@@ -141,8 +178,11 @@ def test_the_filter_crosses_no_crease():
     scene = Scene([box], pinhole(0.0), environment=Environment(SKY))
     scene.add_light(DirectionalLight(direction=(1.0, 0.0, 0.3), irradiance=3.0))
     renderer = Renderer(scene, SIZE, SIZE, seed=11, sampler="independent")
-    filtered, unfiltered = _frames(renderer)
-    normal_x = renderer.gbuffer()["normal"][..., 0]
+    filtered, unfiltered = _frames(renderer, upscale)
+    # every pixel's normal, from a full-resolution frame (an upsampled one's G-buffer is the traced pixels')
+    guide = Renderer(scene, SIZE, SIZE)
+    guide.render_frame()
+    normal_x = guide.gbuffer()["normal"][..., 0]
     columns = np.arange(SIZE)[None, :]
     # the right face's pixels within CREASE_PIXELS of the crease, and the left face's
     right = (normal_x > 0.5) & (columns < SIZE // 2 + CREASE_PIXELS)

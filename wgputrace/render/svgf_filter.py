@@ -47,6 +47,14 @@ SVGF_FULL_RESOLUTION_STEP = 4
 # as above with SVGF's feedback, steps 2 to 16 against 1 to 16: at 4x 0.189/0.125/0.282 against
 # 0.191/0.123/0.292, at 8x 0.225/0.171/0.317 against 0.228/0.171/0.325, a pass fewer.
 SVGF_SKIP_FIRST_STEP_FROM = 4
+# From this upscale factor on, the a-trous passes run at half resolution (a pixel per 2 x 2 block,
+# svgf_downsample.wgsl) with half the steps, and the result is brought back by joint bilateral
+# upsampling (svgf_upsample.wgsl): the steps start at 2 there anyway, and the passes cost a quarter.
+SVGF_HALF_RESOLUTION_FROM = 4
+# A half-resolution pixel spans two full ones: the depth's change per pixel doubles.
+HALF_RESOLUTION_SLOPE_SCALE = 2.0
+# Below this total weight of its half-resolution taps an upsampled pixel keeps its own illumination.
+UPSAMPLE_WEIGHT_MIN = 1e-6
 SVGF_DEPTH_SIGMA = 1.0
 SVGF_NORMAL_POWER = 128.0
 # The normal stop raises a cosine to SVGF_NORMAL_POWER by squaring it this many times: cheaper than
@@ -111,6 +119,30 @@ ATROUS_GROUP = _pass_group(
     ("filtered_out", ILLUMINATION),
     (Binding("guides", TEXTURE_F32), Binding("slopes", STORAGE_READ, SLOPE)),
 )
+# the full-resolution illumination into its half-resolution blocks
+DOWNSAMPLE_GROUP = _pass_group(
+    "svgf_downsample",
+    ("illuminated", ILLUMINATION),
+    ("reduced", ILLUMINATION),
+    (
+        Binding("guides", TEXTURE_F32),
+        Binding("slopes", STORAGE_READ, SLOPE),
+        Binding("half_guides", STORAGE_TEXTURE, GUIDE_FORMAT),
+        Binding("half_slopes", STORAGE_READ_WRITE, SLOPE),
+    ),
+)
+# a half-resolution result back to full resolution, the unfiltered illumination (`own`) beside it
+UPSAMPLE_GROUP = _pass_group(
+    "svgf_upsample",
+    ("source", ILLUMINATION),
+    ("filtered_out", ILLUMINATION),
+    (
+        Binding("own", STORAGE_READ, ILLUMINATION),
+        Binding("guides", TEXTURE_F32),
+        Binding("half_guides", TEXTURE_F32),
+        Binding("slopes", STORAGE_READ, SLOPE),
+    ),
+)
 # the first a-trous pass's output into the history the next frame takes
 FEEDBACK_GROUP = _pass_group("svgf_feedback", ("filtered", ILLUMINATION), ("carried", TEMPORAL_PIXEL))
 
@@ -126,7 +158,14 @@ def svgf_steps(upscale: int) -> tuple[int, ...]:
 
 def svgf_constants() -> str:
     """The WGSL of GENERATED_SVGF: the filter's struct and constants."""
-    constants = ("SVGF_DEPTH_SIGMA", "SVGF_DEPTH_FLOOR", "SVGF_LUMINANCE_SIGMA", "SVGF_SPREAD_MIN")
+    constants = (
+        "SVGF_DEPTH_SIGMA",
+        "SVGF_DEPTH_FLOOR",
+        "SVGF_LUMINANCE_SIGMA",
+        "SVGF_SPREAD_MIN",
+        "HALF_RESOLUTION_SLOPE_SCALE",
+        "UPSAMPLE_WEIGHT_MIN",
+    )
     squarings = f"const SVGF_NORMAL_SQUARINGS: u32 = {SVGF_NORMAL_SQUARINGS}u;\n"
     return generated_wgsl(globals(), (TEMPORAL_PIXEL, SVGF_PARAMETERS), constants) + squarings
 
@@ -137,19 +176,50 @@ class VarianceGuidedFilter:
     def __init__(self, context: GpuContext, width: int, height: int) -> None:
         self.context, self.width, self.height = context, width, height
         generated = {GENERATED_SVGF: svgf_constants()}
-        self._variance = temporal_pass_kernel(context, "temporal/svgf_variance.wgsl", VARIANCE_GROUP, generated)
-        self._atrous = temporal_pass_kernel(context, "temporal/svgf_atrous.wgsl", ATROUS_GROUP, generated)
-        self._feedback = temporal_pass_kernel(context, "temporal/svgf_feedback.wgsl", FEEDBACK_GROUP, generated)
+        kernels = (
+            ("variance", VARIANCE_GROUP),
+            ("atrous", ATROUS_GROUP),
+            ("feedback", FEEDBACK_GROUP),
+            ("downsample", DOWNSAMPLE_GROUP),
+            ("upsample", UPSAMPLE_GROUP),
+        )
+        self._kernels = {
+            name: temporal_pass_kernel(context, f"temporal/svgf_{name}.wgsl", group, generated)
+            for name, group in kernels
+        }
         pixels = np.zeros((width * height, 4), np.float32)
         # ping-pong between two, the last pass into `filtered`
         self._work = [storage_buffer(context, f"SVGF illumination {k}", pixels) for k in range(2)]
         self.filtered = storage_buffer(context, "SVGF filtered", pixels, read_back=True)
         self._guides = image_texture(context, "SVGF guides", width, height, GUIDE_FORMAT)
         self._slopes = storage_buffer(context, "SVGF slopes", np.zeros((width * height, 2), np.float32))
+        self.half_size = (-(-width // 2), -(-height // 2))
+        blocks = self.half_size[0] * self.half_size[1]
+        self._half_work = [
+            storage_buffer(context, f"SVGF half-resolution illumination {k}", np.zeros((blocks, 4), np.float32))
+            for k in range(2)
+        ]
+        self._half_guides = image_texture(context, "SVGF half-resolution guides", *self.half_size, GUIDE_FORMAT)
+        self._half_slopes = storage_buffer(context, "SVGF half-resolution slopes", np.zeros((blocks, 2), np.float32))
+        # one per pass of the longest sequence: the variance, the downsampling, the a-trous passes,
+        # the feedback and the two upsamplings (the feedback's and the last)
         self._params = [
             uniform_buffer(context, f"SVGF parameters {k}", SVGF_PARAMETERS.zeros(1))
-            for k in range(SVGF_WIDEST_STEP.bit_length() + 1)
+            for k in range(SVGF_WIDEST_STEP.bit_length() + 5)
         ]
+
+    def _pass(
+        self, name: str, number: int, size: tuple[int, int], step: int, last: bool, temporal_length: float, **resources
+    ) -> Pass:
+        """A pass of kernel `name` over `size` with parameters buffer `number` (the pass's step and
+        whether it is the last) and `resources` bound besides the parameters."""
+        record = SVGF_PARAMETERS.zeros(1)
+        record["width"], record["height"] = size if name == "atrous" else (self.width, self.height)
+        record["step"], record["last"], record["temporal_length"] = step, last, temporal_length
+        write_buffer(self.context, self._params[number], 0, record)
+        kernel = self._kernels[name]
+        group = kernel.bind(f"svgf_{name}", params=self._params[number], **resources)
+        return Pass(kernel, size, {f"svgf_{name}": group})
 
     def filter(
         self,
@@ -163,49 +233,100 @@ class VarianceGuidedFilter:
         frames took `samples_per_frame` samples: float32 (height, width, 3), linear radiance.
         `feedback`: the history the next frame takes (a copy of `history`), whose colour the first
         a-trous pass's result then replaces. `upscale`: the factor the picture was upsampled by,
-        which sets the passes (svgf_steps)."""
-        steps = svgf_steps(upscale)
-        count = len(steps)
-        for number, params in enumerate(self._params[: count + 1]):
-            record = SVGF_PARAMETERS.zeros(1)
-            record["width"], record["height"] = self.width, self.height
-            record["step"], record["last"] = steps[max(number - 1, 0)], number == count
-            record["temporal_length"] = SVGF_TEMPORAL_FRAMES * samples_per_frame
-            write_buffer(self.context, params, 0, record)
-        size = (self.width, self.height)
-        variance = self._variance.bind(
-            "svgf_variance",
-            params=self._params[0],
-            gbuffer=gbuffer,
-            history=history,
-            illuminated=self._work[0],
-            guides=self._guides,
-            slopes=self._slopes,
-        )
-        passes = [Pass(self._variance, size, {"svgf_variance": variance})]
-        for number in range(1, count + 1):
-            source = self._work[(number - 1) % 2]
-            target = self.filtered if number == count else self._work[number % 2]
-            group = self._atrous.bind(
-                "svgf_atrous",
-                params=self._params[number],
-                gbuffer=gbuffer,
-                source=source,
-                filtered_out=target,
+        which sets the passes (svgf_steps) and their resolution (SVGF_HALF_RESOLUTION_FROM)."""
+        full = (self.width, self.height)
+        temporal_length = SVGF_TEMPORAL_FRAMES * samples_per_frame
+        numbers = iter(range(len(self._params)))
+        stage = {"temporal_length": temporal_length, "gbuffer": gbuffer}
+        illuminated = self._work[0]
+        passes = [
+            self._pass(
+                "variance",
+                next(numbers),
+                full,
+                1,
+                False,
+                history=history,
+                illuminated=illuminated,
                 guides=self._guides,
                 slopes=self._slopes,
+                **stage,
             )
-            passes.append(Pass(self._atrous, size, {"svgf_atrous": group}))
-            if number == 1 and feedback is not None:
-                back = self._feedback.bind(
-                    "svgf_feedback", params=self._params[number], gbuffer=gbuffer, filtered=target, carried=feedback
+        ]
+        half = upscale >= SVGF_HALF_RESOLUTION_FROM
+        steps = svgf_steps(upscale)
+        if half:
+            work, size, guides, slopes = self._half_work, self.half_size, self._half_guides, self._half_slopes
+            steps = tuple(step // 2 for step in steps)
+            passes.append(
+                self._pass(
+                    "downsample",
+                    next(numbers),
+                    size,
+                    1,
+                    False,
+                    illuminated=illuminated,
+                    reduced=work[0],
+                    guides=self._guides,
+                    slopes=self._slopes,
+                    half_guides=guides,
+                    half_slopes=slopes,
+                    **stage,
                 )
-                passes.append(Pass(self._feedback, size, {"svgf_feedback": back}))
+            )
+        else:
+            work, size, guides, slopes = self._work, full, self._guides, self._slopes
+
+        def upsampled(source: wgpu.GPUBuffer, target: wgpu.GPUBuffer, last: bool) -> Pass:
+            return self._pass(
+                "upsample",
+                next(numbers),
+                full,
+                1,
+                last,
+                source=source,
+                filtered_out=target,
+                own=illuminated,
+                guides=self._guides,
+                half_guides=self._half_guides,
+                slopes=self._slopes,
+                **stage,
+            )
+
+        for number, step in enumerate(steps, start=1):
+            source = work[(number - 1) % 2]
+            final = number == len(steps)
+            target = self.filtered if final and not half else work[number % 2]
+            passes.append(
+                self._pass(
+                    "atrous",
+                    next(numbers),
+                    size,
+                    step,
+                    final and not half,
+                    source=source,
+                    filtered_out=target,
+                    guides=guides,
+                    slopes=slopes,
+                    **stage,
+                )
+            )
+            if number == 1 and feedback is not None:
+                filtered = target
+                if half:
+                    # the full-resolution illumination is read by the last upsampling: the other buffer
+                    filtered = self._work[1]
+                    passes.append(upsampled(target, filtered, False))
+                passes.append(
+                    self._pass("feedback", next(numbers), full, 1, False, filtered=filtered, carried=feedback, **stage)
+                )
+        if half:
+            passes.append(upsampled(work[len(steps) % 2], self.filtered, True))
         submit(self.context, passes)
         pixels = read_buffer(self.context, self.filtered, np.float32, 4 * self.width * self.height)
         return pixels.reshape(self.height, self.width, 4)[..., :3].copy()
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
-        """The filter's buffers (the guides' texture, 16 bytes a pixel, is not one)."""
-        return (*self._work, self.filtered, self._slopes, *self._params)
+        """The filter's buffers (the guides' textures, 16 bytes a pixel, are not)."""
+        return (*self._work, self.filtered, self._slopes, *self._half_work, self._half_slopes, *self._params)
