@@ -5,6 +5,7 @@ converged references.
     python -m bench.realtime                                  # 320x240, 120 frames per fly-through
     python -m bench.realtime --size 640x480 --frames 60 --reference-spp 32
     python -m bench.realtime --scenes cornell --modes preview temporal --frames 10
+    python -m bench.realtime --frames 30 --budgets 1 --modes preview upsampled2 upsampled4 upsampled8
 
 For each fly-through (`bench.fly_throughs`: the Cornell box on a camera path, a textured asset under
 an environment map, moving objects) and each mode (`bench.realtime_modes.MODES`), every frame is
@@ -36,7 +37,7 @@ from bench.fly_throughs import FLY_THROUGHS, FULL_FRAMES, FlyThrough
 from bench.frame_metrics import DISPLAY_TONE, FLIP_PIXELS_PER_DEGREE, flip, instability, psnr
 from bench.frame_references import FrameReferences, default_cache
 from bench.provenance import Run
-from bench.realtime_modes import BASELINE, MODES, OIDN_QUALITY, PreviewPlayer, Settings
+from bench.realtime_modes import BASELINE, DEFAULT_MODES, MODES, OIDN_QUALITY, PreviewPlayer, Settings
 from bench.result_files import record_skip, result_stem, write_result
 from wgputrace.app.options import ViewerOptions
 from wgputrace.app.pacing import TARGET_FPS
@@ -287,7 +288,13 @@ def main(argv: list[str] | None = None) -> int:
         "--frames", type=int, default=FULL_FRAMES, help=f"frames per fly-through (default {FULL_FRAMES})"
     )
     parser.add_argument("--scenes", nargs="+", choices=list(FLY_THROUGHS), default=list(FLY_THROUGHS))
-    parser.add_argument("--modes", nargs="+", choices=list(MODES), default=list(MODES))
+    parser.add_argument(
+        "--modes",
+        nargs="+",
+        choices=list(MODES),
+        default=DEFAULT_MODES,
+        help=f"the modes to run (default {' '.join(DEFAULT_MODES)})",
+    )
     parser.add_argument(
         "--reference-spp",
         type=int,

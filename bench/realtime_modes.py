@@ -13,6 +13,9 @@ with its own renderer and its own copy of the fly-through's scene.
   camera moves): `render_frame(filtered=True)` at the upscale factor `choose_upscale` takes for the
   frame's budget from each factor's measured cost, tracing one pixel of every f x f block where a
   full frame does not fit. `ViewerPlayer` holds it.
+- `upsampled2`, `upsampled4`, `upsampled8` (not run unless named): the same picture at a fixed
+  factor, one sample per traced pixel whatever the budget (`FixedFactorPlayer`): what each factor
+  gives, its time recorded, to compare factors and the reconstruction's choices.
 
 A mode is one entry of MODES: a name, a label, a colour and how to make its player.
 """
@@ -204,15 +207,47 @@ class ViewerPlayer:
         return Frame(displayed(self._last), seconds, self.picture.samples_per_pixel, traced)
 
 
+class FixedFactorPlayer(ViewerPlayer):
+    """The viewer's moving picture at upscale `factor`, one sample per traced pixel a frame."""
+
+    def __init__(self, fly: FlyThrough, settings: Settings, factor: int) -> None:
+        super().__init__(fly, settings)
+        self.factor = factor
+
+    def frame(self, index: int) -> Frame:
+        self.fly.pose(self.scene, index)
+        start = time.perf_counter()
+        # a budget nothing fits: one sample per traced pixel
+        self._last = self.picture.frame(self.scene.camera, NO_BUDGET, upscale=self.factor)
+        seconds = time.perf_counter() - start
+        return Frame(displayed(self._last), seconds, self.picture.samples_per_pixel, self.picture.traced_size)
+
+
+# A frame budget nothing fits (FixedFactorPlayer traces one sample, the least a frame takes).
+NO_BUDGET = 1e-9
+
+
 @dataclass(frozen=True)
 class Mode:
-    """`denoised`: the mode runs OIDN, which a machine without pyoidn lacks."""
+    """`denoised`: the mode runs OIDN, which a machine without pyoidn lacks; `default`: run unless
+    --modes names others."""
 
     name: str
     label: str
     color: str
     player: Callable[[FlyThrough, Settings], TemporalPlayer | PreviewPlayer | ViewerPlayer]
     denoised: bool = False
+    default: bool = True
+
+
+def _fixed_factor(factor: int, color: str) -> Mode:
+    return Mode(
+        f"upsampled{factor}",
+        f"upsampled at {factor}x, one sample per traced pixel",
+        color,
+        lambda fly, settings: FixedFactorPlayer(fly, settings, factor),
+        default=False,
+    )
 
 
 MODES = {
@@ -239,7 +274,12 @@ MODES = {
             denoised=True,
         ),
         Mode("upsampled+svgf", "the viewer's picture: + temporal upsampling", "#a040a0", ViewerPlayer),
+        _fixed_factor(2, "#c07070"),
+        _fixed_factor(4, "#70a0c0"),
+        _fixed_factor(8, "#a0a060"),
     )
 }
+# The modes run unless --modes names others.
+DEFAULT_MODES = [name for name, mode in MODES.items() if mode.default]
 # The baseline the targets are ratios to.
 BASELINE = "preview"

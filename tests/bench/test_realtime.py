@@ -132,6 +132,8 @@ def test_a_few_tiny_frames_through_every_mode_write_finite_measures(tmp_path):
             assert math.isfinite(frame["psnr"]) and 0.0 <= frame["flip"] <= 1.0 and frame["spp"] >= 1
             assert frame["seconds"] > 0
         assert all(math.isfinite(frame["instability"]) for frame in frames[1:])
+    # a fixed factor traces one pixel of each of its blocks
+    assert all(frame["traced"] == [6, 4] for frame in first["modes"]["upsampled4"]["frames"])
     # two-sample references' halves differ: their noise sets a FLIP floor above 0
     assert 0.0 < first["reference_halves_flip"] <= 1.0
     assert set(result["scenes"]["moving"]["targets"]) == set(modes) - {"preview"}

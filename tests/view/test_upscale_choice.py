@@ -10,6 +10,7 @@ import pytest
 from wgputrace.view.upscale_choice import (
     FINER_MARGIN,
     FIRST_FACTOR,
+    KEEP_MARGIN,
     OVER_BUDGET_SLACK,
     FrameCost,
     choose_upscale,
@@ -57,9 +58,18 @@ def test_where_nothing_fits_a_finer_factor_within_the_slack_is_taken():
     rest_heavy = {8: FrameCost(0.002, 0.058)}
     assert estimated_cost(rest_heavy, 4) <= (1 + OVER_BUDGET_SLACK) * estimated_cost(rest_heavy, 8)
     assert choose_upscale(rest_heavy, 0.050, SIZE) == 4
-    assert choose_upscale(rest_heavy, 0.050, SIZE, current=8) == 4
+    # from 8x (kept up to KEEP_MARGIN of the budget) once 8x no longer fits either
+    assert choose_upscale(rest_heavy, 0.060 / KEEP_MARGIN - 1e-6, SIZE, current=8) == 4
     # a little dearer tracing and 4x is no longer within the slack
     assert choose_upscale({8: FrameCost(0.004, 0.058)}, 0.050, SIZE) == 8
+
+
+def test_the_current_factor_is_kept_while_it_fits_the_keep_margin():
+    # 4x costs 0.060, 8x 0.030: at a budget of 0.050 only 8x fits, but 4x is kept up to 0.0625
+    costs = {4: FrameCost(0.040, 0.020), 8: FrameCost(0.010, 0.020)}
+    assert choose_upscale(costs, 0.050, SIZE) == 8
+    assert choose_upscale(costs, 0.060 / KEEP_MARGIN, SIZE, current=4) == 4
+    assert choose_upscale(costs, 0.060 / KEEP_MARGIN - 1e-6, SIZE, current=4) == 8
 
 
 def test_a_finer_factor_than_the_current_one_must_fit_within_the_margin():

@@ -22,6 +22,11 @@ FACTORS = (1, *UPSCALE_FACTORS)
 # each switch starts the history again (`Renderer.render_frame`), so costs measured near the
 # budget must not flip the factor back and forth.
 FINER_MARGIN = 0.8
+# The factor of the last frame is kept while its frame fits this part of the budget, for the same
+# reason: in bench.realtime's Cornell fly-through at 320x240 a 4x frame took 45-70 ms and an 8x one
+# a little less, against a 50 ms budget, and without it the factor flipped between the two four
+# times in 60 frames, each flip starting the history again (instability 0.091 against 0.070).
+KEEP_MARGIN = 1.25
 # Where no factor fits the budget, a finer factor is taken if its frame costs at most this part
 # more than the cheapest's. On lavapipe at 320x240 the rest of the frame (rebuilding, filtering)
 # outweighs tracing: an 8x frame measured 2.3-2.7 ms of tracing and about 70 ms in all, so a 4x
@@ -74,12 +79,21 @@ def estimated_cost(costs: dict[int, FrameCost], factor: int) -> float:
     return cost.rest + cost.trace * (nearest / factor) ** 2
 
 
+def _margin(factor: int, current: int | None) -> float:
+    """The part of the budget `factor`'s frame must fit, the last frame's factor being `current`."""
+    if current is None:
+        return 1.0
+    if factor < current:
+        return FINER_MARGIN
+    return KEEP_MARGIN if factor == current else 1.0
+
+
 def choose_upscale(
     costs: dict[int, FrameCost], budget: float, size: tuple[int, int], current: int | None = None
 ) -> int:
     """The factor of the next frame of an image of `size` with `budget` seconds to trace it: the
     smallest usable one whose cost (`estimated_cost`) fits the budget, or FINER_MARGIN of it where
-    it is finer than `current` (the last frame's); FIRST_FACTOR (or the coarsest usable one below it)
+    it is finer than `current` (the last frame's), or KEEP_MARGIN of it where it is `current`; FIRST_FACTOR (or the coarsest usable one below it)
     where none is measured; where none fits, the smallest whose cost is within OVER_BUDGET_SLACK of
     the cheapest's."""
     factors = usable_factors(size)
@@ -87,8 +101,7 @@ def choose_upscale(
         return min(FIRST_FACTOR, factors[-1])
     estimates = {factor: estimated_cost(costs, factor) for factor in factors}
     for factor in factors:
-        allowed = budget * (FINER_MARGIN if current is not None and factor < current else 1.0)
-        if estimates[factor] <= allowed:
+        if estimates[factor] <= budget * _margin(factor, current):
             return factor
     cheapest = min(estimates.values())
     return next(factor for factor in factors if estimates[factor] <= cheapest * (1.0 + OVER_BUDGET_SLACK))
