@@ -52,7 +52,8 @@ def test_the_factor_starts_in_the_middle_stays_upsampled_while_nothing_fits_and_
     costs = dict(moving.costs)
     moving.frame(next(cameras), NO_TIME)
     factors.append(moving.upscale)
-    assert factors[-1] == choose_upscale(costs, NO_TIME, SIZE, FIRST_FACTOR) > 1
+    # nothing fits, and no coarser factor so soon after the last switch
+    assert factors[-1] == choose_upscale(costs, NO_TIME, SIZE, FIRST_FACTOR, 2) == FIRST_FACTOR
     assert moving.traced_size == (SIZE[0] // factors[-1], SIZE[1] // factors[-1])
     for _ in range(2):
         moving.frame(next(cameras), ALL_THE_TIME)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import pytest
 
 from wgputrace.view.upscale_choice import (
+    COARSER_AFTER_FRAMES,
     FINER_MARGIN,
     FIRST_FACTOR,
     KEEP_MARGIN,
@@ -70,6 +71,14 @@ def test_the_current_factor_is_kept_while_it_fits_the_keep_margin():
     assert choose_upscale(costs, 0.050, SIZE) == 8
     assert choose_upscale(costs, 0.060 / KEEP_MARGIN, SIZE, current=4) == 4
     assert choose_upscale(costs, 0.060 / KEEP_MARGIN - 1e-6, SIZE, current=4) == 8
+
+
+def test_a_coarser_factor_only_after_a_moving_historys_length_at_the_current_one():
+    costs = {4: FrameCost(0.040, 0.020), 8: FrameCost(0.010, 0.020)}
+    assert choose_upscale(costs, 0.040, SIZE, current=4, frames_at_current=COARSER_AFTER_FRAMES) == 8
+    assert choose_upscale(costs, 0.040, SIZE, current=4, frames_at_current=COARSER_AFTER_FRAMES - 1) == 4
+    # a finer one at once
+    assert choose_upscale(costs, 1.0, SIZE, current=8, frames_at_current=1) == 1
 
 
 def test_a_finer_factor_than_the_current_one_must_fit_within_the_margin():

@@ -90,6 +90,7 @@ class TemporalPicture:
         self.samples_per_pixel = 0  # the last frame's
         self.frames = 0  # frames rendered
         self.upscale: int | None = None  # the last frame's factor
+        self._frames_at_factor = 0  # frames in a row at it
         # each factor's cost of one frame, measured (choose_upscale)
         self.costs: dict[int, FrameCost] = {}
 
@@ -111,7 +112,10 @@ class TemporalPicture:
         width, 3). `upscale`: the factor (1 or one of UPSCALE_FACTORS), or None: the one
         `choose_upscale` takes for the budget. Changing the factor starts the history again."""
         renderer = self.renderer
-        factor = choose_upscale(self.costs, budget, self.size, self.upscale) if upscale is None else upscale
+        if upscale is None:
+            factor = choose_upscale(self.costs, budget, self.size, self.upscale, self._frames_at_factor)
+        else:
+            factor = upscale
         start = time.perf_counter()
         # the tracing gets what the rest of the frame, measured at this factor, leaves of the
         # budget; one sample until it is measured or where nothing is left
@@ -137,6 +141,7 @@ class TemporalPicture:
             trace = stats.render_seconds / max(stats.samples_per_pixel, 1)
             measured = FrameCost(trace, time.perf_counter() - start - stats.render_seconds)
             self.costs[factor] = measured if cost is None else cost.smoothed(measured)
+        self._frames_at_factor = self._frames_at_factor + 1 if factor == self.upscale else 1
         self.upscale = factor
         return image
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..render.temporal_accumulation import MOVING_HISTORY_FRAMES
 from ..render.temporal_upsampling import UPSCALE_FACTORS
 
 # Every factor the moving picture may take, finest first (1: every pixel each frame).
@@ -27,6 +28,11 @@ FINER_MARGIN = 0.8
 # a little less, against a 50 ms budget, and without it the factor flipped between the two four
 # times in 60 frames, each flip starting the history again (instability 0.091 against 0.070).
 KEEP_MARGIN = 1.25
+# A coarser factor is taken only after this many frames at the current one: a frame's cost on a
+# loaded CPU wanders by half, and with KEEP_MARGIN alone bench.realtime's moving-objects fly-through
+# still went between 4x and 8x four times in its first 20 frames. It is a moving history's length,
+# which no switch sooner lets fill. A finer factor is taken at once.
+COARSER_AFTER_FRAMES = MOVING_HISTORY_FRAMES
 # Where no factor fits the budget, a finer factor is taken if its frame costs at most this part
 # more than the cheapest's. On lavapipe at 320x240 the rest of the frame (rebuilding, filtering)
 # outweighs tracing: an 8x frame measured 2.3-2.7 ms of tracing and about 70 ms in all, so a 4x
@@ -89,16 +95,23 @@ def _margin(factor: int, current: int | None) -> float:
 
 
 def choose_upscale(
-    costs: dict[int, FrameCost], budget: float, size: tuple[int, int], current: int | None = None
+    costs: dict[int, FrameCost],
+    budget: float,
+    size: tuple[int, int],
+    current: int | None = None,
+    frames_at_current: int = COARSER_AFTER_FRAMES,
 ) -> int:
     """The factor of the next frame of an image of `size` with `budget` seconds to trace it: the
     smallest usable one whose cost (`estimated_cost`) fits the budget, or FINER_MARGIN of it where
     it is finer than `current` (the last frame's), or KEEP_MARGIN of it where it is `current`; FIRST_FACTOR (or the coarsest usable one below it)
     where none is measured; where none fits, the smallest whose cost is within OVER_BUDGET_SLACK of
-    the cheapest's."""
+    the cheapest's. A factor coarser than `current` only after `frames_at_current` frames at it
+    reach COARSER_AFTER_FRAMES."""
     factors = usable_factors(size)
     if not costs:
         return min(FIRST_FACTOR, factors[-1])
+    if current is not None and frames_at_current < COARSER_AFTER_FRAMES:
+        factors = tuple(factor for factor in factors if factor <= current)
     estimates = {factor: estimated_cost(costs, factor) for factor in factors}
     for factor in factors:
         if estimates[factor] <= budget * _margin(factor, current):
