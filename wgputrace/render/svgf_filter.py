@@ -208,17 +208,17 @@ class VarianceGuidedFilter:
             for k in range(SVGF_WIDEST_STEP.bit_length() + 5)
         ]
 
-    def _pass(
-        self, name: str, number: int, size: tuple[int, int], step: int, last: bool, temporal_length: float, **resources
-    ) -> Pass:
-        """A pass of kernel `name` over `size` with parameters buffer `number` (the pass's step and
-        whether it is the last) and `resources` bound besides the parameters."""
+    def _pass(self, name: str, number: int, size: tuple[int, int], step: int = 1, last: bool = False, **bound) -> Pass:
+        """A pass of kernel `name` over `size` with parameters buffer `number` (the pass's tap
+        spacing `step`, whether it is the `last`, and `bound`'s temporal_length) and the rest of
+        `bound` bound by name. Only the a-trous passes run at `size`'s resolution: the others read
+        the full image's size from their parameters."""
         record = SVGF_PARAMETERS.zeros(1)
         record["width"], record["height"] = size if name == "atrous" else (self.width, self.height)
-        record["step"], record["last"], record["temporal_length"] = step, last, temporal_length
+        record["step"], record["last"], record["temporal_length"] = step, last, bound.pop("temporal_length")
         write_buffer(self.context, self._params[number], 0, record)
         kernel = self._kernels[name]
-        group = kernel.bind(f"svgf_{name}", params=self._params[number], **resources)
+        group = kernel.bind(f"svgf_{name}", params=self._params[number], **bound)
         return Pass(kernel, size, {f"svgf_{name}": group})
 
     def filter(
@@ -235,91 +235,53 @@ class VarianceGuidedFilter:
         a-trous pass's result then replaces. `upscale`: the factor the picture was upsampled by,
         which sets the passes (svgf_steps) and their resolution (SVGF_HALF_RESOLUTION_FROM)."""
         full = (self.width, self.height)
-        temporal_length = SVGF_TEMPORAL_FRAMES * samples_per_frame
         numbers = iter(range(len(self._params)))
-        stage = {"temporal_length": temporal_length, "gbuffer": gbuffer}
+        every = {"temporal_length": SVGF_TEMPORAL_FRAMES * samples_per_frame, "gbuffer": gbuffer}
+        guides = {"guides": self._guides, "slopes": self._slopes}
         illuminated = self._work[0]
         passes = [
-            self._pass(
-                "variance",
-                next(numbers),
-                full,
-                1,
-                False,
-                history=history,
-                illuminated=illuminated,
-                guides=self._guides,
-                slopes=self._slopes,
-                **stage,
-            )
+            self._pass("variance", next(numbers), full, history=history, illuminated=illuminated, **guides, **every)
         ]
-        half = upscale >= SVGF_HALF_RESOLUTION_FROM
         steps = svgf_steps(upscale)
+        half = upscale >= SVGF_HALF_RESOLUTION_FROM
         if half:
-            work, size, guides, slopes = self._half_work, self.half_size, self._half_guides, self._half_slopes
+            work, size = self._half_work, self.half_size
             steps = tuple(step // 2 for step in steps)
+            half_guides = {"half_guides": self._half_guides, "half_slopes": self._half_slopes}
             passes.append(
                 self._pass(
                     "downsample",
                     next(numbers),
                     size,
-                    1,
-                    False,
                     illuminated=illuminated,
                     reduced=work[0],
-                    guides=self._guides,
-                    slopes=self._slopes,
-                    half_guides=guides,
-                    half_slopes=slopes,
-                    **stage,
+                    **guides,
+                    **half_guides,
+                    **every,
                 )
             )
+            atrous_guides = {"guides": self._half_guides, "slopes": self._half_slopes}
         else:
-            work, size, guides, slopes = self._work, full, self._guides, self._slopes
+            work, size, atrous_guides = self._work, full, guides
 
         def upsampled(source: wgpu.GPUBuffer, target: wgpu.GPUBuffer, last: bool) -> Pass:
-            return self._pass(
-                "upsample",
-                next(numbers),
-                full,
-                1,
-                last,
-                source=source,
-                filtered_out=target,
-                own=illuminated,
-                guides=self._guides,
-                half_guides=self._half_guides,
-                slopes=self._slopes,
-                **stage,
-            )
+            bound = {"source": source, "filtered_out": target, "own": illuminated, "half_guides": self._half_guides}
+            return self._pass("upsample", next(numbers), full, last=last, **bound, **guides, **every)
 
         for number, step in enumerate(steps, start=1):
             source = work[(number - 1) % 2]
-            final = number == len(steps)
-            target = self.filtered if final and not half else work[number % 2]
-            passes.append(
-                self._pass(
-                    "atrous",
-                    next(numbers),
-                    size,
-                    step,
-                    final and not half,
-                    source=source,
-                    filtered_out=target,
-                    guides=guides,
-                    slopes=slopes,
-                    **stage,
-                )
-            )
+            # at full resolution the last pass remodulates into `filtered`; at half, the upsampling
+            last = number == len(steps) and not half
+            target = self.filtered if last else work[number % 2]
+            bound = {"source": source, "filtered_out": target}
+            passes.append(self._pass("atrous", next(numbers), size, step, last, **bound, **atrous_guides, **every))
             if number == 1 and feedback is not None:
                 filtered = target
                 if half:
                     # the full-resolution illumination is read by the last upsampling: the other buffer
                     filtered = self._work[1]
                     passes.append(upsampled(target, filtered, False))
-                passes.append(
-                    self._pass("feedback", next(numbers), full, 1, False, filtered=filtered, carried=feedback, **stage)
-                )
+                passes.append(self._pass("feedback", next(numbers), full, filtered=filtered, carried=feedback, **every))
         if half:
             passes.append(upsampled(work[len(steps) % 2], self.filtered, True))
         submit(self.context, passes)
