@@ -132,33 +132,47 @@ fn passing_taps(xy: vec2<i32>, here: GBufferPixel, tolerance: f32) -> Taps {
     return taps;
 }
 
-// This frame's demodulated colours at the pixels `spacing` apart around `centre` (itself one):
-// the box a reprojected history is clamped to.
+// The box a reprojected history is clamped to: this frame's demodulated colours at the pixels
+// `spacing` apart around `centre` (itself one), their mean give or take COLOUR_BOX_SIGMAS standard
+// deviations (variance clipping, Salvi 2016). Not their min and max: with a sample or so per pixel
+// the true mean of a noisy, skewed neighbourhood (light through glass, a caustic) lies above the
+// brightest of its nine samples more often than not, and a min-max box darkens it.
 struct ColourBox {
     low: vec3<f32>,
     high: vec3<f32>,
 }
 
 fn neighbourhood(centre: vec2<i32>, spacing: i32) -> ColourBox {
-    var box = ColourBox(vec3<f32>(FLOAT_MAX), vec3<f32>(-FLOAT_MAX));
+    var sum = vec3<f32>(0.0);
+    var squares = vec3<f32>(0.0);
+    var count = 0.0;
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
             let tap = centre + spacing * vec2<i32>(dx, dy);
             if inside(tap) {
                 let colour = frame_illumination(tap);
-                box = ColourBox(min(box.low, colour), max(box.high, colour));
+                sum += colour;
+                squares += colour * colour;
+                count += 1.0;
             }
         }
     }
-    return box;
+    // the centre is inside: count >= 1
+    let mean = sum / count;
+    let spread = COLOUR_BOX_SIGMAS * sqrt(max(squares / count - mean * mean, vec3<f32>(0.0)));
+    return ColourBox(mean - spread, mean + spread);
 }
 
-// The history `taps` (some passed) make: their mean clamped to `box`, remodulated by `albedo`,
-// its length capped at params.length_cap.
+// The history `taps` (some passed) make: their mean clamped to `box` widened by COLOUR_BOX_SIGMAS
+// of the history's own standard deviation (its luminance moments: a history that has seen rare
+// bright samples keeps its mean where this frame's few samples missed them), remodulated by
+// `albedo`, its length capped at params.length_cap.
 fn reprojected_history(taps: Taps, box: ColourBox, albedo: vec3<f32>) -> TemporalPixel {
-    let clamped = clamp(taps.illumination / taps.weights, box.low, box.high);
+    let moments = taps.moments / taps.weights;
+    let own = COLOUR_BOX_SIGMAS * sqrt(max(moments.y - moments.x * moments.x, 0.0));
+    let clamped = clamp(taps.illumination / taps.weights, box.low - own, box.high + own);
     let kept = min(taps.length / taps.weights, params.length_cap);
-    return TemporalPixel(vec4<f32>(clamped * demodulation(albedo) * kept, 0.0), vec4<f32>(0.0), taps.moments / taps.weights, kept);
+    return TemporalPixel(vec4<f32>(clamped * demodulation(albedo) * kept, 0.0), vec4<f32>(0.0), moments, kept);
 }
 
 // A pixel's history and what it shows: the G-buffer entry the next frame's taps are tested against.
