@@ -1,4 +1,4 @@
-// A pixel's history as the temporal passes keep it: this frame's samples added, the previous history reprojected through bilinear taps that see the same surface, clamped to this frame's colour box.
+// A pixel's history as the temporal passes keep it: this frame's samples added, the previous history reprojected through bilinear taps that see the same surface, clamped to a box about this frame's colours.
 //! include "generated/temporal.wgsl"
 //! include "integrators/accumulate.wgsl"
 //! include "view/tone_curves.wgsl"

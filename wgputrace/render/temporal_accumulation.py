@@ -8,14 +8,16 @@ are added as the renderer's accumulation adds them, so a resting camera's pictur
 mean of its samples. While something moves each pixel takes the previous history where its
 first hit was: bilinear taps that pass the surface, depth and normal tests (DEPTH_RELATIVE_TOLERANCE,
 DEPTH_GRADIENT_MARGIN, NORMAL_COS_MIN), demodulated by their albedo; where none pass the pixel
-starts again. Its length is capped at MOVING_HISTORY_FRAMES frames, and its colour clamped to the
-box of this frame's 3x3 neighbourhood.
+starts again. Its length is capped at MOVING_HISTORY_FRAMES frames, and its colour clamped to a
+box about this frame's 3x3 neighbourhood.
 
 Why a colour box: nothing here yet tells lighting that changed from noise (A-SVGF's temporal
-gradients need last frame's paths shaded again), and a min-max box of the neighbourhood bounds
-what a wrong history can show by what this frame shows nearby, at nine loads per pixel. At one
-sample per pixel the box of a path-traced frame is wide, so it leaves a right history nearly
-untouched; it is applied only while moving, so a resting picture stays unbiased.
+gradients need last frame's paths shaded again), and a box about the neighbourhood bounds what a
+wrong history can show by what this frame shows nearby, at nine loads per pixel. The box is the
+neighbourhood's mean give or take COLOUR_BOX_SIGMAS standard deviations (variance clipping),
+widened by as many of the history's own: a min-max box of one sample per pixel sits below the true
+mean of noisy, skewed light (through glass, a caustic) in most frames, and darkened a sliding glass
+sphere by a quarter. It is applied only while moving, so a resting picture stays unbiased.
 """
 
 from __future__ import annotations

@@ -20,7 +20,7 @@ history shows where its motion leads, so a pixel beside an edge moves with its o
 bilinear taps, each kept where the history there shows that surface, with a normal within
 NORMAL_COS_MIN and a depth within the temporal tolerances widened by the depth's slope over the
 distance to the traced pixel. `surfaces` carries what each history shows from frame to frame.
-Taps are demodulated by their albedo and the mean clamped to the box of this frame's samples
+Taps are demodulated by their albedo and the mean clamped to the box about this frame's samples
 around, as temporal accumulation does. A pixel the frame did not trace then adds this frame's
 samples interpolated over it (bilinear over the traced pixels around it that see the surface its
 history shows, demodulated, remodulated by that surface's albedo), each counted as
