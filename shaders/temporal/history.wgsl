@@ -44,16 +44,20 @@ fn no_history() -> TemporalPixel {
     return TemporalPixel(vec4<f32>(0.0), vec4<f32>(0.0), vec2<f32>(0.0), 0.0);
 }
 
-// `old` with this frame's samples at `xy` added, as the renderer's accumulation adds them
-// (accumulate_sample), and its luminance's first two moments over frames, weighted by their
-// samples: the variance of the demodulated colour for the variance-guided filter.
-fn with_frame(old: TemporalPixel, xy: vec2<i32>) -> TemporalPixel {
-    let pixel = pixel_index(xy);
-    let samples = f32(params.samples);
-    let length = old.length + samples;
-    let moments = mix(old.moments, luminance_moments(frame_illumination(xy)), samples / length);
-    let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), frame_sum(pixel));
+// `old` with `weight` samples more, of radiance summing to `total` and demodulated colour
+// `illumination`, added as the renderer's accumulation adds them (accumulate_sample), and its
+// luminance's first two moments over frames, weighted by their samples: the variance of the
+// demodulated colour for the variance-guided filter.
+fn with_samples(old: TemporalPixel, total: vec3<f32>, illumination: vec3<f32>, weight: f32) -> TemporalPixel {
+    let length = old.length + weight;
+    let moments = mix(old.moments, luminance_moments(illumination), weight / length);
+    let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), total);
     return TemporalPixel(sum.sum, sum.compensation, moments, length);
+}
+
+// `old` with this frame's samples at `xy` added (with_samples).
+fn with_frame(old: TemporalPixel, xy: vec2<i32>) -> TemporalPixel {
+    return with_samples(old, frame_sum(pixel_index(xy)), frame_illumination(xy), f32(params.samples));
 }
 
 // How far the depth from the previous camera of `here` (the pixel at `xy`'s G-buffer, or the

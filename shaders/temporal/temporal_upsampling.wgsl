@@ -70,10 +70,7 @@ fn interpolated(xy: vec2<i32>, surface: GBufferPixel) -> vec4<f32> {
 // pixel traced once every factor x factor frames gains every frame what its neighbours saw.
 fn with_interpolated(old: TemporalPixel, illumination: vec3<f32>, albedo: vec3<f32>) -> TemporalPixel {
     let weight = INTERPOLATED_SAMPLE_WEIGHT * f32(params.samples);
-    let length = old.length + weight;
-    let moments = mix(old.moments, luminance_moments(illumination), weight / length);
-    let sum = accumulate_sample(AccumulatedPixel(old.sum, old.compensation), weight * illumination * demodulation(albedo));
-    return TemporalPixel(sum.sum, sum.compensation, moments, length);
+    return with_samples(old, weight * illumination * demodulation(albedo), illumination, weight);
 }
 
 // The previous history where the pixel at `xy` was, or none where no tap passes. A traced pixel
@@ -140,9 +137,11 @@ fn history_pass(xy: vec2<i32>, pixel: u32) {
     if !(updated.length > 0.0) {
         shows = here;
     }
-    let around = interpolated(xy, shows);
-    if (params.moving != 0u || !(updated.length > 0.0)) && around.w > 0.0 {
-        updated = with_interpolated(updated, around.xyz, shows.albedo);
+    if params.moving != 0u || !(updated.length > 0.0) {
+        let around = interpolated(xy, shows);
+        if around.w > 0.0 {
+            updated = with_interpolated(updated, around.xyz, shows.albedo);
+        }
     }
     shown[pixel] = updated;
     if params.moving != 0u {
