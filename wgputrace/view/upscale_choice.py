@@ -5,10 +5,12 @@ A frame's cost has two parts, measured apart: tracing one sample per traced pixe
 many pixels at each doubling of the factor) and the rest (rebuilding, filtering, reading back
 and uploading the full picture, about the same at every factor). A factor not measured yet is
 estimated from the nearest measured one: its rest, and its tracing scaled by the traced pixels.
-Before anything is measured the first frame starts at FIRST_FACTOR. Where no factor fits, the frame is late whichever is taken, and the
-rest of the frame, not the tracing, is what makes it late: the finest factor within
-OVER_BUDGET_SLACK of the cheapest one's cost is taken, rather than the cheapest, whose picture is
-the worst."""
+Before anything is measured the first frame starts at FIRST_FACTOR. Where no factor fits, the
+frame is late whichever is taken, and the rest of the frame, not the tracing, is what makes it
+late: the finest factor within OVER_BUDGET_SLACK of the cheapest one's cost is taken, rather than
+the cheapest, whose picture is the worst. Each change of factor starts the history again, so the
+current factor is kept within KEEP_MARGIN of the budget and left for a coarser one only after
+COARSER_AFTER_FRAMES frames."""
 
 from __future__ import annotations
 
@@ -103,8 +105,8 @@ def choose_upscale(
 ) -> int:
     """The factor of the next frame of an image of `size` with `budget` seconds to trace it: the
     smallest usable one whose cost (`estimated_cost`) fits the budget, or FINER_MARGIN of it where
-    it is finer than `current` (the last frame's), or KEEP_MARGIN of it where it is `current`; FIRST_FACTOR (or the coarsest usable one below it)
-    where none is measured; where none fits, the smallest whose cost is within OVER_BUDGET_SLACK of
+    it is finer than `current` (the last frame's), or KEEP_MARGIN of it where it is `current`;
+    FIRST_FACTOR (or the coarsest usable one below it) where none is measured; where none fits, the smallest whose cost is within OVER_BUDGET_SLACK of
     the cheapest's. A factor coarser than `current` only after `frames_at_current` frames at it
     reach COARSER_AFTER_FRAMES."""
     factors = usable_factors(size)
