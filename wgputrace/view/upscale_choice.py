@@ -106,9 +106,9 @@ def choose_upscale(
     """The factor of the next frame of an image of `size` with `budget` seconds to trace it: the
     smallest usable one whose cost (`estimated_cost`) fits the budget, or FINER_MARGIN of it where
     it is finer than `current` (the last frame's), or KEEP_MARGIN of it where it is `current`;
-    FIRST_FACTOR (or the coarsest usable one below it) where none is measured; where none fits, the smallest whose cost is within OVER_BUDGET_SLACK of
-    the cheapest's. A factor coarser than `current` only after `frames_at_current` frames at it
-    reach COARSER_AFTER_FRAMES."""
+    FIRST_FACTOR (or the coarsest usable one below it) where none is measured; where none fits,
+    the smallest whose cost is within OVER_BUDGET_SLACK of the cheapest's. A factor coarser than
+    `current` only once `frames_at_current` (frames at it in a row) reach COARSER_AFTER_FRAMES."""
     factors = usable_factors(size)
     if not costs:
         return min(FIRST_FACTOR, factors[-1])
