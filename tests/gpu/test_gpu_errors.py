@@ -64,9 +64,9 @@ def lost():
 
 def test_work_on_a_lost_device_is_a_gpu_failure_and_lost_reason_says_why(gpu_context, lost):
     context, before = lost
-    # wgpu-native logs "(destroyed): Device lost" or, in some runs, "(destroyed): (2)": the kind of
-    # loss is what every run says
-    assert "destroyed" in context.lost_reason
+    # the loss wgpu-native logged ("(destroyed): Device lost", in some runs "(destroyed): (2)"),
+    # or where it logged none the probe's error ("... Parent device is lost")
+    assert any(word in context.lost_reason for word in ("destroyed", "lost"))
     assert gpu_context.lost_reason is None
     binding = "max-storage-buffer-binding-size"
     attempts = {
