@@ -112,9 +112,11 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
     let albedo = select(best.albedo, here.albedo, all(xy == sample));
     let history = reprojected_history(taps, neighbourhood(source, stride()), albedo);
     // its point's distance from this camera: the tap's, changed as the source's changed (a traced
-    // pixel shows its own G-buffer instead: history_pass)
+    // pixel shows its own G-buffer instead: history_pass); its motion and distance from the previous
+    // camera, the source's, whose motion the history was taken along (what temporal antialiasing
+    // follows)
     let depth = best.depth + moved.depth - moved.previous_depth;
-    return Reprojection(history, GBufferPixel(best.normal, depth, albedo, moved.surface, vec2<f32>(0.0), 0.0, moved.object));
+    return Reprojection(history, GBufferPixel(best.normal, depth, albedo, moved.surface, moved.motion, moved.previous_depth, moved.object));
 }
 
 fn history_pass(xy: vec2<i32>, pixel: u32) {

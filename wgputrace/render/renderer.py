@@ -46,8 +46,9 @@ from .rng_seed import pixel_rng_states
 from .scene_mirror import TEXTURE_ATLAS, TRIANGLES, SceneMirror
 from .scene_records import SceneRecords
 from .sobol import pixel_sobol_states
-from .svgf_filter import VarianceGuidedFilter
+from .svgf_filter import VarianceGuidedFilter, picture_image
 from .temporal_accumulation import TemporalAccumulation
+from .temporal_antialiasing import TemporalAntialiasing
 from .temporal_upsampling import TemporalUpsampling, check_upscale, subset_offset
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
@@ -226,6 +227,7 @@ class Renderer:
         self._motion: ObjectMotion | None = None
         self._filter: VarianceGuidedFilter | None = None
         self._upsampling: TemporalUpsampling | None = None
+        self._antialiasing: TemporalAntialiasing | None = None
         self._bind()
 
     @property
@@ -286,6 +288,8 @@ class Renderer:
             buffers += self._upsampling.buffers
         if self._filter is not None:
             buffers += self._filter.buffers
+        if self._antialiasing is not None:
+            buffers += self._antialiasing.buffers
         return {buffer.label: buffer.size for buffer in buffers}
 
     @property
@@ -664,7 +668,8 @@ class Renderer:
         and rebuilds every pixel from its history (TemporalUpsampling); at rest, after N * upscale**2
         frames the picture is bit for bit `render(N * spp)`'s. Changing it starts the history again.
         With `filtered`, the filter reads the upsampled picture and what each pixel's history shows,
-        and feeds its first pass back into the moving history as at full resolution."""
+        and feeds its first pass back into the moving history as at full resolution; while moving,
+        its picture is then blended with the last frame's output (TemporalAntialiasing)."""
         if spp is not None and spp < 1:
             raise ValueError(f"spp must be >= 1, got {spp}")
         if budget is not None and not budget > 0:
@@ -693,11 +698,16 @@ class Renderer:
         # SVGF's feedback only into a history that moved: a resting one (and a new one, even if the
         # camera was just set) stays the plain mean
         carried = frames.carried if frames.reprojected else None
-        if upscale != 1:
+        if upscale == 1:
+            picture = self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
+        else:
             # what each pixel's history shows stands for the G-buffer the traced pixels alone have
             surfaces = self._upsampling.surfaces
-            return self._filter.filter(self._upsampling.shown, surfaces, spp, feedback=carried, upscale=upscale)
-        return self._filter.filter(self._temporal.history, self._gbuffer, spp, feedback=carried)
+            picture = self._filter.filter(self._upsampling.shown, surfaces, spp, feedback=carried, upscale=upscale)
+            if self._antialiasing is None:
+                self._antialiasing = TemporalAntialiasing(self.context, self.width, self.height)
+            picture = self._antialiasing.resolve(picture, surfaces, frames.reprojected)
+        return picture_image(self.context, picture, self.width, self.height)
 
     def _add_frame(self, spp: int | None, budget: float | None, upscale: int, moving: bool) -> int:
         """Trace a frame of `spp` samples per pixel or `budget` seconds (render_frame) and add it to

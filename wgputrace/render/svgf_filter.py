@@ -170,6 +170,13 @@ def svgf_constants() -> str:
     return generated_wgsl(globals(), (TEMPORAL_PIXEL, SVGF_PARAMETERS), constants) + squarings
 
 
+def picture_image(context: GpuContext, picture: wgpu.GPUBuffer, width: int, height: int) -> np.ndarray:
+    """A `width` x `height` picture (ILLUMINATION per pixel, row-major) read back: float32 (height,
+    width, 3), linear radiance, row 0 on top."""
+    pixels = read_buffer(context, picture, np.float32, 4 * width * height)
+    return pixels.reshape(height, width, 4)[..., :3].copy()
+
+
 class VarianceGuidedFilter:
     """SVGF's spatial filter for images of `width` x `height`: `filter` reads a history and a G-buffer."""
 
@@ -228,9 +235,10 @@ class VarianceGuidedFilter:
         samples_per_frame: int,
         feedback: wgpu.GPUBuffer | None = None,
         upscale: int = 1,
-    ) -> np.ndarray:
+    ) -> wgpu.GPUBuffer:
         """The filtered picture of `history` (TEMPORAL_PIXEL records) seen through `gbuffer`, whose
-        frames took `samples_per_frame` samples: float32 (height, width, 3), linear radiance.
+        frames took `samples_per_frame` samples: the buffer holding it (`filtered`, ILLUMINATION per
+        pixel, linear radiance in rgb; picture_image reads it).
         `feedback`: the history the next frame takes (a copy of `history`), whose colour the first
         a-trous pass's result then replaces. `upscale`: the factor the picture was upsampled by,
         which sets the passes (svgf_steps) and their resolution (SVGF_HALF_RESOLUTION_FROM)."""
@@ -285,8 +293,7 @@ class VarianceGuidedFilter:
         if half:
             passes.append(upsampled(work[len(steps) % 2], self.filtered, True))
         submit(self.context, passes)
-        pixels = read_buffer(self.context, self.filtered, np.float32, 4 * self.width * self.height)
-        return pixels.reshape(self.height, self.width, 4)[..., :3].copy()
+        return self.filtered
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
