@@ -54,3 +54,18 @@ fn depth_gradient_over(xy: vec2<i32>, here: GBufferPixel, spacing: i32) -> vec2<
     }
     return gradient;
 }
+
+// One of the four grid points around a position: its offset from the one below and left of the
+// position (0 or 1 per axis) and its bilinear weight.
+struct BilinearTap {
+    offset: vec2<i32>,
+    weight: f32,
+}
+
+// The `k`-th (0 to 3) of the four grid points around a position `fraction` ([0, 1) per axis) beyond
+// the grid point below and left of it.
+fn bilinear_tap(fraction: vec2<f32>, k: u32) -> BilinearTap {
+    let offset = vec2<u32>(k & 1u, k >> 1u);
+    let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
+    return BilinearTap(vec2<i32>(offset), along.x * along.y);
+}

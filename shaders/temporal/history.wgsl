@@ -111,10 +111,9 @@ fn passing_taps(xy: vec2<i32>, here: GBufferPixel, tolerance: f32) -> Taps {
     let fraction = position - corner;
     var heaviest = 0.0;
     for (var k = 0u; k < 4u; k++) {
-        let offset = vec2<u32>(k & 1u, k >> 1u);
-        let tap = vec2<i32>(corner) + vec2<i32>(offset);
-        let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
-        let weight = along.x * along.y;
+        let bilinear = bilinear_tap(fraction, k);
+        let tap = vec2<i32>(corner) + bilinear.offset;
+        let weight = bilinear.weight;
         if !(weight >= BILINEAR_WEIGHT_MIN) || !inside(tap) {
             continue;
         }

@@ -23,14 +23,13 @@ fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let last = half_size() - 1;
     var colour = vec4<f32>(0.0);
     var weights = 0.0;
-    for (var k = 0; k < 4; k++) {
-        let offset = vec2<i32>(k & 1, k >> 1);
-        let tap = clamp(corner + offset, vec2<i32>(0), last);
-        let along = select(1.0 - fraction, fraction, offset == vec2<i32>(1));
+    for (var k = 0u; k < 4u; k++) {
+        let bilinear = bilinear_tap(fraction, k);
+        let tap = clamp(corner + bilinear.offset, vec2<i32>(0), last);
         let there = textureLoad(half_guides, tap, 0);
         let distance = abs(vec2<f32>(2 * tap - xy));
         let stops = exp2(depth_stop_log2(here.w, there.w, dot(gradient, distance))) * normal_stop(here.xyz, there.xyz);
-        let weight = select(0.0, along.x * along.y * stops, there.w != SVGF_SKY_DEPTH);
+        let weight = select(0.0, bilinear.weight * stops, there.w != SVGF_SKY_DEPTH);
         colour += weight * source[half_index(tap)];
         weights += weight;
     }

@@ -30,12 +30,11 @@ fn previous_output_at(xy: vec2<i32>, motion: vec2<f32>) -> vec4<f32> {
     var colour = vec3<f32>(0.0);
     var weights = 0.0;
     for (var k = 0u; k < 4u; k++) {
-        let offset = vec2<u32>(k & 1u, k >> 1u);
-        let tap = vec2<i32>(corner) + vec2<i32>(offset);
-        let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
+        let bilinear = bilinear_tap(fraction, k);
+        let tap = vec2<i32>(corner) + bilinear.offset;
         if inside(tap) {
-            colour += along.x * along.y * previous_output[pixel_index(tap)].xyz;
-            weights += along.x * along.y;
+            colour += bilinear.weight * previous_output[pixel_index(tap)].xyz;
+            weights += bilinear.weight;
         }
     }
     return vec4<f32>(colour, weights);

@@ -49,9 +49,8 @@ fn interpolated(xy: vec2<i32>, surface: GBufferPixel) -> vec4<f32> {
     var colour = vec3<f32>(0.0);
     var weights = 0.0;
     for (var k = 0u; k < 4u; k++) {
-        let offset = vec2<u32>(k & 1u, k >> 1u);
-        let tap = (vec2<i32>(corner) + vec2<i32>(offset)) * stride() + subset_offset();
-        let along = select(1.0 - fraction, fraction, offset == vec2<u32>(1u));
+        let bilinear = bilinear_tap(fraction, k);
+        let tap = (vec2<i32>(corner) + bilinear.offset) * stride() + subset_offset();
         if !inside(tap) {
             continue;
         }
@@ -59,8 +58,8 @@ fn interpolated(xy: vec2<i32>, surface: GBufferPixel) -> vec4<f32> {
         if !same_surface(there, surface) || dot(there.normal, surface.normal) < NORMAL_COS_MIN {
             continue;
         }
-        colour += along.x * along.y * frame_mean(pixel_index(tap)) / demodulation(there.albedo);
-        weights += along.x * along.y;
+        colour += bilinear.weight * frame_mean(pixel_index(tap)) / demodulation(there.albedo);
+        weights += bilinear.weight;
     }
     return select(vec4<f32>(0.0), vec4<f32>(colour / weights, weights), weights > 0.0);
 }
