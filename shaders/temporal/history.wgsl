@@ -3,6 +3,7 @@
 //! include "integrators/accumulate.wgsl"
 //! include "view/tone_curves.wgsl"
 //! include "temporal/gbuffer_neighbours.wgsl"
+//! include "temporal/frame_colours.wgsl"
 //! include "temporal/history_mean.wgsl"
 //! include "generated/workgroup.wgsl"
 //
@@ -19,17 +20,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if inside(xy) {
         history_pass(xy, pixel_index(xy));
     }
-}
-
-fn frame_sum(pixel: u32) -> vec3<f32> {
-    let sums = accumulation[pixel];
-    return sums.sum.xyz - sums.compensation.xyz;
-}
-
-// This frame's mean at `xy`, divided by its first hit's albedo.
-fn frame_illumination(xy: vec2<i32>) -> vec3<f32> {
-    let pixel = pixel_index(xy);
-    return frame_sum(pixel) / (f32(params.samples) * demodulation(gbuffer[pixel].albedo));
 }
 
 // The first two moments of `illumination`'s luminance (0 where it is not finite): what a
@@ -60,12 +50,11 @@ fn with_frame(old: TemporalPixel, xy: vec2<i32>) -> TemporalPixel {
     return with_samples(old, frame_sum(pixel_index(xy)), frame_illumination(xy), f32(params.samples));
 }
 
-// How far the depth from the previous camera of `here` (the pixel at `xy`'s G-buffer, or the
-// G-buffer of a traced pixel `distance` pixels from the one reprojected) may be from a tap's: a
-// little of the distance, plus what the depth changes over the taps' pixel of offset in each
-// axis on this surface (its neighbours `spacing` pixels away), times one plus that distance.
-fn depth_tolerance(xy: vec2<i32>, here: GBufferPixel, spacing: i32, distance: f32) -> f32 {
-    let gradient = depth_gradient_over(xy, here, spacing);
+// How far the depth from the previous camera of `here` (a pixel's G-buffer, or the G-buffer of a
+// traced pixel `distance` pixels from the one reprojected) may be from a tap's: a little of the
+// distance, plus what the depth changes over the taps' pixel of offset in each axis on this
+// surface (`gradient`, per pixel: depth_gradient_over), times one plus that distance.
+fn depth_tolerance(here: GBufferPixel, gradient: vec2<f32>, distance: f32) -> f32 {
     return DEPTH_RELATIVE_TOLERANCE * here.previous_depth
         + DEPTH_GRADIENT_MARGIN * (gradient.x + gradient.y) * (1.0 + distance);
 }
@@ -133,37 +122,6 @@ fn passing_taps(xy: vec2<i32>, here: GBufferPixel, tolerance: f32) -> Taps {
         }
     }
     return taps;
-}
-
-// The box a reprojected history is clamped to: this frame's demodulated colours at the pixels
-// `spacing` apart around `centre` (itself one), their mean give or take COLOUR_BOX_SIGMAS standard
-// deviations (variance clipping, Salvi 2016). Not their min and max: with a sample or so per pixel
-// the true mean of a noisy, skewed neighbourhood (light through glass, a caustic) lies above the
-// brightest of its nine samples more often than not, and a min-max box darkens it.
-struct ColourBox {
-    low: vec3<f32>,
-    high: vec3<f32>,
-}
-
-fn neighbourhood(centre: vec2<i32>, spacing: i32) -> ColourBox {
-    var sum = vec3<f32>(0.0);
-    var squares = vec3<f32>(0.0);
-    var count = 0.0;
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let tap = centre + spacing * vec2<i32>(dx, dy);
-            if inside(tap) {
-                let colour = frame_illumination(tap);
-                sum += colour;
-                squares += colour * colour;
-                count += 1.0;
-            }
-        }
-    }
-    // the centre is inside: count >= 1
-    let mean = sum / count;
-    let spread = COLOUR_BOX_SIGMAS * sqrt(max(squares / count - mean * mean, vec3<f32>(0.0)));
-    return ColourBox(mean - spread, mean + spread);
 }
 
 // The history `taps` (some passed) make: their mean clamped to `box` widened by COLOUR_BOX_SIGMAS

@@ -13,7 +13,7 @@
 // The previous history where this pixel's first hit was, or none (the pixel starts again) where
 // no tap passes; the history then shows this frame's G-buffer (add_frame keeps it).
 fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
-    let taps = passing_taps(xy, here, depth_tolerance(xy, here, 1, 0.0));
+    let taps = passing_taps(xy, here, depth_tolerance(here, depth_gradient(xy, here), 0.0));
     if !(taps.weights > 0.0) {
         return Reprojection(no_history(), here);
     }

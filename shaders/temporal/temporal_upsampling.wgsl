@@ -1,6 +1,6 @@
 // Temporal upsampling: this frame's samples (one pixel of each block) added to the full image's history, reprojected along the traced pixels' motion, and interpolated over the pixels not traced.
 //! include "temporal/history.wgsl"
-//! include "generated/upsampling.wgsl"
+//! include "temporal/traced_pixels.wgsl"
 //! include "generated/bindings/upsampling.wgsl"
 //
 // This frame traced the pixels offset + stride * k (main_subset), one in each stride x stride
@@ -17,21 +17,13 @@
 // this frame's samples interpolated where a pixel has none (what the picture and the
 // variance-guided filter read).
 
-fn stride() -> i32 {
-    return i32(params.factor);
-}
-
-fn subset_offset() -> vec2<i32> {
-    return vec2<i32>(i32(params.offset_x), i32(params.offset_y));
-}
-
 // The traced pixel nearest to `xy` (ties to the higher one), among this frame's: the image is at
 // least a block wide and high, so every block row and column has one inside it.
 fn nearest_sample(xy: vec2<i32>) -> vec2<i32> {
     let cell = vec2<f32>(xy - subset_offset()) / f32(stride());
     let last = (vec2<i32>(i32(params.width), i32(params.height)) - 1 - subset_offset()) / stride();
     let k = clamp(vec2<i32>(floor(cell + 0.5)), vec2<i32>(0), last);
-    return k * stride() + subset_offset();
+    return traced_pixel(k);
 }
 
 fn frame_mean(pixel: u32) -> vec3<f32> {
@@ -50,7 +42,7 @@ fn interpolated(xy: vec2<i32>, surface: GBufferPixel) -> vec4<f32> {
     var weights = 0.0;
     for (var k = 0u; k < 4u; k++) {
         let bilinear = bilinear_tap(fraction, k);
-        let tap = (vec2<i32>(corner) + bilinear.offset) * stride() + subset_offset();
+        let tap = traced_pixel(vec2<i32>(corner) + bilinear.offset);
         if !inside(tap) {
             continue;
         }
@@ -95,7 +87,9 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
         // the pixel expects the candidate's surface at its depth, give or take the depth's change
         // over the distance between them (none for the traced pixel itself)
         let there = gbuffer[pixel_index(candidate)];
-        taps = passing_taps(xy, there, depth_tolerance(candidate, there, stride(), length(vec2<f32>(xy - candidate))));
+        let around = traced[traced_index(candidate)];
+        let gradient = vec2<f32>(around.gradient_x, around.gradient_y);
+        taps = passing_taps(xy, there, depth_tolerance(there, gradient, length(vec2<f32>(xy - candidate))));
         if taps.weights > 0.0 {
             source = candidate;
             break;
@@ -109,7 +103,8 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
     // as sharp as the nearest history
     let best = taps.heaviest;
     let albedo = select(best.albedo, here.albedo, all(xy == sample));
-    let history = reprojected_history(taps, neighbourhood(source, stride()), albedo);
+    let around = traced[traced_index(source)];
+    let history = reprojected_history(taps, ColourBox(around.low, around.high), albedo);
     // its point's distance from this camera: the tap's, changed as the source's changed (a traced
     // pixel shows its own G-buffer instead: history_pass); its motion and distance from the previous
     // camera, the source's, whose motion the history was taken along (what temporal antialiasing

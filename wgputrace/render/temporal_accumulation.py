@@ -173,9 +173,9 @@ class HistoryPass:
         label: str,
     ) -> None:
         self.context, self.width, self.height, self._group = context, width, height, group
-        self.kernel = temporal_pass_kernel(
-            context, entry, group, {GENERATED_TEMPORAL: temporal_constants(), **generated}
-        )
+        # the generated files its kernels include
+        self._generated = {GENERATED_TEMPORAL: temporal_constants(), **generated}
+        self.kernel = temporal_pass_kernel(context, entry, group, self._generated)
         pixels = width * height
         # history_group's first binding
         self._parameters = group.bindings[0].holds
@@ -194,13 +194,14 @@ class HistoryPass:
         length_cap: int,
         resources: dict[str, wgpu.GPUBuffer],
         kept: tuple[tuple[wgpu.GPUBuffer, wgpu.GPUBuffer], ...],
+        before: tuple[tuple[ComputeKernel, tuple[int, int]], ...] = (),
         **fields: int,
     ) -> None:
         """Run the kernel over the image for a frame of `samples` samples per pixel (`moving`: the
         camera or the scene changed since the previous frame; `length_cap`: the history's in
         samples; `fields`: the further parameters), with `resources` bound besides the parameters
-        and histories; then copy the history, and each (written, next frame's) pair of `kept`, for
-        the next frame."""
+        and histories, after each (kernel, size) of `before` (kernels of the same bind group); then
+        copy the history, and each (written, next frame's) pair of `kept`, for the next frame."""
         params = self._parameters.zeros(1)
         params["width"], params["height"], params["samples"] = self.width, self.height, samples
         params["moving"], params["reset"], params["length_cap"] = moving, self._fresh, length_cap
@@ -215,10 +216,11 @@ class HistoryPass:
             **resources,
         )
         encoder = self.context.device.create_command_encoder()
-        compute = encoder.begin_compute_pass()
-        self.kernel.set_bind_groups(compute, {self._group.name: group})
-        compute.dispatch_workgroups(*self.kernel.workgroups((self.width, self.height)))
-        compute.end()
+        for kernel, size in (*before, (self.kernel, (self.width, self.height))):
+            compute = encoder.begin_compute_pass()
+            kernel.set_bind_groups(compute, {self._group.name: group})
+            compute.dispatch_workgroups(*kernel.workgroups(size))
+            compute.end()
         for written, next_frames in ((self.history, self._previous_history), *kept):
             encoder.copy_buffer_to_buffer(written, 0, next_frames, 0, written.size)
         self.context.submit(encoder, self._group.name)

@@ -57,6 +57,7 @@ from .temporal_accumulation import (
     generated_wgsl,
     history_group,
     history_image,
+    temporal_pass_kernel,
 )
 
 GENERATED_UPSAMPLING = "generated/upsampling.wgsl"
@@ -82,12 +83,21 @@ UPSAMPLING_PARAMETERS = GpuStruct(
     "This frame as TemporalParameters (the full image's size, its samples per traced pixel), with the "
     "block's side and the traced pixel's place in each block.",
 )
-# what each pixel's history shows and the picture (`shown`), besides the histories
+TRACED_NEIGHBOURHOOD = GpuStruct(
+    "TracedNeighbourhood",
+    (("low", "vec3<f32>"), ("gradient_x", "f32"), ("high", "vec3<f32>"), ("gradient_y", "f32")),
+    "What the rebuilding reads of a traced pixel (shaders/temporal/traced_neighbourhoods.wgsl): the "
+    "box about this frame's demodulated colours of the traced pixels around it, and the depth's change "
+    "per pixel on its surface along x and y.",
+)
+# what each pixel's history shows, the picture (`shown`) and each traced pixel's neighbourhood,
+# besides the histories
 UPSAMPLING_GROUP = history_group(
     "upsampling",
     UPSAMPLING_PARAMETERS,
     Binding("surfaces", STORAGE_READ_WRITE, GBUFFER_PIXEL),
     Binding("shown", STORAGE_READ_WRITE, TEMPORAL_PIXEL),
+    Binding("traced", STORAGE_READ_WRITE, TRACED_NEIGHBOURHOOD),
 )
 
 
@@ -126,8 +136,9 @@ def history_cap(factor: int, samples: int) -> float:
 
 
 def upsampling_constants() -> str:
-    """The WGSL of GENERATED_UPSAMPLING: the parameters' struct and INTERPOLATED_SAMPLE_WEIGHT."""
-    return generated_wgsl(globals(), (UPSAMPLING_PARAMETERS,), ("INTERPOLATED_SAMPLE_WEIGHT",))
+    """The WGSL of GENERATED_UPSAMPLING: the parameters' and traced pixels' structs and
+    INTERPOLATED_SAMPLE_WEIGHT."""
+    return generated_wgsl(globals(), (UPSAMPLING_PARAMETERS, TRACED_NEIGHBOURHOOD), ("INTERPOLATED_SAMPLE_WEIGHT",))
 
 
 class TemporalUpsampling(HistoryPass):
@@ -148,6 +159,14 @@ class TemporalUpsampling(HistoryPass):
         # the picture as histories: each pixel's, or where it has none this frame's samples
         # interpolated, as one sample (the variance-guided filter's input too)
         self.shown = storage_buffer(context, "upsampled picture", TEMPORAL_PIXEL.zeros(pixels), read_back=True)
+        self.blocks = (-(-width // factor), -(-height // factor))
+        self._traced = storage_buffer(
+            context, "traced neighbourhoods", TRACED_NEIGHBOURHOOD.zeros(self.blocks[0] * self.blocks[1])
+        )
+        # before the rebuilding, each traced pixel's neighbourhood, once
+        self._neighbourhoods = temporal_pass_kernel(
+            context, "temporal/traced_neighbourhoods.wgsl", UPSAMPLING_GROUP, self._generated
+        )
         # the frame's number in the Bayer order since the history began
         self.frame = 0
 
@@ -162,8 +181,7 @@ class TemporalUpsampling(HistoryPass):
         kernel = tracing_kernel(self.context, replace(renderer.variant, subset=True))
         write_buffer(self.context, self._subset, 0, np.array([self.factor, *self.offset, 0], np.uint32))
         groups = {**renderer.bind_groups, "subset": kernel.bind("subset", pixel_subset=self._subset)}
-        blocks = (-(-self.width // self.factor), -(-self.height // self.factor))
-        submit(self.context, [Pass(kernel, blocks, groups)] * samples, wait=True)
+        submit(self.context, [Pass(kernel, self.blocks, groups)] * samples, wait=True)
 
     def add_frame(self, accumulation: wgpu.GPUBuffer, gbuffer: wgpu.GPUBuffer, samples: int, moving: bool) -> None:
         """Take the frame `trace` made (its sums in `accumulation`, its G-buffer in `gbuffer`) into
@@ -175,19 +193,20 @@ class TemporalUpsampling(HistoryPass):
             "previous_surfaces": self._previous_surfaces,
             "surfaces": self.surfaces,
             "shown": self.shown,
+            "traced": self._traced,
         }
         offset_x, offset_y = self.offset
         length_cap = history_cap(self.factor, samples)
         kept = ((self.surfaces, self._previous_surfaces),)
-        self._run(
-            samples, moving, length_cap, resources, kept, factor=self.factor, offset_x=offset_x, offset_y=offset_y
-        )
+        fields = {"factor": self.factor, "offset_x": offset_x, "offset_y": offset_y}
+        self._run(samples, moving, length_cap, resources, kept, before=((self._neighbourhoods, self.blocks),), **fields)
         self.frame += 1
 
     @property
     def buffers(self) -> tuple[wgpu.GPUBuffer, ...]:
-        """Its GPU buffers: the parameters, the histories, the subset, what the histories show and the picture."""
-        return (*super().buffers, self._subset, self.surfaces, self._previous_surfaces, self.shown)
+        """Its GPU buffers: the parameters, the histories, the subset, what the histories show, the
+        picture and the traced pixels' neighbourhoods."""
+        return (*super().buffers, self._subset, self.surfaces, self._previous_surfaces, self.shown, self._traced)
 
     def restart(self) -> None:
         """Start every pixel's history again at the next frame, and the Bayer order at its first pixel."""

@@ -30,7 +30,7 @@ class FrameView(Enum):
 
     RAW = "raw frame"  # this frame's samples alone
     ACCUMULATION = "accumulation"  # the history's mean
-    FILTERED = "SVGF filtered"  # the history through the variance-guided filter
+    FILTERED = "SVGF filtered"  # the history through the variance-guided filter (and upsampled, TAA)
     MOTION = "motion vectors"
     HISTORY = "history length"  # black: history rejected; white: MOVING_HISTORY_FRAMES frames or more
 
