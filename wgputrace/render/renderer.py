@@ -49,7 +49,7 @@ from .sobol import pixel_sobol_states
 from .svgf_filter import VarianceGuidedFilter, picture_image
 from .temporal_accumulation import TemporalAccumulation
 from .temporal_antialiasing import TemporalAntialiasing
-from .temporal_upsampling import TemporalUpsampling, check_upscale, subset_offset
+from .temporal_upsampling import TemporalUpsampling, check_upscale, frame_gain, subset_offset
 
 # max_depth = -1 means no limit: paths end by Russian roulette or by leaving the scene.
 UNLIMITED_DEPTH = -1
@@ -703,7 +703,8 @@ class Renderer:
         else:
             # what each pixel's history shows stands for the G-buffer the traced pixels alone have
             surfaces = self._upsampling.surfaces
-            picture = self._filter.filter(self._upsampling.shown, surfaces, spp, feedback=carried, upscale=upscale)
+            gain = frame_gain(upscale, spp)
+            picture = self._filter.filter(self._upsampling.shown, surfaces, gain, feedback=carried, upscale=upscale)
             if self._antialiasing is None:
                 self._antialiasing = TemporalAntialiasing(self.context, self.width, self.height)
             picture = self._antialiasing.resolve(picture, surfaces, frames.reprojected)

@@ -232,13 +232,15 @@ class VarianceGuidedFilter:
         self,
         history: wgpu.GPUBuffer,
         gbuffer: wgpu.GPUBuffer,
-        samples_per_frame: int,
+        samples_per_frame: float,
         feedback: wgpu.GPUBuffer | None = None,
         upscale: int = 1,
     ) -> wgpu.GPUBuffer:
         """The filtered picture of `history` (TEMPORAL_PIXEL records) seen through `gbuffer`, whose
-        frames took `samples_per_frame` samples: the buffer holding it (`filtered`, ILLUMINATION per
-        pixel, linear radiance in rgb; picture_image reads it).
+        pixels gain `samples_per_frame` samples a frame (upsampled: on average, `frame_gain`): the
+        buffer holding it (`filtered`, ILLUMINATION per pixel, linear radiance in rgb; picture_image
+        reads it). A history younger than SVGF_TEMPORAL_FRAMES frames' worth takes its variance
+        from its neighbourhood.
         `feedback`: the history the next frame takes (a copy of `history`), whose colour the first
         a-trous pass's result then replaces. `upscale`: the factor the picture was upsampled by,
         which sets the passes (svgf_steps) and their resolution (SVGF_HALF_RESOLUTION_FROM)."""

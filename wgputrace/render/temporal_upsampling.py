@@ -123,16 +123,22 @@ def subset_offset(frame: int, factor: int) -> tuple[int, int]:
     return x, y
 
 
+def frame_gain(factor: int, samples: int) -> float:
+    """The samples a moving pixel's history gains a frame, on average, in frames of `samples`
+    samples per traced pixel: its own every factor * factor frames and the interpolated ones
+    (INTERPOLATED_SAMPLE_WEIGHT of a sample each) in the others."""
+    own = 1.0 / (factor * factor)
+    return samples * (own + INTERPOLATED_SAMPLE_WEIGHT * (1.0 - own))
+
+
 def history_cap(factor: int, samples: int) -> float:
     """The most samples a moving pixel's history keeps: MOVING_HISTORY_FRAMES frames' worth of what
-    a pixel gains a frame, its own samples every factor * factor frames and the interpolated ones
-    (INTERPOLATED_SAMPLE_WEIGHT of a sample each) in the others.
+    it gains (`frame_gain`).
 
     A stale history (a reflection that moved differently, a lighting change) then fades within
     as many frames as temporal accumulation's (MOVING_HISTORY_FRAMES, measured there).
     """
-    own = 1.0 / (factor * factor)
-    return MOVING_HISTORY_FRAMES * samples * (own + INTERPOLATED_SAMPLE_WEIGHT * (1.0 - own))
+    return MOVING_HISTORY_FRAMES * frame_gain(factor, samples)
 
 
 def upsampling_constants() -> str:
