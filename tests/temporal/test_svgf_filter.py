@@ -30,6 +30,11 @@ SKY = 0.5
 Z_BOUND = 4.0
 CARD_BLUR_BOUND = 0.01
 FED_SPREAD_RATIO = 1.5
+# How far a fed history's mean may be from the wall's radiance, relative. Not a bound in standard
+# errors of the plain mean: the filtered colour fed back spreads each sample over its neighbours,
+# so the fed mean varies between seeds about 2.4 times as much, and SVGF's luminance stop lifts it
+# a little. Measured with seeds 11 to 18: -0.53% to +0.78% at 1x, -0.14% to +0.85% at 2x.
+FED_ENERGY_RTOL = 0.015
 # how far from a crease its light would leak: the first passes' reach
 CREASE_PIXELS = 4
 LIGHT_POSITION = (-0.6, 0.0, 0.0)
@@ -166,7 +171,7 @@ def test_while_moving_the_first_pass_feeds_the_history(upscale):
     # as 1 / sqrt(frames) (less with the reprojection's blur and clamp; 2 times measured) ...
     assert fed.std() < plain.std() / FED_SPREAD_RATIO
     # ... and as bright
-    assert abs(fed.mean() - WHITE[0] * SKY) < Z_BOUND * _standard_error(plain)
+    assert abs(fed.mean() / (WHITE[0] * SKY) - 1.0) < FED_ENERGY_RTOL
 
 
 @pytest.mark.parametrize("upscale", UPSCALES)
