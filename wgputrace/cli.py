@@ -225,6 +225,7 @@ def _render_temporal_frames(args: argparse.Namespace) -> int:
     width, height = args.size
     budget = None if args.frame_ms is None else args.frame_ms / 1000.0
     shown = "filtered" if args.filtered else "accumulated"
+    upscaled = f", upsampled {args.upscale}x" if args.upscale != 1 else ""
 
     def progress(frame) -> None:
         print(f"frame {frame.frame:>6}  {frame.samples_per_pixel} spp  {1000 * frame.seconds:8.1f} ms  {frame.path}")
@@ -239,6 +240,7 @@ def _render_temporal_frames(args: argparse.Namespace) -> int:
             spp=args.spp,
             budget=budget,
             filtered=args.filtered,
+            upscale=args.upscale,
             exposure=args.exposure,
             tonemap=args.tonemap,
             progress=progress,
@@ -247,7 +249,7 @@ def _render_temporal_frames(args: argparse.Namespace) -> int:
     except Interrupted as stop:
         _tell(f"wgputrace: {signal_name(stop.signal)}: stopped; the frames written are kept")
         return exit_status(stop.signal)
-    print(f"wrote            {len(done)} frames ({shown}, {width}x{height}, temporal)")
+    print(f"wrote            {len(done)} frames ({shown}, {width}x{height}, temporal{upscaled})")
     return 0
 
 

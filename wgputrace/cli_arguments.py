@@ -18,6 +18,7 @@ from .image_io import FORMATS as IMAGE_FORMATS
 from .integrators import integrator, integrator_names
 from .kernels.sampler import DEFAULT_SAMPLER, SAMPLERS
 from .loaders import FORMATS as SCENE_FORMATS
+from .render.temporal_upsampling import UPSCALE_FACTORS, check_upscale
 from .scenes import BUILTIN_SCENES, DEFAULT_SCENE
 
 if TYPE_CHECKING:
@@ -322,7 +323,7 @@ def add_cluster_arguments(
 
 def add_frames_arguments(parser: argparse.ArgumentParser, *, default_spp: int) -> None:
     """render-frames' arguments: the animation file, its frames, the image, the output pattern, the
-    cluster, and --temporal's frames in order on this machine (--frame-ms, --filtered)."""
+    cluster, and --temporal's frames in order on this machine (--frame-ms, --filtered, --upscale)."""
     parser.add_argument("scene", type=Path, help="a .py file defining scene(frame) -> wgputrace.Scene")
     parser.add_argument("--frames", type=frame_range, required=True, help="START:STOP[:STEP] (STOP excluded), or N")
     parser.add_argument(
@@ -346,6 +347,16 @@ def add_frames_arguments(parser: argparse.ArgumentParser, *, default_spp: int) -
     parser.add_argument(
         "--filtered", action="store_true", help="with --temporal: write the variance-guided filter's picture (SVGF)"
     )
+    parser.add_argument(
+        "--upscale",
+        type=int,
+        choices=(1, *UPSCALE_FACTORS),
+        default=1,
+        metavar="F",
+        help="with --temporal: trace one pixel of every FxF block a frame and rebuild the others from their "
+        f"histories (temporal upsampling, for adapters too slow for every pixel: one of {', '.join(map(str, UPSCALE_FACTORS))}; "
+        "default 1, every pixel)",
+    )
     add_image_arguments(parser, size=(512, 512))
     add_method_arguments(parser)
     parser.add_argument(
@@ -366,7 +377,8 @@ def frames_address(args: argparse.Namespace) -> str | None:
     from .cluster.connection import AUTO
 
     if not args.temporal:
-        alone = [option for option, value in (("--frame-ms", args.frame_ms), ("--filtered", args.filtered)) if value]
+        only_temporal = (("--frame-ms", args.frame_ms), ("--filtered", args.filtered), ("--upscale", args.upscale != 1))
+        alone = [option for option, value in only_temporal if value]
         if alone:
             raise ValueError(f"{' and '.join(alone)}: only with --temporal (frames rendered in order on one renderer)")
         return AUTO if args.ray is None else args.ray
@@ -380,6 +392,11 @@ def frames_address(args: argparse.Namespace) -> str | None:
         integrator(args.integrator).check_gbuffer()
     except ValueError as error:
         raise ValueError(f"--temporal: {error}") from None
+    if args.upscale != 1:
+        try:
+            check_upscale(args.upscale, *args.size)
+        except ValueError as error:
+            raise ValueError(f"--upscale: {error}") from None
     return None
 
 

@@ -104,6 +104,7 @@ def render_temporal_frames(
     spp: int | None = None,
     budget: float | None = None,
     filtered: bool = False,
+    upscale: int = 1,
     exposure: float | str = 0.0,
     tonemap: str = DEFAULT_TONEMAP,
     progress: Callable[[TemporalFrame], None] | None = None,
@@ -111,7 +112,8 @@ def render_temporal_frames(
 ) -> list[TemporalFrame]:
     """Render `frames` of the animation `scene_file` (scene(frame)) in order, each a render_frame of
     `spp` samples per pixel or of `budget` seconds (as render_frame takes them), to `output` (a
-    pattern with {frame}); `filtered`: the variance-guided filter's picture. Every frame is written,
+    pattern with {frame}); `filtered`: the variance-guided filter's picture; `upscale`: trace one
+    pixel of every upscale x upscale block a frame (temporal upsampling). Every frame is written,
     those whose file exists too: the history needs them all. `progress(frame)` is called after each
     file is written. `options`: the Renderer's keyword arguments (seed, max_depth, ...)."""
     path = Path(scene_file)
@@ -125,7 +127,7 @@ def render_temporal_frames(
         else:
             follow_frame(renderer.scene, scene)
         start = time.perf_counter()
-        image = renderer.render_frame(spp=spp, budget=budget, filtered=filtered)
+        image = renderer.render_frame(spp=spp, budget=budget, filtered=filtered, upscale=upscale)
         seconds = time.perf_counter() - start
         written = save_image(frame_path(output, frame), image, exposure=exposure, tonemap=tonemap)
         done.append(TemporalFrame(frame, written, renderer.stats.samples_per_pixel, seconds))

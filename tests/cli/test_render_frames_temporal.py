@@ -1,7 +1,8 @@
 """`wgputrace render-frames --temporal`: an animation's frames in order on one renderer, each
 pixel keeping its samples from frame to frame; a per-frame time budget (--frame-ms) or sample
-count (--spp), the variance-guided filter's picture (--filtered); one-line errors for what it
-cannot do (bdpt, a cluster) and for its options without it."""
+count (--spp), the variance-guided filter's picture (--filtered), temporal upsampling (--upscale);
+one-line errors for what it cannot do (bdpt, a cluster, a factor the image is too small for) and
+for its options without it."""
 
 from __future__ import annotations
 
@@ -75,6 +76,26 @@ def test_a_moving_camera_with_a_budget_and_the_filter(tmp_path, capsys):
     assert psnr[1] > psnr[0], f"the filtered frame is no closer to the converged picture (PSNR {psnr})"
 
 
+def test_upsampled_resting_frames_are_the_plain_mean_and_moving_ones_finite(tmp_path, capsys):
+    factor = 2
+    # every pixel takes one sample per factor x factor frames
+    path = tmp_path / "animation.py"
+    path.write_text(RESTING)
+    output = str(tmp_path / "rest" / "{frame}.npy")
+    frames = 2 * factor * factor
+    command = ["render-frames", str(path), "--frames", f"0:{frames}", "--temporal", "--size", f"{WIDTH}x{HEIGHT}"]
+    assert main([*command, "--seed", str(SEED), "--upscale", str(factor), "-o", output]) == 0
+    last = np.load(tmp_path / "rest" / f"{frames - 1}.npy")
+    plain = Renderer(default_scene(), WIDTH, HEIGHT, seed=SEED)
+    plain.render(2)
+    np.testing.assert_array_equal(last, plain.image())
+    assert f"wrote            {frames} frames (accumulated, {WIDTH}x{HEIGHT}, temporal, upsampled 2x)" in (
+        capsys.readouterr().out
+    )
+    for image in _frames(tmp_path, SLIDING, "--upscale", "4", "--filtered"):
+        assert np.isfinite(image).all() and image.mean() > 0
+
+
 @pytest.mark.parametrize(
     ("options", "message"),
     [
@@ -83,6 +104,8 @@ def test_a_moving_camera_with_a_budget_and_the_filter(tmp_path, capsys):
         (["--temporal", "--workers", "2"], "--workers: not with --temporal"),
         (["--frame-ms", "16"], "--frame-ms: only with --temporal"),
         (["--filtered"], "--filtered: only with --temporal"),
+        (["--upscale", "2"], "--upscale: only with --temporal"),
+        (["--temporal", "--upscale", "8", "--size", "16x4"], "--upscale: upscale 8 needs an image of at least 8x8"),
     ],
 )
 def test_what_temporal_frames_cannot_do_is_one_line(tmp_path, capsys, options, message):
