@@ -8,7 +8,7 @@
 //
 // A history of SVGF_TEMPORAL_FRAMES frames or more has its own moments (TemporalAccumulation);
 // a younger one, whose moments are too few to trust, takes them over its 7x7 neighbourhood
-// instead, weighted by the geometry, as SVGF does after a disocclusion.
+// instead (every other pixel of it), weighted by the geometry, as SVGF does after a disocclusion.
 
 fn illumination(pixel: u32) -> vec3<f32> {
     return history_mean(history[pixel]) / demodulation(gbuffer[pixel].albedo);
@@ -22,10 +22,12 @@ fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let old = history[pixel];
     var moments = old.moments;
     if old.length < params.temporal_length {
-        var sums = vec2<f32>(0.0);
-        var weights = 0.0;
-        for (var dy = -3; dy <= 3; dy++) {
-            for (var dx = -3; dx <= 3; dx++) {
+        // the pixel itself (weight 1: the weights never vanish) and every other pixel of the 7x7
+        // around it: SVGF's footprint at a third of its loads
+        var sums = old.moments;
+        var weights = 1.0;
+        for (var dy = -3; dy <= 3; dy += 2) {
+            for (var dx = -3; dx <= 3; dx += 2) {
                 let tap = xy + vec2<i32>(dx, dy);
                 let index = clamped_index(tap);
                 let expected = dot(gradient, abs(vec2<f32>(f32(dx), f32(dy))));
@@ -34,7 +36,6 @@ fn svgf_pass(xy: vec2<i32>, pixel: u32) {
                 weights += weight;
             }
         }
-        // the pixel itself has weight 1: weights never vanish
         moments = sums / weights;
     }
     let variance = max(moments.y - moments.x * moments.x, 0.0);
