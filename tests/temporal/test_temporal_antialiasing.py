@@ -92,8 +92,10 @@ def _model(previous: np.ndarray, current: np.ndarray, surfaces: np.ndarray) -> n
     return np.where(taken[..., None], blended, current)
 
 
-def test_a_moving_pixel_is_the_last_output_along_its_motion_clamped_and_blended():
-    renderer = Renderer(default_scene(), WIDTH, HEIGHT, seed=3)
+# and an odd size, whose last workgroups overhang the image
+@pytest.mark.parametrize(("width", "height"), [(WIDTH, HEIGHT), (33, 31)])
+def test_a_moving_pixel_is_the_last_output_along_its_motion_clamped_and_blended(width, height):
+    renderer = Renderer(default_scene(), width, height, seed=3)
     output = None
     for step in range(6):
         previous = output
