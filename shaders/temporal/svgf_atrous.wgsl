@@ -41,7 +41,7 @@ fn svgf_pass(xy: vec2<i32>, pixel: u32) {
     let brightness = luminance(centre.xyz);
     // the luminance stop's exponent per unit of luminance; SVGF_SPREAD_MIN keeps a noiseless
     // pixel's from 0 / 0
-    let luminance_scale = -LOG2_E / (SVGF_LUMINANCE_SIGMA * sqrt(blurred_variance(xy)) + SVGF_SPREAD_MIN);
+    let luminance_scale = -LOG2_E / (params.luminance_sigma * sqrt(blurred_variance(xy)) + SVGF_SPREAD_MIN);
     var colour = vec3<f32>(0.0);
     var variance = 0.0;
     var weights = 0.0;

@@ -62,6 +62,15 @@ SVGF_NORMAL_POWER = 128.0
 assert SVGF_NORMAL_POWER == 2.0 ** round(np.log2(SVGF_NORMAL_POWER)), "the normal power must be a power of two"
 SVGF_NORMAL_SQUARINGS = round(np.log2(SVGF_NORMAL_POWER))
 SVGF_LUMINANCE_SIGMA = 4.0
+# The luminance stop's scale where the passes run at half resolution (SVGF_HALF_RESOLUTION_FROM on):
+# a tighter stop, the picture being smoothed already by the interpolated samples and the blocks.
+# Measured with bench.realtime's fly-throughs, 40 frames, one sample per traced pixel (PSNR / FLIP
+# of the Cornell box, the asset, the moving objects): at 4x sigma 4 22.70 / 0.177, 24.86 / 0.112,
+# 21.34 / 0.250; 2: 23.15 / 0.170, 25.54 / 0.107, 21.54 / 0.246; 1: 23.54 / 0.166, 26.23 / 0.102,
+# 21.63 / 0.245; at 8x 4: 21.06 / 0.205, 21.96 / 0.147, 20.22 / 0.279; 1: 21.24 / 0.204, 22.57 /
+# 0.143, 20.19 / 0.282. Below, Schied's 4 is kept: at 2x sigma 1 cost the moving objects' FLIP
+# (0.218 -> 0.238), at 1x sigma 2 did too (0.203 -> 0.212).
+HALF_RESOLUTION_LUMINANCE_SIGMA = 1.0
 SVGF_TEMPORAL_FRAMES = 4
 # The depth stop's tolerance beyond the slope, as a fraction of the distance: a surface facing the
 # camera (slope 0) would otherwise stop at float rounding.
@@ -74,9 +83,17 @@ ILLUMINATION = "vec4<f32>"
 
 SVGF_PARAMETERS = GpuStruct(
     "SvgfParameters",
-    (("width", "u32"), ("height", "u32"), ("step", "u32"), ("last", "u32"), ("temporal_length", "f32")),
+    (
+        ("width", "u32"),
+        ("height", "u32"),
+        ("step", "u32"),
+        ("last", "u32"),
+        ("temporal_length", "f32"),
+        ("luminance_sigma", "f32"),
+    ),
     "A pass of the filter: the image's size, the pass's tap spacing, whether it is the last (1: "
-    "multiply the albedo back), and the history length (samples) from which its own moments count.",
+    "multiply the albedo back), the history length (samples) from which its own moments count, and "
+    "the luminance stop's scale in standard deviations.",
 )
 
 
@@ -156,12 +173,18 @@ def svgf_steps(upscale: int) -> tuple[int, ...]:
     return tuple(1 << k for k in range(first.bit_length() - 1, widest.bit_length()))
 
 
+def luminance_sigma(upscale: int) -> float:
+    """The luminance stop's scale, in standard deviations of the luminance, for a picture upsampled
+    by `upscale`: Schied et al.'s, or HALF_RESOLUTION_LUMINANCE_SIGMA where the passes run at half
+    resolution."""
+    return HALF_RESOLUTION_LUMINANCE_SIGMA if upscale >= SVGF_HALF_RESOLUTION_FROM else SVGF_LUMINANCE_SIGMA
+
+
 def svgf_constants() -> str:
     """The WGSL of GENERATED_SVGF: the filter's struct and constants."""
     constants = (
         "SVGF_DEPTH_SIGMA",
         "SVGF_DEPTH_FLOOR",
-        "SVGF_LUMINANCE_SIGMA",
         "SVGF_SPREAD_MIN",
         "HALF_RESOLUTION_SLOPE_SCALE",
         "UPSAMPLE_WEIGHT_MIN",
@@ -217,12 +240,13 @@ class VarianceGuidedFilter:
 
     def _pass(self, name: str, number: int, size: tuple[int, int], step: int = 1, last: bool = False, **bound) -> Pass:
         """A pass of kernel `name` over `size` with parameters buffer `number` (the pass's tap
-        spacing `step`, whether it is the `last`, and `bound`'s temporal_length) and the rest of
-        `bound` bound by name. Only the a-trous passes run at `size`'s resolution: the others read
-        the full image's size from their parameters."""
+        spacing `step`, whether it is the `last`, and `bound`'s temporal_length and
+        luminance_sigma) and the rest of `bound` bound by name. Only the a-trous passes run at
+        `size`'s resolution: the others read the full image's size from their parameters."""
         record = SVGF_PARAMETERS.zeros(1)
         record["width"], record["height"] = size if name == "atrous" else (self.width, self.height)
         record["step"], record["last"], record["temporal_length"] = step, last, bound.pop("temporal_length")
+        record["luminance_sigma"] = bound.pop("luminance_sigma")
         write_buffer(self.context, self._params[number], 0, record)
         kernel = self._kernels[name]
         group = kernel.bind(f"svgf_{name}", params=self._params[number], **bound)
@@ -246,7 +270,11 @@ class VarianceGuidedFilter:
         which sets the passes (svgf_steps) and their resolution (SVGF_HALF_RESOLUTION_FROM)."""
         full = (self.width, self.height)
         numbers = iter(range(len(self._params)))
-        every = {"temporal_length": SVGF_TEMPORAL_FRAMES * samples_per_frame, "gbuffer": gbuffer}
+        every = {
+            "temporal_length": SVGF_TEMPORAL_FRAMES * samples_per_frame,
+            "luminance_sigma": luminance_sigma(upscale),
+            "gbuffer": gbuffer,
+        }
         guides = {"guides": self._guides, "slopes": self._slopes}
         illuminated = self._work[0]
         passes = [
