@@ -64,13 +64,14 @@ SVGF_NORMAL_SQUARINGS = round(np.log2(SVGF_NORMAL_POWER))
 SVGF_LUMINANCE_SIGMA = 4.0
 # The luminance stop's scale where the passes run at half resolution (SVGF_HALF_RESOLUTION_FROM on):
 # a tighter stop, the picture being smoothed already by the interpolated samples and the blocks.
-# Measured with bench.realtime's fly-throughs, 40 frames, one sample per traced pixel (PSNR / FLIP
-# of the Cornell box, the asset, the moving objects): at 4x sigma 4 22.70 / 0.177, 24.86 / 0.112,
-# 21.34 / 0.250; 2: 23.15 / 0.170, 25.54 / 0.107, 21.54 / 0.246; 1: 23.54 / 0.166, 26.23 / 0.102,
-# 21.63 / 0.245; at 8x 4: 21.06 / 0.205, 21.96 / 0.147, 20.22 / 0.279; 1: 21.24 / 0.204, 22.57 /
-# 0.143, 20.19 / 0.282. Below, Schied's 4 is kept: at 2x sigma 1 cost the moving objects' FLIP
-# (0.218 -> 0.238), at 1x sigma 2 did too (0.203 -> 0.212).
-HALF_RESOLUTION_LUMINANCE_SIGMA = 1.0
+# Measured with bench.realtime's fly-throughs, one sample per traced pixel, 4x (PSNR / FLIP of the
+# Cornell box, the asset, the moving objects). At 320x240, frames 8-39: sigma 4 22.70 / 0.177,
+# 24.86 / 0.112, 21.34 / 0.250; 2: 23.15 / 0.170, 25.54 / 0.107, 21.54 / 0.246; 1: 23.54 / 0.166,
+# 26.23 / 0.102, 21.63 / 0.245. At 640x480, frames 8-19: 4: 24.31 / 0.140, 28.88 / 0.085, 21.28 /
+# 0.229; 2: 24.48 / 0.140, 29.24 / 0.083, 21.32 / 0.232; 1: 24.56 / 0.142, 29.47 / 0.083, 21.29 /
+# 0.240. 2 gains at both sizes where 1 costs the larger one's FLIP. Below, Schied's 4 is kept: at
+# 2x sigma 1 cost the moving objects' FLIP (0.218 -> 0.238), at 1x sigma 2 did too (0.203 -> 0.212).
+HALF_RESOLUTION_LUMINANCE_SIGMA = 2.0
 SVGF_TEMPORAL_FRAMES = 4
 # The depth stop's tolerance beyond the slope, as a fraction of the distance: a surface facing the
 # camera (slope 0) would otherwise stop at float rounding.
