@@ -77,7 +77,9 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
     let first_step = select(vec2<i32>(0, toward.y), vec2<i32>(toward.x, 0), abs(away.x) >= abs(away.y));
     let candidates = array<vec2<i32>, 4>(sample, sample + first_step, sample + toward - first_step, sample + toward);
     let count = select(4, 1, all(away == vec2<i32>(0)));
-    var source = sample;
+    // the candidate whose motion the history is taken along: its G-buffer and neighbourhood
+    var moved = here;
+    var around: TracedNeighbourhood;
     var taps = no_taps(here);
     for (var k = 0; k < count; k++) {
         let candidate = candidates[k];
@@ -86,16 +88,14 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
         }
         // the pixel expects the candidate's surface at its depth, give or take the depth's change
         // over the distance between them (none for the traced pixel itself)
-        let there = gbuffer[pixel_index(candidate)];
-        let around = traced[traced_index(candidate)];
+        moved = gbuffer[pixel_index(candidate)];
+        around = traced[traced_index(candidate)];
         let gradient = vec2<f32>(around.gradient_x, around.gradient_y);
-        taps = passing_taps(xy, there, depth_tolerance(there, gradient, length(vec2<f32>(xy - candidate))));
+        taps = passing_taps(xy, moved, depth_tolerance(moved, gradient, length(vec2<f32>(xy - candidate))));
         if taps.weights > 0.0 {
-            source = candidate;
             break;
         }
     }
-    let moved = gbuffer[pixel_index(source)];
     if !(taps.weights > 0.0) {
         return Reprojection(no_history(), here);
     }
@@ -103,11 +103,10 @@ fn reprojected(xy: vec2<i32>, here: GBufferPixel) -> Reprojection {
     // as sharp as the nearest history
     let best = taps.heaviest;
     let albedo = select(best.albedo, here.albedo, all(xy == sample));
-    let around = traced[traced_index(source)];
     let history = reprojected_history(taps, ColourBox(around.low, around.high), albedo);
-    // its point's distance from this camera: the tap's, changed as the source's changed (a traced
+    // its point's distance from this camera: the tap's, changed as `moved`'s changed (a traced
     // pixel shows its own G-buffer instead: history_pass); its motion and distance from the previous
-    // camera, the source's, whose motion the history was taken along (what temporal antialiasing
+    // camera, `moved`'s, whose motion the history was taken along (what temporal antialiasing
     // follows)
     let depth = best.depth + moved.depth - moved.previous_depth;
     return Reprojection(history, GBufferPixel(best.normal, depth, albedo, moved.surface, moved.motion, moved.previous_depth, moved.object));
