@@ -179,7 +179,8 @@ def add_method_arguments(parser: argparse.ArgumentParser) -> None:
         choices=integrator_names(),
         default="mis",
         help="direct light by BSDF sampling, light sampling, or both with MIS (default); bdpt: "
-        "bidirectional paths, every connection weighed by MIS",
+        "bidirectional paths, every connection weighed by MIS; restir: the first vertex resamples light "
+        "candidates by their contribution (many lights)",
     )
     parser.add_argument(
         "--sampler",

@@ -26,6 +26,9 @@
 //! include "generated/absorption.wgsl"
 // samples_this_dispatch: 1, or this dispatch's count where paths regenerate (regeneration_hook)
 //! include "generated/regeneration.wgsl"
+// first_vertex_light and RESAMPLES_FIRST_VERTEX: the direct light of a path's first vertex, by
+// direct_light or resampled (the integrator's first_vertex_light file)
+//! include "generated/first_vertex_light.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
 
@@ -73,11 +76,41 @@ fn light_occluded(origin: vec3<f32>, light: LightSample, skip_triangle: u32) -> 
     return occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, skip_triangle);
 }
 
-// Light reaching the surface point `p` of `triangle` from one sampled light point, times the
-// BSDF (cosine included, in the shading frame `local`, with what shading_weight keeps of it), over
-// the sample's density, weighted against BSDF sampling under MIS (delta lights: weight 1). Under
-// plain path tracing only delta lights count here. `geometric`: the triangle's normal, which the
-// shadow ray starts from; `towards_viewer`: wi in world space.
+// What one light sample would add at the surface point `p` if nothing blocked it: the light's
+// radiance times the BSDF (cosine included, in the shading frame `local`, with what shading_weight
+// keeps of it), not yet divided by the sample's density; and the unit direction towards the light.
+// `geometric`: the triangle's normal; `towards_viewer`: wi in world space.
+struct UnshadowedLight {
+    value: vec3<f32>,
+    direction: vec3<f32>,
+}
+
+fn unshadowed_light(p: vec3<f32>, local: ShadingFrame, geometric: vec3<f32>, towards_viewer: vec3<f32>, material: Material, wi: vec3<f32>, light: LightSample) -> UnshadowedLight {
+    var direction = light.direction;
+    if !light.distant {
+        let to_light = light.position - p;
+        direction = to_light / sqrt(dot(to_light, to_light));
+    }
+    let cos_light = abs(dot(light.normal, direction));
+    // NaN too: a point light at the receiving point has no direction
+    if !(cos_light > COS_MIN) {
+        return UnshadowedLight(vec3<f32>(0.0), direction);
+    }
+    let f = bsdf_eval(material, wi, to_local(local, direction)) * shading_weight(local.normal, geometric, towards_viewer, direction);
+    return UnshadowedLight(f * light.radiance, direction);
+}
+
+// Whether the shadow ray from `p` on `triangle` (number `triangle_index`, normal `geometric`)
+// reaches the sampled light along `direction`.
+fn light_reaches(p: vec3<f32>, triangle: Triangle, triangle_index: u32, geometric: vec3<f32>, light: LightSample, direction: vec3<f32>) -> bool {
+    let origin = offset_ray_origin(p, geometric, direction, triangle.v0, triangle.v1, triangle.v2);
+    return !light_occluded(origin, light, triangle_index);
+}
+
+// Light reaching the surface point `p` of `triangle` from one sampled light point
+// (unshadowed_light's, if the shadow ray reaches it), over the sample's density, weighted against
+// BSDF sampling under MIS (delta lights: weight 1). Under plain path tracing only delta lights
+// count here.
 fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, geometric: vec3<f32>, towards_viewer: vec3<f32>, material: Material, wi: vec3<f32>) -> vec3<f32> {
     let light = sample_light(p, sample_2d(), sample_2d());
     // An environment sample's density is evaluated again from its direction, which f32 rounding
@@ -88,32 +121,15 @@ fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: Sh
     if INTEGRATOR == INTEGRATOR_BSDF && !light.delta {
         return vec3<f32>(0.0);
     }
-    var direction = light.direction;
-    if !light.distant {
-        let to_light = light.position - p;
-        let distance_squared = dot(to_light, to_light);
-        let distance = sqrt(distance_squared);
-        direction = to_light / distance;
-    }
-    let cos_light = abs(dot(light.normal, direction));
-    // NaN too: a point light at the receiving point has no direction
-    if !(cos_light > COS_MIN) {
-        return vec3<f32>(0.0);
-    }
-    let wo = to_local(local, direction);
-    let f = bsdf_eval(material, wi, wo) * shading_weight(local.normal, geometric, towards_viewer, direction);
-    if all(f == vec3<f32>(0.0)) {
-        return vec3<f32>(0.0);
-    }
-    let origin = offset_ray_origin(p, geometric, direction, triangle.v0, triangle.v1, triangle.v2);
-    if light_occluded(origin, light, triangle_index) {
+    let unshadowed = unshadowed_light(p, local, geometric, towards_viewer, material, wi, light);
+    if all(unshadowed.value == vec3<f32>(0.0)) || !light_reaches(p, triangle, triangle_index, geometric, light, unshadowed.direction) {
         return vec3<f32>(0.0);
     }
     var weight = 1.0;
     if INTEGRATOR == INTEGRATOR_MIS && !light.delta {
-        weight = power_heuristic(light.pdf, bsdf_pdf(material, wi, wo));
+        weight = power_heuristic(light.pdf, bsdf_pdf(material, wi, to_local(local, unshadowed.direction)));
     }
-    return f * light.radiance * (weight / light.pdf);
+    return unshadowed.value * (weight / light.pdf);
 }
 
 // Weight of emission found by following the path: in full where the previous vertex could not
@@ -159,6 +175,12 @@ fn path_start(camera: Ray) -> PathState {
     return PathState(camera, vec3<f32>(0.0), vec3<f32>(1.0), NO_TRIANGLE, false, 0.0, vec3<f32>(0.0), 1.0, 1u);
 }
 
+// Whether `path` leaves the first vertex, which resampled its direct light (RESAMPLES_FIRST_VERTEX):
+// light its BSDF sample finds then counts nothing, the resampling having taken all of it.
+fn follows_resampled_vertex(path: PathState) -> bool {
+    return RESAMPLES_FIRST_VERTEX && path.depth == 2u && path.previous_sampled_lights;
+}
+
 // One vertex of a path from the camera: emission at every vertex, direct light by the chosen
 // integrator, BSDF sampling towards the next vertex, Russian roulette (unbiased: survivors are
 // divided by their survival probability) from RUSSIAN_ROULETTE_DEPTH on. Returns whether the path
@@ -171,7 +193,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     let depth = (*path).depth;
     let hit = closest_hit(ray, FLOAT_MAX, (*path).skip_triangle);
     if hit.triangle == NO_TRIANGLE {
-        if HAS_ESCAPED_LIGHT {
+        if HAS_ESCAPED_LIGHT && !follows_resampled_vertex(*path) {
             (*path).radiance += (*path).throughput * escaped_light(ray.direction, depth == 1u, (*path).previous_sampled_lights, (*path).previous_bsdf_pdf);
         }
         return false;
@@ -187,7 +209,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     (*path).throughput *= segment_transmittance(material, normal, ray.direction, hit.t);
     // emission shines from both sides (a single-sided surface's from its front only)
     let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, p, ray.direction);
-    if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {
+    if (material_emits(material) || any(surface_emitted > vec3<f32>(0.0))) && !follows_resampled_vertex(*path) {
         let emitted = material_emitted(material) + surface_emitted;
         let cos_light = abs(dot(normal, ray.direction));
         let weight = emission_weight((*path).previous_sampled_lights, (*path).previous_bsdf_pdf, (*path).previous_position, hit.triangle, triangle, hit.t, cos_light);
@@ -201,7 +223,13 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     (*path).previous_sampled_lights = samples_lights(material);
     (*path).previous_position = p;
     if (*path).previous_sampled_lights || samples_delta_lights_only(material) {
-        (*path).radiance += (*path).throughput * direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
+        var light: vec3<f32>;
+        if depth == 1u {
+            light = first_vertex_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
+        } else {
+            light = direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
+        }
+        (*path).radiance += (*path).throughput * light;
     }
     let u = sample_2d();
     let sample = bsdf_sample(material, wi, u, sample_1d());

@@ -14,11 +14,13 @@ from wgputrace.integrators.splats import SPLATS
 
 
 def test_names_in_order_with_the_path_tracer_first():
-    assert integrator_names() == ("bsdf", "nee", "mis", "bdpt")
+    assert integrator_names() == ("bsdf", "nee", "mis", "bdpt", "restir")
 
 
 def test_an_unknown_name_is_refused_naming_the_choices():
-    with pytest.raises(ValueError, match=r"integrator must be one of \('bsdf', 'nee', 'mis', 'bdpt'\), got 'photon'"):
+    with pytest.raises(
+        ValueError, match=r"integrator must be one of \('bsdf', 'nee', 'mis', 'bdpt', 'restir'\), got 'photon'"
+    ):
         integrator("photon")
 
 

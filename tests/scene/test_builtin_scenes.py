@@ -103,3 +103,20 @@ def test_axis_boxes_camera_and_faces_are_axis_aligned():
     v = scene.arrays().vertices.astype(np.float64)
     normals = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
     assert np.all(np.count_nonzero(normals, axis=1) == 1), "every face normal lies along one axis"
+
+
+def test_night_street_has_a_thousand_lights_facing_the_street_or_down():
+    """The many-light scene's windows face the street from both rows of facades, and its lamps
+    face down: a window turned into its building would light the wall behind it only."""
+    scene = scene_by_name("night_street")
+    windows = np.concatenate([s.world_vertices for s in scene.shapes if s.name.startswith("windows_")]).astype(float)
+    lamps = np.concatenate([s.world_vertices for s in scene.shapes if s.name.startswith("lamp_")]).astype(float)
+    assert len(windows) // 2 >= 1000 and len(lamps) // 2 == 24
+
+    def normals(triangles):
+        n = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+        return n / np.linalg.norm(n, axis=1, keepdims=True)
+
+    towards_street = -np.sign(windows.mean(axis=1)[:, 0])
+    np.testing.assert_allclose(normals(windows)[:, 0], towards_street)
+    np.testing.assert_allclose(normals(lamps)[:, 1], -1.0)

@@ -21,6 +21,7 @@ from .glass import glass_grazing
 from .glossy import glossy_spheres
 from .glossy_through_glossy import glossy_through_glossy
 from .instanced import instanced_cornell
+from .many_lights import night_street
 from .normal_mapped import normal_mapped_plane
 from .principled import principled_clearcoat, principled_sheen, principled_spheres, principled_transmission
 from .punctual import point_spot_directional
@@ -69,6 +70,8 @@ BUILTIN_SCENES: dict[str, Callable[[], Scene]] = {
     "absorbing_glass": absorbing_glass,
     # KHR_materials_anisotropy (issue 25)
     "principled_anisotropic": principled_anisotropic,
+    # ReSTIR's many lights (issue 27)
+    "night_street": night_street,
 }
 DEFAULT_SCENE = "cornell"
 

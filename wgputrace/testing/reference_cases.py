@@ -76,6 +76,8 @@ REFERENCES: dict[str, ReferenceSettings] = {
     "vertex_colored_triangles": ReferenceSettings(max_depth=6),
     # absorption inside glass and rough transmission (issue 25's KHR_materials_volume): Mitsuba's volpath
     "absorbing_glass": ReferenceSettings(max_depth=10),
+    # many lights (issue 27): 1,065 windows and 24 lamps
+    "night_street": ReferenceSettings(max_depth=5),
 }
 
 
@@ -141,6 +143,8 @@ PATH_TRACER_CASES = (
     _path_tracer("slivers", batches=16, spp=16),
     _path_tracer("axis_boxes", batches=16, spp=24),
     _path_tracer("instanced_cornell", batches=16, spp=16),
+    # many lights (issue 27): the scene as Mitsuba sees it, for the restir family's case
+    _path_tracer("night_street", batches=16, spp=16),
     # scenes that break path tracers (issue 18): their light comes in rare, bright paths
     _path_tracer("door_ajar", batches=16, spp=16),
     _path_tracer("caustic", batches=16, spp=32, blocks=HEAVY_TAILED_BLOCKS),
@@ -285,6 +289,25 @@ VERTEX_COLOR_CASES = (
     ReferenceCase("vertex_colored_triangles", family="vertex_colors", size=64, batches=8, spp=16, seed=20261401),
 )
 
+# --- ReSTIR's resampled direct light ----------------------------------------------------------
+# Issue 27 asks the restir integrator to converge to the same image as mis on every light kind:
+# light triangles (the Cornell box, its tiny lamp, the emitting room's hundreds of cells behind the
+# principled spheres, night_street's 1,065 windows and 24 lamps), the environment and the sun,
+# point, spot and directional lights, emission through a texture; and on the lobes that resampling
+# weighs candidates by (diffuse, glossy, principled, normal-mapped). The first vertex draws only
+# light samples, so these cases also catch light that its BSDF sample finds counted twice or not at all.
+_restir = partial(ReferenceCase, family="restir", size=64, batches=8, spp=32, integrator="restir")
+RESTIR_CASES = (
+    _restir("cornell", seed=20261501),
+    _restir("tiny_light", seed=20261502),
+    _restir("glossy_spheres", seed=20261503),
+    _restir("principled_spheres", seed=20261504),
+    _restir("env_sun_spheres", seed=20261505),
+    _restir("point_spot_directional", seed=20261506),
+    _restir("textured_asset", seed=20261507),
+    _restir("night_street", seed=20261508),
+)
+
 CASES: tuple[ReferenceCase, ...] = (
     PATH_TRACER_CASES
     + LIGHT_CASES
@@ -293,6 +316,7 @@ CASES: tuple[ReferenceCase, ...] = (
     + BDPT_CASES
     + CAMERA_CASES
     + VERTEX_COLOR_CASES
+    + RESTIR_CASES
 )
 
 
