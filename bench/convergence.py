@@ -104,15 +104,19 @@ class ValidationFailed(Exception):
 
 @dataclass(frozen=True)
 class Strategy:
-    """One curve's estimator: ours (an integrator with a sampler) or Mitsuba's path tracer with a sampler."""
+    """One curve's estimator: ours (an integrator with a sampler, and shader overrides under a
+    `variant` name) or Mitsuba's path tracer with a sampler."""
 
     integrator: str  # ours: Renderer's integrator; Mitsuba: MITSUBA
     sampler: str
+    variant: str = ""
+    overrides: tuple[tuple[str, float], ...] = ()
 
     @property
     def label(self) -> str:
-        """ "mis/sobol", "mitsuba/multijitter": the curves' "integrator" column."""
-        return f"{self.integrator}/{self.sampler}"
+        """ "mis/sobol", "restir-ris/sobol", "mitsuba/multijitter": the curves' "integrator" column."""
+        variant = f"-{self.variant}" if self.variant else ""
+        return f"{self.integrator}{variant}/{self.sampler}"
 
 
 def default_strategy() -> Strategy:
@@ -128,8 +132,9 @@ MITSUBA_BASELINE = Strategy(MITSUBA, "independent")
 
 def renderer_options(strategy: Strategy) -> dict:
     """Renderer's keyword arguments for `strategy`; a Renderer without `sampler` has the independent one only."""
+    overrides = {"shader_overrides": dict(strategy.overrides)} if strategy.overrides else {}
     if "sampler" in inspect.signature(Renderer).parameters:
-        return {"integrator": strategy.integrator, "sampler": strategy.sampler}
+        return {"integrator": strategy.integrator, "sampler": strategy.sampler, **overrides}
     if strategy.sampler != "independent":
         raise ValueError(
             f"this Renderer has no sampler option (only the independent sampler), got {strategy.sampler!r}"

@@ -26,8 +26,8 @@
 //! include "generated/absorption.wgsl"
 // samples_this_dispatch: 1, or this dispatch's count where paths regenerate (regeneration_hook)
 //! include "generated/regeneration.wgsl"
-// first_vertex_light and RESAMPLES_FIRST_VERTEX: the direct light of a path's first vertex, by
-// direct_light or resampled (the integrator's first_vertex_light file)
+// first_vertex_light: the direct light of a path's first vertex, by direct_light or resampled
+// (the integrator's first_vertex_light file)
 //! include "generated/first_vertex_light.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
@@ -76,19 +76,44 @@ fn light_occluded(origin: vec3<f32>, light: LightSample, skip_triangle: u32) -> 
     return occluded(Ray(origin, shadow / shadow_distance), shadow_distance * SHADOW_RAY_SHORTENING, skip_triangle);
 }
 
-// What one light sample would add at the surface point `p` if nothing blocked it: the light's
-// radiance times the BSDF (cosine included, in the shading frame `local`, with what shading_weight
-// keeps of it), not yet divided by the sample's density; and the unit direction towards the light.
-// `geometric`: the triangle's normal; `towards_viewer`: wi in world space.
+// A surface point where a path's vertex estimates light: the hit triangle (number
+// `triangle_index`) and its normal `geometric`, the material there (textures and vertex colours
+// resolved), the shading frame `local` (normal maps applied) and the direction back along the
+// ray, in world space (`towards_viewer`) and in the frame (`wi`).
+struct ShadedPoint {
+    p: vec3<f32>,
+    triangle: Triangle,
+    triangle_index: u32,
+    geometric: vec3<f32>,
+    towards_viewer: vec3<f32>,
+    material: Material,
+    local: ShadingFrame,
+    wi: vec3<f32>,
+}
+
+// The point `p` of triangle `triangle_index`, seen from along `towards_viewer`.
+fn shaded_point(triangle_index: u32, p: vec3<f32>, towards_viewer: vec3<f32>) -> ShadedPoint {
+    let triangle = scene_triangle(triangle_index);
+    let normal = triangle_normal(triangle);
+    let material = vertex_colored(resolve_material(materials[triangle.material], triangle.material, triangle_index, triangle, p), triangle_index, triangle, p);
+    let interpolated = shading_normal(triangle_index, triangle, p, normal, towards_viewer);
+    let shading = mapped_normal(interpolated, material, triangle.material, triangle_index, triangle, p, normal, towards_viewer);
+    let local = surface_frame(shading, triangle.material, triangle_index, triangle, p, normal);
+    return ShadedPoint(p, triangle, triangle_index, normal, towards_viewer, material, local, to_local(local, towards_viewer));
+}
+
+// What one light sample would add at `point` if nothing blocked it: the light's radiance times
+// the BSDF (cosine included, with what shading_weight keeps of it), not yet divided by the sample's
+// density; and the unit direction towards the light.
 struct UnshadowedLight {
     value: vec3<f32>,
     direction: vec3<f32>,
 }
 
-fn unshadowed_light(p: vec3<f32>, local: ShadingFrame, geometric: vec3<f32>, towards_viewer: vec3<f32>, material: Material, wi: vec3<f32>, light: LightSample) -> UnshadowedLight {
+fn unshadowed_light(point: ShadedPoint, light: LightSample) -> UnshadowedLight {
     var direction = light.direction;
     if !light.distant {
-        let to_light = light.position - p;
+        let to_light = light.position - point.p;
         direction = to_light / sqrt(dot(to_light, to_light));
     }
     let cos_light = abs(dot(light.normal, direction));
@@ -96,23 +121,22 @@ fn unshadowed_light(p: vec3<f32>, local: ShadingFrame, geometric: vec3<f32>, tow
     if !(cos_light > COS_MIN) {
         return UnshadowedLight(vec3<f32>(0.0), direction);
     }
-    let f = bsdf_eval(material, wi, to_local(local, direction)) * shading_weight(local.normal, geometric, towards_viewer, direction);
+    let f = bsdf_eval(point.material, point.wi, to_local(point.local, direction)) * shading_weight(point.local.normal, point.geometric, point.towards_viewer, direction);
     return UnshadowedLight(f * light.radiance, direction);
 }
 
-// Whether the shadow ray from `p` on `triangle` (number `triangle_index`, normal `geometric`)
-// reaches the sampled light along `direction`.
-fn light_reaches(p: vec3<f32>, triangle: Triangle, triangle_index: u32, geometric: vec3<f32>, light: LightSample, direction: vec3<f32>) -> bool {
-    let origin = offset_ray_origin(p, geometric, direction, triangle.v0, triangle.v1, triangle.v2);
-    return !light_occluded(origin, light, triangle_index);
+// Whether the shadow ray from `point` reaches the sampled light along `direction`.
+fn light_reaches(point: ShadedPoint, light: LightSample, direction: vec3<f32>) -> bool {
+    let triangle = point.triangle;
+    let origin = offset_ray_origin(point.p, point.geometric, direction, triangle.v0, triangle.v1, triangle.v2);
+    return !light_occluded(origin, light, point.triangle_index);
 }
 
-// Light reaching the surface point `p` of `triangle` from one sampled light point
-// (unshadowed_light's, if the shadow ray reaches it), over the sample's density, weighted against
-// BSDF sampling under MIS (delta lights: weight 1). Under plain path tracing only delta lights
-// count here.
-fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: ShadingFrame, geometric: vec3<f32>, towards_viewer: vec3<f32>, material: Material, wi: vec3<f32>) -> vec3<f32> {
-    let light = sample_light(p, sample_2d(), sample_2d());
+// Light reaching `point` from one sampled light point (unshadowed_light's, if the shadow ray
+// reaches it), over the sample's density, weighted against BSDF sampling under MIS (delta lights:
+// weight 1). Under plain path tracing only delta lights count here.
+fn direct_light(point: ShadedPoint) -> vec3<f32> {
+    let light = sample_light(point.p, sample_2d(), sample_2d());
     // An environment sample's density is evaluated again from its direction, which f32 rounding
     // can put in a neighbouring cell of density 0 (and radiance 0): no light, not 0 / 0.
     if !(light.pdf > 0.0) {
@@ -121,15 +145,21 @@ fn direct_light(p: vec3<f32>, triangle: Triangle, triangle_index: u32, local: Sh
     if INTEGRATOR == INTEGRATOR_BSDF && !light.delta {
         return vec3<f32>(0.0);
     }
-    let unshadowed = unshadowed_light(p, local, geometric, towards_viewer, material, wi, light);
-    if all(unshadowed.value == vec3<f32>(0.0)) || !light_reaches(p, triangle, triangle_index, geometric, light, unshadowed.direction) {
+    let unshadowed = unshadowed_light(point, light);
+    if all(unshadowed.value == vec3<f32>(0.0)) || !light_reaches(point, light, unshadowed.direction) {
         return vec3<f32>(0.0);
     }
     var weight = 1.0;
     if INTEGRATOR == INTEGRATOR_MIS && !light.delta {
-        weight = power_heuristic(light.pdf, bsdf_pdf(material, wi, to_local(local, unshadowed.direction)));
+        weight = power_heuristic(light.pdf, bsdf_pdf(point.material, point.wi, to_local(point.local, unshadowed.direction)));
     }
     return unshadowed.value * (weight / light.pdf);
+}
+
+// The direct light of a path's first vertex (first_vertex_light), and whether it was resampled.
+struct VertexLight {
+    radiance: vec3<f32>,
+    resampled: bool,
 }
 
 // Weight of emission found by following the path: in full where the previous vertex could not
@@ -169,16 +199,20 @@ struct PathState {
     previous_position: vec3<f32>,
     eta_scale: f32,
     depth: u32,
+    // whether the first vertex resampled its direct light (first_vertex_light)
+    first_resampled: bool,
+    // the index of the pixel it is a sample of
+    pixel: u32,
 }
 
-fn path_start(camera: Ray) -> PathState {
-    return PathState(camera, vec3<f32>(0.0), vec3<f32>(1.0), NO_TRIANGLE, false, 0.0, vec3<f32>(0.0), 1.0, 1u);
+fn path_start(camera: Ray, pixel: u32) -> PathState {
+    return PathState(camera, vec3<f32>(0.0), vec3<f32>(1.0), NO_TRIANGLE, false, 0.0, vec3<f32>(0.0), 1.0, 1u, false, pixel);
 }
 
-// Whether `path` leaves the first vertex, which resampled its direct light (RESAMPLES_FIRST_VERTEX):
-// light its BSDF sample finds then counts nothing, the resampling having taken all of it.
+// Whether `path` leaves a first vertex that resampled its direct light (first_vertex_light): light
+// its BSDF sample finds then counts nothing, the resampling having taken all of it.
 fn follows_resampled_vertex(path: PathState) -> bool {
-    return RESAMPLES_FIRST_VERTEX && path.depth == 2u && path.previous_sampled_lights;
+    return path.depth == 2u && path.first_resampled;
 }
 
 // One vertex of a path from the camera: emission at every vertex, direct light by the chosen
@@ -198,13 +232,12 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
         }
         return false;
     }
-    let triangle = scene_triangle(hit.triangle);
-    let normal = triangle_normal(triangle);
     let p = ray.origin + hit.t * ray.direction;
-    let material = vertex_colored(resolve_material(materials[triangle.material], triangle.material, hit.triangle, triangle, p), hit.triangle, triangle, p);
-    let towards_viewer = -ray.direction;
-    let interpolated = shading_normal(hit.triangle, triangle, p, normal, towards_viewer);
-    let shading = mapped_normal(interpolated, material, triangle.material, hit.triangle, triangle, p, normal, towards_viewer);
+    let point = shaded_point(hit.triangle, p, -ray.direction);
+    let triangle = point.triangle;
+    let normal = point.geometric;
+    let material = point.material;
+    let shading = point.local.normal;
     guide_vertex(material, shading, ray.direction);
     (*path).throughput *= segment_transmittance(material, normal, ray.direction, hit.t);
     // emission shines from both sides (a single-sided surface's from its front only)
@@ -218,16 +251,19 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     if !material_reflects(material) || depth >= frame.max_depth {
         return false;
     }
-    let local = surface_frame(shading, triangle.material, hit.triangle, triangle, p, normal);
-    let wi = to_local(local, towards_viewer);
+    let local = point.local;
+    let wi = point.wi;
+    let towards_viewer = point.towards_viewer;
     (*path).previous_sampled_lights = samples_lights(material);
     (*path).previous_position = p;
     if (*path).previous_sampled_lights || samples_delta_lights_only(material) {
         var light: vec3<f32>;
         if depth == 1u {
-            light = first_vertex_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
+            let first = first_vertex_light(point, (*path).pixel);
+            light = first.radiance;
+            (*path).first_resampled = first.resampled;
         } else {
-            light = direct_light(p, triangle, hit.triangle, local, normal, towards_viewer, material, wi);
+            light = direct_light(point);
         }
         (*path).radiance += (*path).throughput * light;
     }
@@ -261,7 +297,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
 // by its second where the camera has one.
 fn camera_path(xy: vec2<u32>) -> PathState {
     let jitter = sample_2d();
-    return path_start(camera_ray(xy, jitter, lens_sample()));
+    return path_start(camera_ray(xy, jitter, lens_sample()), xy.y * frame.width + xy.x);
 }
 
 // The pixel's sum with one finished path added, or counted as cut short and dropped if the

@@ -72,7 +72,12 @@ fn uniform_triangle_point(triangle: Triangle, u: vec2<f32>) -> vec3<f32> {
 }
 
 fn sample_light(p: vec3<f32>, u_select: vec2<f32>, u_point: vec2<f32>) -> LightSample {
-    let index = choose_light(u_select);
+    return sample_chosen_light(choose_light(u_select), p, u_point);
+}
+
+// sample_light once it chose the light table's word `index`: a point of that light, seen from `p`,
+// its density including the light's choice.
+fn sample_chosen_light(index: u32, p: vec3<f32>, u_point: vec2<f32>) -> LightSample {
     if is_light_source(index) {
         return sample_light_source(index, p, u_point);
     }

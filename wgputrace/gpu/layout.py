@@ -304,6 +304,36 @@ MATERIAL_TEXTURES = GpuStruct(
     "anisotropy's direction from the tangent (`surface_frame`).",
 )
 
+# The restir integrator's reservoir of each pixel (shaders/integrators/resampled_direct_light.wgsl),
+# kept from one sample of the pixel to the next, and the surface point it was resampled for.
+RESERVOIR_RECORD = GpuStruct(
+    "ReservoirRecord",
+    (
+        ("point", "vec3<f32>"),
+        ("light", "u32"),
+        ("normal", "vec3<f32>"),
+        ("kind", "u32"),
+        ("radiance", "vec3<f32>"),
+        ("weight", "f32"),
+    ),
+    "A light sample kept in a reservoir: the light point (for a distant light, the unit direction "
+    "towards it), the light table's word of its light, the light's normal there, whether it is "
+    "distant (bit 0) and a delta light (bit 1), its radiance, and its unbiased contribution weight "
+    "W (per unit area of light for a light at a finite distance).",
+)
+RESERVOIR_RECEIVER = GpuStruct(
+    "ReservoirReceiver",
+    (
+        ("point", "vec3<f32>"),
+        ("triangle", "u32"),
+        ("towards_viewer", "vec3<f32>"),
+        ("count", "f32"),
+    ),
+    "The surface point a reservoir was resampled for: the point, its triangle (NO_TRIANGLE: the "
+    "reservoir is empty), the unit direction back along the camera's ray, and how many candidates "
+    "the reservoir stands for (its confidence M).",
+)
+
 ALL_STRUCTS = (
     TRIANGLE,
     BVH_NODE,
@@ -316,6 +346,8 @@ ALL_STRUCTS = (
     LIGHT_SOURCE,
     LIGHTING,
     TRIANGLE_VERTICES,
+    RESERVOIR_RECORD,
+    RESERVOIR_RECEIVER,
 )
 # The per-vertex attribute records, each declared by the hook that reads it.
 VERTEX_STRUCTS = (VERTEX_NORMAL, VERTEX_UV, VERTEX_TANGENT, VERTEX_COLOR)
