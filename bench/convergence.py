@@ -177,11 +177,11 @@ class SceneSetup:
         return self.reference.metadata["max_depth"]
 
 
-def scene_setup(name: str, max_spp: int) -> SceneSetup:
+def scene_setup(name: str, max_spp: int, regions_by_scene: dict = REGIONS) -> SceneSetup:
     reference = bench_reference(name)
     width, height = reference.metadata["width"], reference.metadata["height"]
     scene = load_scene(name)
-    regions = {region: mask(scene, width, height) for region, mask in REGIONS.get(name, {}).items()}
+    regions = {region: mask(scene, width, height) for region, mask in regions_by_scene.get(name, {}).items()}
     return SceneSetup(name, reference, scene_spp(max_spp, width, height), regions)
 
 

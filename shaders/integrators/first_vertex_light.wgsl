@@ -2,5 +2,5 @@
 // path tracers' choice, where the restir integrator resamples (restir/resampled_direct_light.wgsl).
 
 fn first_vertex_light(point: ShadedPoint, pixel: u32) -> VertexLight {
-    return VertexLight(direct_light(point), false);
+    return VertexLight(direct_light(point), 1.0);
 }

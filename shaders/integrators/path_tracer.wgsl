@@ -156,10 +156,11 @@ fn direct_light(point: ShadedPoint) -> vec3<f32> {
     return unshadowed.value * (weight / light.pdf);
 }
 
-// The direct light of a path's first vertex (first_vertex_light), and whether it was resampled.
+// The direct light of a path's first vertex (first_vertex_light), and how many light samples it
+// counts as when light found by the vertex's BSDF sample is weighed against it by MIS.
 struct VertexLight {
     radiance: vec3<f32>,
-    resampled: bool,
+    light_samples: f32,
 }
 
 // Weight of emission found by following the path: in full where the previous vertex could not
@@ -199,20 +200,12 @@ struct PathState {
     previous_position: vec3<f32>,
     eta_scale: f32,
     depth: u32,
-    // whether the first vertex resampled its direct light (first_vertex_light)
-    first_resampled: bool,
     // the index of the pixel it is a sample of
     pixel: u32,
 }
 
 fn path_start(camera: Ray, pixel: u32) -> PathState {
-    return PathState(camera, vec3<f32>(0.0), vec3<f32>(1.0), NO_TRIANGLE, false, 0.0, vec3<f32>(0.0), 1.0, 1u, false, pixel);
-}
-
-// Whether `path` leaves a first vertex that resampled its direct light (first_vertex_light): light
-// its BSDF sample finds then counts nothing, the resampling having taken all of it.
-fn follows_resampled_vertex(path: PathState) -> bool {
-    return path.depth == 2u && path.first_resampled;
+    return PathState(camera, vec3<f32>(0.0), vec3<f32>(1.0), NO_TRIANGLE, false, 0.0, vec3<f32>(0.0), 1.0, 1u, pixel);
 }
 
 // One vertex of a path from the camera: emission at every vertex, direct light by the chosen
@@ -227,7 +220,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     let depth = (*path).depth;
     let hit = closest_hit(ray, FLOAT_MAX, (*path).skip_triangle);
     if hit.triangle == NO_TRIANGLE {
-        if HAS_ESCAPED_LIGHT && !follows_resampled_vertex(*path) {
+        if HAS_ESCAPED_LIGHT {
             (*path).radiance += (*path).throughput * escaped_light(ray.direction, depth == 1u, (*path).previous_sampled_lights, (*path).previous_bsdf_pdf);
         }
         return false;
@@ -242,7 +235,7 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     (*path).throughput *= segment_transmittance(material, normal, ray.direction, hit.t);
     // emission shines from both sides (a single-sided surface's from its front only)
     let surface_emitted = surface_emission(triangle.material, hit.triangle, triangle, p, ray.direction);
-    if (material_emits(material) || any(surface_emitted > vec3<f32>(0.0))) && !follows_resampled_vertex(*path) {
+    if material_emits(material) || any(surface_emitted > vec3<f32>(0.0)) {
         let emitted = material_emitted(material) + surface_emitted;
         let cos_light = abs(dot(normal, ray.direction));
         let weight = emission_weight((*path).previous_sampled_lights, (*path).previous_bsdf_pdf, (*path).previous_position, hit.triangle, triangle, hit.t, cos_light);
@@ -256,12 +249,14 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     let towards_viewer = point.towards_viewer;
     (*path).previous_sampled_lights = samples_lights(material);
     (*path).previous_position = p;
+    // how many light samples the light this vertex estimated counts as, against its BSDF sample
+    var light_samples = 1.0;
     if (*path).previous_sampled_lights || samples_delta_lights_only(material) {
         var light: vec3<f32>;
         if depth == 1u {
             let first = first_vertex_light(point, (*path).pixel);
             light = first.radiance;
-            (*path).first_resampled = first.resampled;
+            light_samples = first.light_samples;
         } else {
             light = direct_light(point);
         }
@@ -277,7 +272,8 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     if kept <= 0.0 {
         return false;
     }
-    (*path).previous_bsdf_pdf = sample.pdf;
+    // the power heuristic of the BSDF's density against n light samples' is that of density / n against one's
+    (*path).previous_bsdf_pdf = sample.pdf / light_samples;
     (*path).throughput *= sample.weight * kept;
     (*path).eta_scale /= sample.eta * sample.eta;
     if depth >= RUSSIAN_ROULETTE_DEPTH {

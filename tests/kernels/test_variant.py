@@ -44,10 +44,31 @@ def test_each_scene_feature_changes_what_is_compiled(name):
 
 @pytest.mark.parametrize("name", boolean_fields(KernelVariant))
 def test_each_kernel_option_changes_what_is_compiled(name):
-    on = replace(MIS, **{name: True})
-    files_changed = on.files() != MIS.files()
-    assert files_changed or on.groups() != MIS.groups() or on.entry != MIS.entry
-    assert on.label != MIS.label
+    # a pre-pass is restir's alone
+    base = replace(MIS, integrator=integrator("restir")) if name == "prepass" else MIS
+    on = replace(base, **{name: True})
+    files_changed = on.files() != base.files()
+    assert files_changed or on.groups() != base.groups() or on.entry != base.entry
+    assert on.label != base.label
+
+
+def test_only_restir_sharing_reservoirs_runs_a_prepass_and_one_sample_per_dispatch():
+    restir = KernelVariant(integrator=integrator("restir"), samples_per_dispatch=8)
+    shared = replace(restir, overrides=(("RESERVOIR_NEIGHBOURS", 3.0),))
+    assert not restir.integrator.uses_prepass(restir) and restir.samples_per_dispatch == 8
+    assert shared.integrator.uses_prepass(shared) and shared.samples_per_dispatch == 1
+    assert "const SPATIAL_REUSE: bool = true;" in shared.files()["generated/first_vertex_light.wgsl"]
+    assert "const SPATIAL_REUSE: bool = false;" in restir.files()["generated/first_vertex_light.wgsl"]
+    # the viewer's bands trace part of the image: no pre-pass, no sharing
+    rows = replace(shared, rows=True)
+    assert not rows.integrator.uses_prepass(rows)
+    assert "const SPATIAL_REUSE: bool = false;" in rows.files()["generated/first_vertex_light.wgsl"]
+    assert shared.entry[1] == "main" and replace(shared, prepass=True).entry == (
+        "integrators/restir/candidates.wgsl",
+        "main_prepass",
+    )
+    with pytest.raises(ValueError, match="the mis integrator has no pre-pass"):
+        replace(MIS, prepass=True)
 
 
 def test_lights_choose_the_lights_group_and_its_bindings():

@@ -315,11 +315,13 @@ RESERVOIR_RECORD = GpuStruct(
         ("kind", "u32"),
         ("radiance", "vec3<f32>"),
         ("weight", "f32"),
+        ("density", "f32"),
     ),
     "A light sample kept in a reservoir: the light point (for a distant light, the unit direction "
     "towards it), the light table's word of its light, the light's normal there, whether it is "
-    "distant (bit 0) and a delta light (bit 1), its radiance, and its unbiased contribution weight "
-    "W (per unit area of light for a light at a finite distance).",
+    "distant (bit 0) and a delta light (bit 1), its radiance, its unbiased contribution weight W "
+    "(per unit area of light for a light at a finite distance), and for a distant light the light "
+    "sampler's density of its direction (the same from every receiver).",
 )
 RESERVOIR_RECEIVER = GpuStruct(
     "ReservoirReceiver",

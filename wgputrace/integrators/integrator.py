@@ -6,6 +6,7 @@ descriptor, registered by name, that they ask instead of naming it.
 | the WGSL kernel that renders whole images   | `entry`          | `tracing_kernel`                            |
 | a band-of-rows kernel for the viewer        | `rows_entry`     | `KernelVariant` (None: whole images only)   |
 | a kernel over one pixel per block           | `subset_entry`   | `KernelVariant` (None: no upsampling)       |
+| a kernel run over the image before each pass | `prepass_entry` | the Renderer (`uses_prepass`)               |
 | override constants of its kernel            | `constants`      | `tracing_kernel`                            |
 | generated files of its own                  | `files`          | `KernelVariant.files`                       |
 | per-pixel arrays beside the accumulation    | `pixel_arrays`   | the pixels group, the Renderer, the limits  |
@@ -53,6 +54,9 @@ class Integrator:
     rows_entry: str | None = None
     # the kernel over one pixel of each block (TemporalUpsampling); None: it has none
     subset_entry: str | None = None
+    # a kernel over every pixel that runs before each whole-image dispatch of `entry`, on the same
+    # bind groups (restir's candidates, which the pass then shares between neighbours); None: none
+    prepass_entry: str | None = None
     constants: tuple[tuple[str, int], ...] = ()
     pixel_arrays: tuple[PixelArray, ...] = ()
     splats: bool = False
@@ -109,6 +113,11 @@ class Integrator:
             raise ValueError(
                 f"the {self.name} integrator renders whole images only: it has no band-of-rows kernel for the viewer"
             )
+
+    def uses_prepass(self, variant: KernelVariant) -> bool:
+        """Whether `variant`'s kernel runs after the pre-pass: a whole-image kernel of an integrator
+        that has one (bands and subsets trace part of the image)."""
+        return self.prepass_entry is not None and not (variant.rows or variant.subset or variant.prepass)
 
     def check_subset(self) -> None:
         """ValueError unless it has a kernel over one pixel of each block (temporal upsampling)."""

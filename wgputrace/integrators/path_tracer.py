@@ -33,23 +33,23 @@ class PathTracer(Integrator):
         return {GENERATED_FIRST_VERTEX_LIGHT: f'//! include "{self.first_vertex_light}"\n'}
 
 
-def path_tracer(name: str, description: str, estimator: str, **fields) -> PathTracer:
-    """A path tracer named `name` whose vertices estimate direct light by `estimator` (one of
-    ESTIMATORS), with every kernel the path tracer has: rows for the viewer, a subset for temporal
-    upsampling, several samples a dispatch, absorption and the G-buffer."""
-    return PathTracer(
-        name,
-        "integrators/path_tracer.wgsl",
-        description,
-        rows_entry="integrators/path_tracer_rows.wgsl",
-        subset_entry="integrators/path_tracer_subset.wgsl",
-        constants=(("INTEGRATOR", ESTIMATORS.index(estimator)),),
-        regenerates=True,
-        dispatch_samples=(("CPU", 8),),
-        absorbs=True,
-        gbuffer=True,
-        **fields,
-    )
+def path_tracer(
+    name: str, description: str, estimator: str, kind: type = PathTracer, constants: tuple = (), **fields
+) -> PathTracer:
+    """A path tracer (a `kind`) named `name` whose vertices estimate direct light by `estimator`
+    (one of ESTIMATORS), with every kernel the path tracer has unless `fields` say otherwise: rows
+    for the viewer, a subset for temporal upsampling, several samples a dispatch, absorption and the
+    G-buffer; `constants` are override constants besides INTEGRATOR."""
+    kernels = {
+        "rows_entry": "integrators/path_tracer_rows.wgsl",
+        "subset_entry": "integrators/path_tracer_subset.wgsl",
+        "regenerates": True,
+        "dispatch_samples": (("CPU", 8),),
+        "absorbs": True,
+        "gbuffer": True,
+    }
+    overrides = (("INTEGRATOR", ESTIMATORS.index(estimator)), *constants)
+    return kind(name, "integrators/path_tracer.wgsl", description, constants=overrides, **(kernels | fields))
 
 
 for _name in ESTIMATORS:

@@ -1,30 +1,66 @@
 """ReSTIR's direct light (Bitterli et al. 2020) at the first vertex of the path tracer's paths:
-candidates from the light sampler resampled by their unshadowed contribution, combined with the
-pixel's reservoir from its previous sample (kept in two pixel arrays), one shadow ray for the
-survivor (shaders/integrators/restir/). The vertices after the first take their light as "mis"
-does. Scenes that do not select it compile none of it."""
+light candidates resampled by their unshadowed contribution at every pixel (a pre-pass before each
+sample of the whole image), then each pixel's reservoir combined with its neighbours', one shadow
+ray for the survivor (shaders/integrators/restir/). The vertices after the first take their light
+as "mis" does. Scenes that do not select it compile none of it.
+
+Where reservoirs are shared (RESERVOIR_NEIGHBOURS > 0), a pass takes one sample of each pixel after
+the pre-pass made that sample's reservoirs: no path regeneration. The viewer's bands and subsets
+trace part of the image, with no pre-pass: there a vertex keeps its own candidates (SPATIAL_REUSE
+false), as everywhere by default."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..gpu.bindings import STORAGE_READ_WRITE, Binding
 from ..gpu.layout import RESERVOIR_RECEIVER, RESERVOIR_RECORD
 from .integrator import PixelArray, register
-from .path_tracer import path_tracer
+from .path_tracer import GENERATED_FIRST_VERTEX_LIGHT, PathTracer, path_tracer
 
-# A pixel's reservoir and the surface point it was resampled for: two arrays, so that neither
-# passes a device's largest storage binding before the other would (48 + 32 bytes a pixel).
+if TYPE_CHECKING:
+    from ..kernels.variant import KernelVariant
+
+# Each pixel's reservoir from the pre-pass and the surface point it was resampled for: two arrays,
+# so that neither passes a device's largest storage binding before the other would (48 + 32 bytes
+# a pixel).
 RESERVOIRS = PixelArray(Binding("restir_reservoirs", STORAGE_READ_WRITE, RESERVOIR_RECORD), RESERVOIR_RECORD.size // 4)
 RECEIVERS = PixelArray(
     Binding("restir_receivers", STORAGE_READ_WRITE, RESERVOIR_RECEIVER), RESERVOIR_RECEIVER.size // 4
 )
 
+
+# Neighbours' reservoirs each first vertex combines with its own (the override RESERVOIR_NEIGHBOURS),
+# measured by `python -m bench.restir`: on lavapipe the pre-pass and the combination cost more than
+# the variance they remove on every scene measured, so by default a vertex keeps its own candidates
+# and no pre-pass runs. `shader_overrides={"RESERVOIR_NEIGHBOURS": 3}` shares them.
+RESERVOIR_NEIGHBOURS = 0
+
+
+@dataclass(frozen=True)
+class Restir(PathTracer):
+    def uses_prepass(self, variant: KernelVariant) -> bool:
+        """Where reservoirs are shared between neighbours: whole-image kernels with neighbours."""
+        return super().uses_prepass(variant) and variant.constants["RESERVOIR_NEIGHBOURS"] > 0
+
+    def files(self, variant: KernelVariant) -> dict[str, str]:
+        """The path tracer's file, and whether this variant shares reservoirs between neighbours."""
+        spatial = str(self.uses_prepass(variant)).lower()
+        text = super().files(variant)[GENERATED_FIRST_VERTEX_LIGHT]
+        return {GENERATED_FIRST_VERTEX_LIGHT: f"const SPATIAL_REUSE: bool = {spatial};\n{text}"}
+
+
 RESTIR = register(
     path_tracer(
         "restir",
-        "path tracing whose first vertex resamples light candidates by their contribution and reuses the "
-        "pixel's reservoir from its previous sample (ReSTIR), MIS after it",
+        "path tracing whose first vertex resamples light candidates by their contribution and shares them "
+        "with its neighbours (ReSTIR), MIS after it",
         "mis",
+        kind=Restir,
+        constants=(("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS),),
         first_vertex_light="integrators/restir/resampled_direct_light.wgsl",
+        prepass_entry="integrators/restir/candidates.wgsl",
         pixel_arrays=(RESERVOIRS, RECEIVERS),
     )
 )

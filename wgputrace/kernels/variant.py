@@ -120,6 +120,8 @@ class KernelVariant:
     rows: bool = flag("rows")
     # the entry point that renders one pixel of each block (temporal upsampling's)
     subset: bool = flag("pixel subset")
+    # the integrator's pre-pass over the whole image (`Integrator.prepass_entry`)
+    prepass: bool = flag("pre-pass")
     # the ray counters
     count_rays: bool = flag("counting rays")
     # the lane counters (subgroup operations: an adapter with subgroups)
@@ -142,14 +144,17 @@ class KernelVariant:
         check_sampler(self.sampler)
         if self.samples_per_dispatch < 1:
             raise ValueError(f"samples_per_dispatch must be at least 1, got {self.samples_per_dispatch}")
-        if self.rows and self.subset:
-            raise ValueError("a kernel renders a band of rows or a subset of pixels, not both")
+        if self.rows + self.subset + self.prepass > 1:
+            raise ValueError("a kernel renders a band of rows, a subset of pixels or a pre-pass, not two of them")
+        if self.prepass and self.require_integrator().prepass_entry is None:
+            raise ValueError(f"the {self.require_integrator().name} integrator has no pre-pass")
         if self.rows:
             self.require_integrator().check_rows()
         if self.subset:
             self.require_integrator().check_subset()
-        if self.rows or self.subset:
-            # the viewer's bands and the subsets take one sample per pixel each, and nothing takes owed ones
+        # the viewer's bands, the subsets and a pre-pass's kernels take one sample per pixel each,
+        # and nothing takes owed ones
+        if self.rows or self.subset or self.prepass or (self.integrator and self.integrator.uses_prepass(self)):
             object.__setattr__(self, "samples_per_dispatch", 1)
             object.__setattr__(self, "loop_budget", False)
         if self.samples_per_dispatch > 1:
@@ -178,6 +183,8 @@ class KernelVariant:
     def entry(self) -> tuple[str, str]:
         """The integrator's entry file and entry point for this variant."""
         integrator = self.require_integrator()
+        if self.prepass:
+            return (integrator.prepass_entry, "main_prepass")
         if self.subset:
             return (integrator.subset_entry, "main_subset")
         return (integrator.rows_entry, "main_rows") if self.rows else (integrator.entry, "main")

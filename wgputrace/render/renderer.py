@@ -189,7 +189,7 @@ class Renderer:
             )
         self.stats = RenderStats()
         self.variant = variant.with_scene(self._mirror.features)
-        self.kernel = tracing_kernel(self.context, self.variant)
+        self._compile(self.variant)
         frame = self.frame_record()
         self._frame_bytes = frame.tobytes()
         self._frame = TrackedBuffer(
@@ -330,7 +330,7 @@ class Renderer:
             if variant.scene.camera != self.variant.scene.camera:
                 self.scene.camera.check_image(self.width, self.height)
             self.variant = variant
-            self.kernel = tracing_kernel(self.context, variant)
+            self._compile(variant)
         if new_variant or regrouped:
             self._bind()
         # a new variant with no record changed still changes the picture: normals or textures dropped
@@ -388,7 +388,7 @@ class Renderer:
         else:
             self._sums.pop(GUIDE_SUMS.name).destroy()
         self.variant = replace(self.variant, guides=enabled)
-        self.kernel = tracing_kernel(self.context, self.variant)
+        self._compile(self.variant)
         self._bind()
         self.restart()
 
@@ -535,11 +535,20 @@ class Renderer:
             self.context.finish()
 
     def _submit_dispatches(self, kernel: ComputeKernel, groups: dict, count: int, repeat: int) -> None:
-        """One submit of `repeat` dispatches of `count` samples each (after the samples owed)."""
+        """One submit of `repeat` dispatches of `count` samples each (after the samples owed), each
+        after the integrator's pre-pass where it has one."""
         if count != self._dispatch_count:
             write_buffer(self.context, self._dispatch_samples, 0, np.array([count], np.uint32))
             self._dispatch_count = count
-        submit(self.context, [Pass(kernel, (self.width, self.height), groups)] * repeat)
+        size = (self.width, self.height)
+        prepass = [Pass(self._prepass, size, groups)] if self._prepass is not None else []
+        submit(self.context, [*prepass, Pass(kernel, size, groups)] * repeat)
+
+    def _compile(self, variant: KernelVariant) -> None:
+        """`variant`'s kernel, and its integrator's pre-pass where it has one."""
+        self.kernel = tracing_kernel(self.context, variant)
+        uses_prepass = variant.require_integrator().uses_prepass(variant)
+        self._prepass = tracing_kernel(self.context, replace(variant, prepass=True)) if uses_prepass else None
 
     def _accumulated(self) -> np.ndarray:
         return read_buffer(self.context, self._sums["accumulation"], ACCUMULATED_PIXEL.dtype, self.width * self.height)
@@ -751,7 +760,7 @@ class Renderer:
             self.context, "previous frame", np.frombuffer(self._frame_bytes, np.uint8).copy()
         )
         self.variant = variant
-        self.kernel = tracing_kernel(self.context, variant)
+        self._compile(variant)
         self._motion = ObjectMotion()
         self._records.sync(*self._record_arrays({}), variant.groups())
         self._bind()

@@ -96,10 +96,12 @@ class ReferenceCase:
     spp: int  # per batch
     seed: int
     integrator: str = "mis"
-    shader_overrides: tuple[tuple[str, bool], ...] = ()
+    shader_overrides: tuple[tuple[str, float], ...] = ()
     blocks: tuple[int, ...] = ()
     reference: str = ""
     same_paths_as: str | None = None
+    # a name for the shader overrides where one scene and integrator has cases with and without
+    variant: str = ""
 
     def __post_init__(self) -> None:
         # the defaults that depend on other fields, filled in once (the dataclass is frozen)
@@ -110,7 +112,7 @@ class ReferenceCase:
 
     @property
     def name(self) -> str:
-        return f"{self.scene}-{self.integrator}"
+        return f"{self.scene}-{self.integrator}" + (f"-{self.variant}" if self.variant else "")
 
     @property
     def mitsuba(self) -> ReferenceSettings:
@@ -297,6 +299,8 @@ VERTEX_COLOR_CASES = (
 # weighs candidates by (diffuse, glossy, principled, normal-mapped). The first vertex draws only
 # light samples, so these cases also catch light that its BSDF sample finds counted twice or not at all.
 _restir = partial(ReferenceCase, family="restir", size=64, batches=8, spp=32, integrator="restir")
+# Reservoirs shared with neighbouring pixels (a pre-pass before each sample): the same picture.
+_shared = partial(_restir, shader_overrides=(("RESERVOIR_NEIGHBOURS", 3),), variant="shared")
 RESTIR_CASES = (
     _restir("cornell", seed=20261501),
     _restir("tiny_light", seed=20261502),
@@ -306,6 +310,12 @@ RESTIR_CASES = (
     _restir("point_spot_directional", seed=20261506),
     _restir("textured_asset", seed=20261507),
     _restir("night_street", seed=20261508),
+    _shared("cornell", seed=20261511),
+    _shared("principled_spheres", seed=20261514),
+    _shared("env_sun_spheres", seed=20261515),
+    _shared("point_spot_directional", seed=20261516),
+    _shared("textured_asset", seed=20261517),
+    _shared("night_street", seed=20261518),
 )
 
 CASES: tuple[ReferenceCase, ...] = (

@@ -81,18 +81,30 @@ fn light_seen_from(kept: ResampledLight, p: vec3<f32>) -> LightSample {
     return light;
 }
 
+// The light sampler's density (per steradian, its choice included) of `light`'s direction from
+// `p`: a triangle's from its place, a distant light's as it was sampled (the same from everywhere).
+fn light_sampling_density(light: LightSample, index: u32, p: vec3<f32>) -> f32 {
+    if light.distant || light.delta {
+        return light.pdf;
+    }
+    let triangle = scene_triangle(index);
+    let to_light = light.position - p;
+    let distance_squared = dot(to_light, to_light);
+    return pdf_light(p, index, triangle, distance_squared, abs(dot(light.normal, to_light)) / sqrt(distance_squared));
+}
+
 fn stored_light(record: ReservoirRecord) -> ResampledLight {
     let distant = (record.kind & RESERVOIR_DISTANT) != 0u;
     let delta = (record.kind & RESERVOIR_DELTA) != 0u;
     let position = select(record.point, vec3<f32>(0.0), distant);
     let direction = select(vec3<f32>(0.0), record.point, distant);
     let triangle = select(0u, record.light, !distant && !delta);
-    let light = LightSample(position, record.normal, record.radiance, triangle, 1.0, direction, distant, delta);
+    let light = LightSample(position, record.normal, record.radiance, triangle, record.density, direction, distant, delta);
     return ResampledLight(light, record.light, UnshadowedLight(vec3<f32>(0.0), vec3<f32>(0.0)), 0.0);
 }
 
 fn reservoir_record(kept: ResampledLight, weight: f32) -> ReservoirRecord {
     let light = kept.light;
     let kind = select(0u, RESERVOIR_DISTANT, light.distant) | select(0u, RESERVOIR_DELTA, light.delta);
-    return ReservoirRecord(select(light.position, light.direction, light.distant), kept.index, light.normal, kind, light.radiance, weight);
+    return ReservoirRecord(select(light.position, light.direction, light.distant), kept.index, light.normal, kind, light.radiance, weight, light.pdf);
 }
