@@ -54,15 +54,21 @@ def test_each_kernel_option_changes_what_is_compiled(name):
 
 def test_only_restir_sharing_reservoirs_runs_a_prepass_and_one_sample_per_dispatch():
     restir = KernelVariant(integrator=integrator("restir"), samples_per_dispatch=8)
-    shared = replace(restir, overrides=(("RESERVOIR_NEIGHBOURS", 3.0),))
+    sharing = integrator("restir").with_overrides({"RESERVOIR_NEIGHBOURS": 3})
+    shared = KernelVariant(integrator=sharing, samples_per_dispatch=8)
+    assert integrator("restir").pixel_arrays == () and {a.binding.name for a in sharing.pixel_arrays} == {
+        "restir_reservoirs",
+        "restir_receivers",
+    }
     assert not restir.integrator.uses_prepass(restir) and restir.samples_per_dispatch == 8
     assert shared.integrator.uses_prepass(shared) and shared.samples_per_dispatch == 1
-    assert "const SPATIAL_REUSE: bool = true;" in shared.files()["generated/first_vertex_light.wgsl"]
-    assert "const SPATIAL_REUSE: bool = false;" in restir.files()["generated/first_vertex_light.wgsl"]
+    first_vertex = "generated/first_vertex_light.wgsl"
+    assert "restir/shared_reservoirs.wgsl" in shared.files()[first_vertex]
+    assert "restir/own_reservoir.wgsl" in restir.files()[first_vertex]
     # the viewer's bands trace part of the image: no pre-pass, no sharing
     rows = replace(shared, rows=True)
     assert not rows.integrator.uses_prepass(rows)
-    assert "const SPATIAL_REUSE: bool = false;" in rows.files()["generated/first_vertex_light.wgsl"]
+    assert "restir/own_reservoir.wgsl" in rows.files()[first_vertex]
     assert shared.entry[1] == "main" and replace(shared, prepass=True).entry == (
         "integrators/restir/candidates.wgsl",
         "main_prepass",

@@ -53,7 +53,12 @@ GLOSSY = [Glossy(f"glossy {r}", color=(1, 1, 1), roughness=r) for r in (0.01, 0.
 # samples no lights: MIS is BSDF sampling there); bidirectional path tracing
 # adds light paths from the enclosure, connected and traced to the camera. Diffuse keeps A = 1 at
 # every angle, so one suffices.
-INTEGRATORS = ("bsdf", "mis")
+# restir resamples the first vertex's light candidates and weighs what its BSDF sample finds
+# against them by MIS, its own and (restir-shared) its neighbours' reservoirs: a weight that does
+# not sum to one with the BSDF's shows here as light gained or lost.
+INTEGRATORS = ("bsdf", "mis", "restir", "restir-shared")
+# the integrator and shader overrides behind each name above
+INTEGRATOR_VARIANTS = {"restir-shared": ("restir", {"RESERVOIR_NEIGHBOURS": 3})}
 REFLECTION_CASES = [(DIFFUSE, 0.5, i) for i in INTEGRATORS] + [
     (m, c, i) for m in GLOSSY for c in INCIDENT_COSINES for i in INTEGRATORS
 ]
@@ -158,7 +163,10 @@ def case_id(case) -> str:
 def test_reflector_returns_its_albedo(gpu_context, failure_dir, index):
     material, cos_theta, integrator = REFLECTION_CASES[index]
     scene = plane_facing_camera(material, cos_theta)
-    renderer = Renderer(scene, SIZE, SIZE, seed=SEED + index, max_depth=2, integrator=integrator)
+    integrator, overrides = INTEGRATOR_VARIANTS.get(integrator, (integrator, {}))
+    renderer = Renderer(
+        scene, SIZE, SIZE, seed=SEED + index, max_depth=2, integrator=integrator, shader_overrides=overrides
+    )
     renderer.render(SPP)
     # the tolerance for quadrature: a fraction of the standard error, itself known only after
     # rendering; a lossless case (diffuse) needs only float accuracy

@@ -23,6 +23,7 @@ WGSL entry file: the renderer, the CLI's choices and the limits follow from the 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -113,6 +114,11 @@ class Integrator:
             raise ValueError(
                 f"the {self.name} integrator renders whole images only: it has no band-of-rows kernel for the viewer"
             )
+
+    def with_overrides(self, overrides: Mapping[str, float]) -> Integrator:
+        """The integrator as a Renderer compiled with shader `overrides` uses it: itself here (one
+        whose overrides change what it allocates says so)."""
+        return self
 
     def uses_prepass(self, variant: KernelVariant) -> bool:
         """Whether `variant`'s kernel runs after the pre-pass: a whole-image kernel of an integrator

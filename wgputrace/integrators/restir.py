@@ -6,12 +6,13 @@ as "mis" does. Scenes that do not select it compile none of it.
 
 Where reservoirs are shared (RESERVOIR_NEIGHBOURS > 0), a pass takes one sample of each pixel after
 the pre-pass made that sample's reservoirs: no path regeneration. The viewer's bands and subsets
-trace part of the image, with no pre-pass: there a vertex keeps its own candidates (SPATIAL_REUSE
-false), as everywhere by default."""
+trace part of the image, with no pre-pass: there a vertex keeps its own candidates, as everywhere
+by default."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from ..gpu.bindings import STORAGE_READ_WRITE, Binding
@@ -22,9 +23,9 @@ from .path_tracer import GENERATED_FIRST_VERTEX_LIGHT, PathTracer, path_tracer
 if TYPE_CHECKING:
     from ..kernels.variant import KernelVariant
 
-# Each pixel's reservoir from the pre-pass and the surface point it was resampled for: two arrays,
-# so that neither passes a device's largest storage binding before the other would (48 + 32 bytes
-# a pixel).
+# Each pixel's reservoir from the pre-pass and the surface point it was resampled for, where
+# reservoirs are shared (`with_overrides`): two arrays, so that neither passes a device's largest
+# storage binding before the other would (64 + 32 bytes a pixel).
 RESERVOIRS = PixelArray(Binding("restir_reservoirs", STORAGE_READ_WRITE, RESERVOIR_RECORD), RESERVOIR_RECORD.size // 4)
 RECEIVERS = PixelArray(
     Binding("restir_receivers", STORAGE_READ_WRITE, RESERVOIR_RECEIVER), RESERVOIR_RECEIVER.size // 4
@@ -40,15 +41,29 @@ RESERVOIR_NEIGHBOURS = 0
 
 @dataclass(frozen=True)
 class Restir(PathTracer):
+    def with_overrides(self, overrides: Mapping[str, float]) -> Restir:
+        """With neighbours (the override RESERVOIR_NEIGHBOURS), the pre-pass's reservoirs and the
+        neighbours' count as a constant: a scene rendered as shipped allocates and compiles none."""
+        neighbours = overrides.get("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS)
+        if neighbours > 0:
+            constants = (*self.constants, ("RESERVOIR_NEIGHBOURS", neighbours))
+            return replace(self, pixel_arrays=(RESERVOIRS, RECEIVERS), constants=constants)
+        return self
+
+    def shares(self, variant: KernelVariant) -> bool:
+        """Whether `variant`'s kernel shares reservoirs between neighbours (or makes them for that,
+        the pre-pass): kernels over the whole image, with neighbours."""
+        neighbours = variant.constants.get("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS)
+        return neighbours > 0 and not (variant.rows or variant.subset)
+
     def uses_prepass(self, variant: KernelVariant) -> bool:
-        """Where reservoirs are shared between neighbours: whole-image kernels with neighbours."""
-        return super().uses_prepass(variant) and variant.constants["RESERVOIR_NEIGHBOURS"] > 0
+        return super().uses_prepass(variant) and self.shares(variant)
 
     def files(self, variant: KernelVariant) -> dict[str, str]:
-        """The path tracer's file, and whether this variant shares reservoirs between neighbours."""
-        spatial = str(self.uses_prepass(variant)).lower()
+        """The resampled first vertex, with the vertex's own reservoir or shared ones."""
+        reservoir = "shared_reservoirs" if self.shares(variant) else "own_reservoir"
         text = super().files(variant)[GENERATED_FIRST_VERTEX_LIGHT]
-        return {GENERATED_FIRST_VERTEX_LIGHT: f"const SPATIAL_REUSE: bool = {spatial};\n{text}"}
+        return {GENERATED_FIRST_VERTEX_LIGHT: f'{text}//! include "integrators/restir/{reservoir}.wgsl"\n'}
 
 
 RESTIR = register(
@@ -58,9 +73,7 @@ RESTIR = register(
         "with its neighbours (ReSTIR), MIS after it",
         "mis",
         kind=Restir,
-        constants=(("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS),),
         first_vertex_light="integrators/restir/resampled_direct_light.wgsl",
         prepass_entry="integrators/restir/candidates.wgsl",
-        pixel_arrays=(RESERVOIRS, RECEIVERS),
     )
 )

@@ -146,7 +146,7 @@ class Renderer:
         sampler: str = DEFAULT_SAMPLER,
         samples_per_dispatch: int | None = None,
     ) -> None:
-        method = _integrator(integrator)
+        method = _integrator(integrator).with_overrides(shader_overrides or {})
         if width < 1 or height < 1:
             raise ValueError(f"image size must be at least 1x1, got {width}x{height}")
         if max_depth != UNLIMITED_DEPTH and not 1 <= max_depth < _UNLIMITED_DEPTH_GPU:

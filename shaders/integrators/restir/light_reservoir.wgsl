@@ -1,6 +1,5 @@
 // The restir integrator's reservoirs: a light sample chosen in proportion to a target among
-// candidates, with the sum of their resampling weights; and what a pixel keeps of one from a
-// sample to the next (ReservoirRecord, ReservoirReceiver in restir_reservoirs, restir_receivers).
+// candidates, with the sum of their resampling weights.
 //
 // Samples are compared across surface points in one measure: per unit area of light for lights at
 // a finite distance (triangles, whose points every receiver shares), per steradian for distant
@@ -8,7 +7,6 @@
 // receiver is the luminance of the sample's unshadowed contribution there in that measure
 // (target_value): 0 behind the surface or outside the BSDF's lobe, so a reservoir's sample can be
 // reused wherever the target is positive.
-//! include "generated/bindings/pixels.wgsl"
 
 const RESERVOIR_DISTANT: u32 = 1u;
 const RESERVOIR_DELTA: u32 = 2u;
@@ -91,20 +89,4 @@ fn light_sampling_density(light: LightSample, index: u32, p: vec3<f32>) -> f32 {
     let to_light = light.position - p;
     let distance_squared = dot(to_light, to_light);
     return pdf_light(p, index, triangle, distance_squared, abs(dot(light.normal, to_light)) / sqrt(distance_squared));
-}
-
-fn stored_light(record: ReservoirRecord) -> ResampledLight {
-    let distant = (record.kind & RESERVOIR_DISTANT) != 0u;
-    let delta = (record.kind & RESERVOIR_DELTA) != 0u;
-    let position = select(record.point, vec3<f32>(0.0), distant);
-    let direction = select(vec3<f32>(0.0), record.point, distant);
-    let triangle = select(0u, record.light, !distant && !delta);
-    let light = LightSample(position, record.normal, record.radiance, triangle, record.density, direction, distant, delta);
-    return ResampledLight(light, record.light, UnshadowedLight(vec3<f32>(0.0), vec3<f32>(0.0)), 0.0);
-}
-
-fn reservoir_record(kept: ResampledLight, weight: f32) -> ReservoirRecord {
-    let light = kept.light;
-    let kind = select(0u, RESERVOIR_DISTANT, light.distant) | select(0u, RESERVOIR_DELTA, light.delta);
-    return ReservoirRecord(select(light.position, light.direction, light.distant), kept.index, light.normal, kind, light.radiance, weight, light.pdf);
 }
