@@ -1,7 +1,7 @@
 """The benchmark suite: issue 8's benchmarks, issue 16's denoising and issue 15's environment lighting
 on the current adapter, and a summary of every target.
 
-    python -m bench                       (about 25 minutes on lavapipe, 2 cores; denoise about 8, environment 5)
+    python -m bench                       (about 30 minutes on lavapipe, 2 cores; denoise about 8, environment 5, restir 4)
     python -m bench --quick               (about 5 minutes: smaller images, fewer repeats and counts)
     python -m bench --gpu                 (on a GPU: more samples per timed run, which lasts milliseconds there)
     python -m bench --only scaling bvh_build
@@ -316,6 +316,21 @@ class Benchmark:
     in_default_run: bool = True
 
 
+def restir_targets(result: dict) -> list[Target]:
+    """Issue 27's final-render targets: efficiency (1 / (MSE x s)) of restir over nee on the
+    many-light street and over mis on the Cornell box."""
+    rows = []
+    for key, target in result["targets"].items():
+        value = result["measured"].get(key)
+        measured = "-" if value is None else f"{value:.2f}x"
+        rows.append(
+            Target(
+                "restir", key.replace("_", " "), measured, f">= {target:g}x", None if value is None else value >= target
+            )
+        )
+    return rows
+
+
 def soak_targets(result: dict) -> list[Target]:
     limit = f"< {result['flat_growth_mib']:g} MiB"
     rows = []
@@ -459,6 +474,12 @@ BENCHMARKS = (
         ("--scenes", "cornell", "caustic", "--integrators", "mis", "bdpt", "--max-spp", "64"),
         ("--max-spp", "4096", "--runs", "2"),
         convergence_targets,
+    ),
+    Benchmark(
+        "restir",
+        ("--scenes", "night_street", "cornell", "--no-sweep", "--max-spp", "64"),
+        ("--max-spp", "4096"),
+        restir_targets,
     ),
     Benchmark("soak", ("--minutes", "1", "--cycles", "1000"), (), soak_targets, in_default_run=False),
     Benchmark(

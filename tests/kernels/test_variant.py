@@ -55,7 +55,7 @@ def test_each_kernel_option_changes_what_is_compiled(name):
 def test_only_restir_sharing_reservoirs_runs_a_prepass_and_one_sample_per_dispatch():
     restir = KernelVariant(integrator=integrator("restir"), samples_per_dispatch=8)
     sharing = integrator("restir").with_overrides({"RESERVOIR_NEIGHBOURS": 3})
-    shared = KernelVariant(integrator=sharing, samples_per_dispatch=8)
+    shared = KernelVariant(integrator=sharing, overrides=(("RESERVOIR_NEIGHBOURS", 3.0),), samples_per_dispatch=8)
     assert integrator("restir").pixel_arrays == () and {a.binding.name for a in sharing.pixel_arrays} == {
         "restir_reservoirs",
         "restir_receivers",

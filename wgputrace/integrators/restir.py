@@ -42,12 +42,10 @@ RESERVOIR_NEIGHBOURS = 0
 @dataclass(frozen=True)
 class Restir(PathTracer):
     def with_overrides(self, overrides: Mapping[str, float]) -> Restir:
-        """With neighbours (the override RESERVOIR_NEIGHBOURS), the pre-pass's reservoirs and the
-        neighbours' count as a constant: a scene rendered as shipped allocates and compiles none."""
-        neighbours = overrides.get("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS)
-        if neighbours > 0:
-            constants = (*self.constants, ("RESERVOIR_NEIGHBOURS", neighbours))
-            return replace(self, pixel_arrays=(RESERVOIRS, RECEIVERS), constants=constants)
+        """With neighbours (the override RESERVOIR_NEIGHBOURS), the pre-pass's reservoirs: a scene
+        rendered as shipped allocates none."""
+        if overrides.get("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS) > 0:
+            return replace(self, pixel_arrays=(RESERVOIRS, RECEIVERS))
         return self
 
     def shares(self, variant: KernelVariant) -> bool:
@@ -73,6 +71,7 @@ RESTIR = register(
         "with its neighbours (ReSTIR), MIS after it",
         "mis",
         kind=Restir,
+        constants=(("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS),),
         first_vertex_light="integrators/restir/resampled_direct_light.wgsl",
         prepass_entry="integrators/restir/candidates.wgsl",
     )

@@ -25,6 +25,10 @@ override RESAMPLED_LIGHT_CANDIDATES: u32 = 16u;
 // Lobes whose density towards the mirror direction is above this (per steradian; a GGX lobe's is
 // about 1 / (4 pi alpha^2)) take their light by MIS.
 override RESAMPLING_MAX_LOBE_DENSITY: f32 = 10.0;
+// Neighbours' reservoirs combined with a pixel's own (shared_reservoirs.wgsl; 0: its own alone):
+// the integrator's constant (wgputrace.integrators.restir), which the Renderer's shader overrides
+// may change.
+override RESERVOIR_NEIGHBOURS: u32;
 // Whether `point`'s lobe is wide enough for light candidates to land in it.
 fn resamples_at(point: ShadedPoint) -> bool {
     let mirror = vec3<f32>(-point.wi.x, -point.wi.y, point.wi.z);

@@ -12,9 +12,7 @@
 // depends on their geometry alone, not on their samples.
 //! include "generated/bindings/pixels.wgsl"
 
-// Neighbours' reservoirs combined with a pixel's own (the integrator's constant, from the Renderer's
-// shader overrides: wgputrace.integrators.restir), and how far away (pixels) they are drawn.
-override RESERVOIR_NEIGHBOURS: u32;
+// How far away (pixels) the RESERVOIR_NEIGHBOURS neighbours are drawn.
 override RESERVOIR_RADIUS: f32 = 10.0;
 // The largest neighbours' reservoirs a combination holds (RESERVOIR_NEIGHBOURS at most).
 const RESERVOIR_NEIGHBOURS_MAX: u32 = 6u;
