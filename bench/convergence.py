@@ -457,6 +457,21 @@ def plot(path: Path, result: dict) -> None:
     save_figure(chart, path, result, title, fontsize=10)
 
 
+def settings(args: argparse.Namespace) -> dict:
+    """The settings every result names (SETTINGS_KEYS and the runs): sizes, spp and depths differ
+    between scenes, so they are given per scene under "scenes"."""
+    return {
+        "scene": list(args.scenes),
+        "width": None,  # per scene: "scenes"
+        "height": None,
+        "spp": args.max_spp,  # at 128x128; per scene: "scenes"
+        "max_depth": None,
+        "max_spp": args.max_spp,
+        "runs": args.runs,
+        "seed": args.seed,
+    }
+
+
 def strategies(args: argparse.Namespace) -> list[Strategy]:
     ours = [Strategy(integrator, sampler) for integrator in args.integrators for sampler in args.samplers]
     return ours + [Strategy(MITSUBA, sampler) for sampler in args.mitsuba_samplers]
@@ -523,14 +538,7 @@ def main(argv: list[str] | None = None) -> int:
     # other work on shared cores moves far less than wall time
     table_cpu = read_off(curves([row | {"seconds": row["cpu_seconds"]} for row in rows]))
     result = {
-        "scene": list(args.scenes),
-        "width": None,  # per scene: "scenes"
-        "height": None,
-        "spp": args.max_spp,  # at 128x128; per scene: "scenes"
-        "max_depth": None,
-        "max_spp": args.max_spp,
-        "runs": args.runs,
-        "seed": args.seed,
+        **settings(args),
         "mitsuba_version": None if isinstance(mitsuba, str) else mitsuba[0].__version__,
         "mitsuba_variant": None if isinstance(mitsuba, str) else args.mitsuba_variant,
         "threads": None if isinstance(mitsuba, str) else threads(mitsuba[1]),

@@ -34,6 +34,7 @@ from bench.convergence import (
     ratio,
     read_off,
     scene_setup,
+    settings,
     summary,
 )
 from bench.error_curves import curves
@@ -139,14 +140,7 @@ def main(argv: list[str] | None = None) -> int:
         ),
     }
     result = {
-        "scene": list(args.scenes),
-        "width": None,  # per scene: "scenes"
-        "height": None,
-        "spp": args.max_spp,  # at 128x128; per scene: "scenes"
-        "max_depth": None,
-        "max_spp": args.max_spp,
-        "runs": 1,
-        "seed": args.seed,
+        **settings(args),
         "mitsuba_version": None,
         "targets": TARGETS,
         "measured": measured,

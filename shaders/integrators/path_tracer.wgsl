@@ -26,8 +26,8 @@
 //! include "generated/absorption.wgsl"
 // samples_this_dispatch: 1, or this dispatch's count where paths regenerate (regeneration_hook)
 //! include "generated/regeneration.wgsl"
-// first_vertex_light: the direct light of a path's first vertex, by direct_light or resampled
-// (the integrator's first_vertex_light file)
+// first_vertex_light and RESAMPLES_FIRST_VERTEX: the direct light of a path's first vertex, where
+// it is resampled (the integrator's first_vertex_light file)
 //! include "generated/first_vertex_light.wgsl"
 //! include "generated/bindings/pixels.wgsl"
 //! include "generated/workgroup.wgsl"
@@ -253,7 +253,9 @@ fn path_vertex(path: ptr<function, PathState>) -> bool {
     var light_samples = 1.0;
     if (*path).previous_sampled_lights || samples_delta_lights_only(material) {
         var light: vec3<f32>;
-        if depth == 1u {
+        // a constant condition: the path tracers that take the first vertex's light as any other's
+        // compile one direct_light, not two
+        if RESAMPLES_FIRST_VERTEX && depth == 1u {
             let first = first_vertex_light(point, (*path).pixel);
             light = first.radiance;
             light_samples = first.light_samples;

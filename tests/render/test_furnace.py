@@ -53,17 +53,22 @@ GLOSSY = [Glossy(f"glossy {r}", color=(1, 1, 1), roughness=r) for r in (0.01, 0.
 # samples no lights: MIS is BSDF sampling there); bidirectional path tracing
 # adds light paths from the enclosure, connected and traced to the camera. Diffuse keeps A = 1 at
 # every angle, so one suffices.
-# restir resamples the first vertex's light candidates and weighs what its BSDF sample finds
-# against them by MIS, its own and (restir-shared) its neighbours' reservoirs: a weight that does
-# not sum to one with the BSDF's shows here as light gained or lost.
-INTEGRATORS = ("bsdf", "mis", "restir", "restir-shared")
-# the integrator and shader overrides behind each name above
-INTEGRATOR_VARIANTS = {"restir-shared": ("restir", {"RESERVOIR_NEIGHBOURS": 3})}
+INTEGRATORS = ("bsdf", "mis")
 REFLECTION_CASES = [(DIFFUSE, 0.5, i) for i in INTEGRATORS] + [
     (m, c, i) for m in GLOSSY for c in INCIDENT_COSINES for i in INTEGRATORS
 ]
 # bidirectional path tracing on a diffuse and a glossy plane (a few seconds each)
 REFLECTION_CASES += [(DIFFUSE, 0.5, "bdpt"), (GLOSSY[1], 0.5, "bdpt")]
+# restir resamples the first vertex's light candidates and weighs what its BSDF sample finds
+# against them by MIS, with its own and (restir-shared) its neighbours' reservoirs: a weight that
+# does not sum to one with the BSDF's shows here as light gained or lost. Last, so that the cases
+# before keep their seeds.
+RESAMPLING = ("restir", "restir-shared")
+REFLECTION_CASES += [(DIFFUSE, 0.5, i) for i in RESAMPLING] + [
+    (m, c, i) for m in GLOSSY for c in INCIDENT_COSINES for i in RESAMPLING
+]
+# the integrator and shader overrides behind each name above
+INTEGRATOR_VARIANTS = {"restir-shared": ("restir", {"RESERVOIR_NEIGHBOURS": 3})}
 # Glass in a tilted cube: a ray that entered through one face meets the side faces beyond the
 # critical angle and leaves through the opposite one, so paths stay short. (In a faceted sphere,
 # rays can circle by total internal reflection with the facets tilting them at random; Russian

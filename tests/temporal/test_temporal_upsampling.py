@@ -247,7 +247,7 @@ def test_upscale_is_refused_where_it_cannot_work():
 def test_only_integrators_with_a_subset_kernel_compile_one():
     with pytest.raises(ValueError, match="the bdpt integrator has no kernel over a subset of pixels"):
         KernelVariant(integrator=integrator("bdpt"), subset=True)
-    with pytest.raises(ValueError, match="a band of rows or a subset of pixels, not both"):
+    with pytest.raises(ValueError, match="a band of rows, a subset of pixels or a pre-pass, not two of them"):
         KernelVariant(integrator=integrator("mis"), rows=True, subset=True)
     subset = KernelVariant(integrator=integrator("mis"), subset=True, samples_per_dispatch=8, loop_budget=True)
     assert subset.entry == ("integrators/path_tracer_subset.wgsl", "main_subset")

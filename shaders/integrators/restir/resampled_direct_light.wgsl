@@ -19,6 +19,8 @@
 // integrator's do, from one light sample.
 //! include "integrators/restir/light_reservoir.wgsl"
 
+const RESAMPLES_FIRST_VERTEX: bool = true;
+
 // Candidates per first vertex, measured by `python -m bench.restir` (bench/README.md). Overrides,
 // as the next ones, so that the benchmark can measure others.
 override RESAMPLED_LIGHT_CANDIDATES: u32 = 16u;
