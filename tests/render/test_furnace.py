@@ -63,10 +63,10 @@ REFLECTION_CASES += [(DIFFUSE, 0.5, "bdpt"), (GLOSSY[1], 0.5, "bdpt")]
 # against them by MIS, with its own and (restir-shared) its neighbours' reservoirs: a weight that
 # does not sum to one with the BSDF's shows here as light gained or lost. Last, so that the cases
 # before keep their seeds.
+# Diffuse, and two roughnesses seen head on: where the BSDF's samples take much of the light (0.1)
+# and where the reservoir does (0.5), for CI time.
 RESAMPLING = ("restir", "restir-shared")
-REFLECTION_CASES += [(DIFFUSE, 0.5, i) for i in RESAMPLING] + [
-    (m, c, i) for m in GLOSSY for c in INCIDENT_COSINES for i in RESAMPLING
-]
+REFLECTION_CASES += [(m, c, i) for m, c in ((DIFFUSE, 0.5), (GLOSSY[1], 1.0), (GLOSSY[2], 1.0)) for i in RESAMPLING]
 # the integrator and shader overrides behind each name above
 INTEGRATOR_VARIANTS = {"restir-shared": ("restir", {"RESERVOIR_NEIGHBOURS": 3})}
 # Glass in a tilted cube: a ray that entered through one face meets the side faces beyond the
