@@ -64,11 +64,6 @@ fn contribution_weight(reservoir: LightReservoir) -> f32 {
     return select(0.0, reservoir.weight_sum / kept, kept > 0.0);
 }
 
-// The target at `receiver` of `kept`, resampled at another point.
-fn target_at(receiver: ShadedPoint, kept: ResampledLight) -> f32 {
-    return resampled_light(receiver, light_seen_from(kept, receiver.p), kept.index).target_value;
-}
-
 // A first vertex's reservoir as it is shaded: the kept sample, its W, and how many light samples
 // the candidates it stands for count as against the vertex's BSDF sample (vertex_reservoir: the
 // vertex's own, or shared with its neighbours').

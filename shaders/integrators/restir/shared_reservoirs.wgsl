@@ -31,6 +31,11 @@ fn skip_candidate_draws() {
     }
 }
 
+// The target at `receiver` of `kept`, resampled at another point.
+fn target_at(receiver: ShadedPoint, kept: ResampledLight) -> f32 {
+    return resampled_light(receiver, light_seen_from(kept, receiver.p), kept.index).target_value;
+}
+
 // A reservoir as the pre-pass keeps it for its pixel (ReservoirRecord), and back.
 fn stored_light(record: ReservoirRecord) -> ResampledLight {
     let distant = (record.kind & RESERVOIR_DISTANT) != 0u;
