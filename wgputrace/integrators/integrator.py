@@ -10,6 +10,7 @@ descriptor, registered by name, that they ask instead of naming it.
 | override constants of its kernel            | `constants`      | `tracing_kernel`                            |
 | generated files of its own                  | `files`          | `KernelVariant.files`                       |
 | per-pixel arrays beside the accumulation    | `pixel_arrays`   | the pixels group, the Renderer, the limits  |
+| per-pixel arrays kept from frame to frame   | `frame_arrays`   | the G-buffer variant's pixels group, render_frame |
 | light tracing splats into any pixel         | `splats`         | the Renderer's image, tiles (refused)       |
 | the deepest path it can trace               | `max_depth`      | `check_depth`                               |
 | several samples per dispatch (regeneration) | `regenerates`    | `KernelVariant` (`check_regeneration`)      |
@@ -27,7 +28,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..gpu.bindings import Binding
+from ..gpu.bindings import STORAGE_READ, Binding
 from ..scene.materials.volume import is_absorbing
 
 if TYPE_CHECKING:
@@ -46,6 +47,11 @@ class PixelArray:
     def bytes_per_pixel(self) -> int:
         return 4 * self.words_per_pixel
 
+    @property
+    def previous(self) -> Binding:
+        """The binding through which the next frame reads what a frame wrote to it (frame_arrays)."""
+        return Binding(f"previous_{self.binding.name}", STORAGE_READ, self.binding.holds)
+
 
 @dataclass(frozen=True)
 class Integrator:
@@ -60,6 +66,9 @@ class Integrator:
     prepass_entry: str | None = None
     constants: tuple[tuple[str, int], ...] = ()
     pixel_arrays: tuple[PixelArray, ...] = ()
+    # per-pixel arrays its G-buffer variant writes in each frame of render_frame and reads as they
+    # were in the previous frame (`PixelArray.previous`), allocated by render_frame's first call
+    frame_arrays: tuple[PixelArray, ...] = ()
     splats: bool = False
     max_depth: int | None = None
     # whether its kernel takes several samples of a pixel per dispatch (`samples_this_dispatch`)

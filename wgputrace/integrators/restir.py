@@ -5,9 +5,11 @@ ray for the survivor (shaders/integrators/restir/). The vertices after the first
 as "mis" does. Scenes that do not select it compile none of it.
 
 Where reservoirs are shared (RESERVOIR_NEIGHBOURS > 0), a pass takes one sample of each pixel after
-the pre-pass made that sample's reservoirs: no path regeneration. The viewer's bands and subsets
-trace part of the image, with no pre-pass: there a vertex keeps its own candidates, as everywhere
-by default."""
+the pre-pass made that sample's reservoirs: no path regeneration. Otherwise, in render_frame's
+frames over the whole image (its G-buffer variant), each pixel's reservoir is kept for the next
+frame, which combines it with its own where the camera alone moved (temporal_reservoirs.wgsl,
+RESERVOIR_HISTORY_CAP). The viewer's bands and subsets trace part of the image: there a vertex
+keeps its own candidates, as in `render` by default."""
 
 from __future__ import annotations
 
@@ -38,14 +40,21 @@ RECEIVERS = PixelArray(
 # and no pre-pass runs. `shader_overrides={"RESERVOIR_NEIGHBOURS": 3}` shares them.
 RESERVOIR_NEIGHBOURS = 0
 
+# Frames of candidates the previous frame's reservoir counts as at most (the override
+# RESERVOIR_HISTORY_CAP; 0: render_frame keeps no reservoir), measured by `python -m bench.restir --fly`.
+RESERVOIR_HISTORY_CAP = 20
+
 
 @dataclass(frozen=True)
 class Restir(PathTracer):
     def with_overrides(self, overrides: Mapping[str, float]) -> Restir:
-        """With neighbours (the override RESERVOIR_NEIGHBOURS), the pre-pass's reservoirs: a scene
-        rendered as shipped allocates none."""
+        """With neighbours (the override RESERVOIR_NEIGHBOURS), the pre-pass's reservoirs, and no
+        reservoirs kept from frame to frame; without, those where RESERVOIR_HISTORY_CAP > 0. `render`
+        of a scene as shipped allocates none."""
         if overrides.get("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS) > 0:
-            return replace(self, pixel_arrays=(RESERVOIRS, RECEIVERS))
+            return replace(self, pixel_arrays=(RESERVOIRS, RECEIVERS), frame_arrays=())
+        if overrides.get("RESERVOIR_HISTORY_CAP", RESERVOIR_HISTORY_CAP) <= 0:
+            return replace(self, frame_arrays=())
         return self
 
     def shares(self, variant: KernelVariant) -> bool:
@@ -57,9 +66,19 @@ class Restir(PathTracer):
     def uses_prepass(self, variant: KernelVariant) -> bool:
         return super().uses_prepass(variant) and self.shares(variant)
 
+    def keeps_reservoirs(self, variant: KernelVariant) -> bool:
+        """Whether `variant`'s kernel keeps each pixel's reservoir for the next frame: render_frame's
+        kernel over the whole image (the G-buffer variant), where no neighbours share them."""
+        return bool(self.frame_arrays) and variant.gbuffer and not (variant.rows or variant.subset)
+
     def files(self, variant: KernelVariant) -> dict[str, str]:
-        """The resampled first vertex, with the vertex's own reservoir or shared ones."""
-        reservoir = "shared_reservoirs" if self.shares(variant) else "own_reservoir"
+        """The resampled first vertex, with the vertex's own reservoir, shared ones or its own and
+        the previous frame's."""
+        reservoir = "own_reservoir"
+        if self.shares(variant):
+            reservoir = "shared_reservoirs"
+        elif self.keeps_reservoirs(variant):
+            reservoir = "temporal_reservoirs"
         text = super().files(variant)[GENERATED_FIRST_VERTEX_LIGHT]
         return {GENERATED_FIRST_VERTEX_LIGHT: f'{text}//! include "integrators/restir/{reservoir}.wgsl"\n'}
 
@@ -71,8 +90,9 @@ RESTIR = register(
         "with its neighbours (ReSTIR), MIS after it",
         "mis",
         kind=Restir,
-        constants=(("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS),),
+        constants=(("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS), ("RESERVOIR_HISTORY_CAP", RESERVOIR_HISTORY_CAP)),
         first_vertex_light="integrators/restir/resampled_direct_light.wgsl",
         prepass_entry="integrators/restir/candidates.wgsl",
+        frame_arrays=(RESERVOIRS, RECEIVERS),
     )
 )

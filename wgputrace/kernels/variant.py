@@ -196,11 +196,15 @@ class KernelVariant:
 
     def pixels_group(self) -> BindGroup:
         """The pixels group: the guide sums where guides are on, the G-buffer, the previous
-        frame's camera and the objects' motions where it is written, and the integrator's own arrays."""
+        frame's camera and the objects' motions where it is written, with the arrays the integrator
+        keeps from frame to frame, and the integrator's own arrays."""
+        integrator = self.integrator
+        frame_arrays = integrator.frame_arrays if integrator and self.gbuffer else ()
         extra = (
             ((GUIDE_SUMS,) if self.guides else ())
             + (GBUFFER_BINDINGS if self.gbuffer else ())
-            + tuple(array.binding for array in (self.integrator.pixel_arrays if self.integrator else ()))
+            + tuple(binding for array in frame_arrays for binding in (array.binding, array.previous))
+            + tuple(array.binding for array in (integrator.pixel_arrays if integrator else ()))
         )
         group = PIXELS_GROUP
         for binding in extra:

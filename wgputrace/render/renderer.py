@@ -223,6 +223,11 @@ class Renderer:
         # what render_frame keeps from frame to frame, made by its first call
         self._temporal: TemporalAccumulation | None = None
         self._gbuffer: wgpu.GPUBuffer | None = None
+        # the integrator's arrays kept from frame to frame (Integrator.frame_arrays), each frame's
+        # and the previous one's, by binding name
+        self._frame_arrays: dict[str, wgpu.GPUBuffer] = {}
+        # whether the last `_sync` found the scene changed, not only the camera
+        self._scene_edited = False
         self._previous_frame: wgpu.GPUBuffer | None = None
         self._motion: ObjectMotion | None = None
         self._filter: VarianceGuidedFilter | None = None
@@ -283,7 +288,7 @@ class Renderer:
         once it has run."""
         buffers = (self._frame.buffer, self._rng, self._rng_at_seed, *self._sums.values())
         if self._temporal is not None:
-            buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers)
+            buffers += (self._gbuffer, self._previous_frame, *self._temporal.buffers, *self._frame_arrays.values())
         if self._upsampling is not None:
             buffers += self._upsampling.buffers
         if self._filter is not None:
@@ -333,6 +338,7 @@ class Renderer:
             self._compile(variant)
         if new_variant or regrouped:
             self._bind()
+        self._scene_edited = bool(changes or new_variant)
         # a new variant with no record changed still changes the picture: normals or textures dropped
         return bool(changes or frame_changed or new_variant)
 
@@ -355,6 +361,7 @@ class Renderer:
         """What the renderer binds in `group`, by binding name."""
         if group == "pixels":
             frames = {"gbuffer": self._gbuffer, "previous_frame": self._previous_frame} if self.variant.gbuffer else {}
+            frames |= self._frame_arrays if self.variant.gbuffer else {}
             return {"rng_states": self._rng, **self._sums, **frames, **self._records.bound_in(group)}
         if group == "dispatch":
             return {"dispatch_samples": self._dispatch_samples, **(self._owed if self.variant.loop_budget else {})}
@@ -694,9 +701,13 @@ class Renderer:
         encoder = self.context.device.create_command_encoder()
         for buffer in self._sums.values():
             encoder.clear_buffer(buffer)
+        history = self._temporal if upscale == 1 and self._upsampling is None else None
+        carried = moving and not self._scene_edited and history is not None and not history.fresh
+        self._hand_over_frame_arrays(encoder, carried)
         self.context.submit(encoder, "starting a frame")
         self.stats = RenderStats()
         spp = self._add_frame(spp, budget, upscale, moving)
+        self._forget_previous_frame_arrays()
         self._motion.frame_done(self.scene)
         write_buffer(self.context, self._previous_frame, 0, np.frombuffer(self._frame_bytes, np.uint8))
         frames = self._temporal if upscale == 1 else self._upsampling
@@ -718,6 +729,28 @@ class Renderer:
                 self._antialiasing = TemporalAntialiasing(self.context, self.width, self.height)
             picture = self._antialiasing.resolve(picture, surfaces, frames.reprojected)
         return picture_image(self.context, picture, self.width, self.height)
+
+    def _hand_over_frame_arrays(self, encoder: wgpu.GPUCommandEncoder, carried: bool) -> None:
+        """Clear the integrator's frame arrays (Integrator.frame_arrays) for a frame, the last
+        frame's first copied to where the kernel reads them if `carried`: handed over only to a
+        frame where the camera alone moved, over the whole image, continuing a history (at rest
+        frames stand alone; after an edit, what was learnt may show a light that is gone)."""
+        for array in self.variant.require_integrator().frame_arrays:
+            written, previous = (self._frame_arrays[name] for name in (array.binding.name, array.previous.name))
+            if carried:
+                encoder.copy_buffer_to_buffer(written, 0, previous, 0, written.size)
+            else:
+                encoder.clear_buffer(previous)
+            encoder.clear_buffer(written)
+
+    def _forget_previous_frame_arrays(self) -> None:
+        """Clear what a frame read of the frame before, so that `render` reads none."""
+        arrays = self.variant.require_integrator().frame_arrays
+        if arrays:
+            encoder = self.context.device.create_command_encoder()
+            for array in arrays:
+                encoder.clear_buffer(self._frame_arrays[array.previous.name])
+            self.context.submit(encoder, "ending a frame")
 
     def _add_frame(self, spp: int | None, budget: float | None, upscale: int, moving: bool) -> int:
         """Trace a frame of `spp` samples per pixel or `budget` seconds (render_frame) and add it to
@@ -760,6 +793,9 @@ class Renderer:
             self.context, "previous frame", np.frombuffer(self._frame_bytes, np.uint8).copy()
         )
         self.variant = variant
+        for array in variant.require_integrator().frame_arrays:
+            for binding in (array.binding, array.previous):
+                self._frame_arrays[binding.name] = self._zeroed_sums(binding.name, array.bytes_per_pixel)
         self._compile(variant)
         self._motion = ObjectMotion()
         self._records.sync(*self._record_arrays({}), variant.groups())

@@ -242,6 +242,11 @@ class HistoryPass:
         """Start every pixel's history again at the next frame."""
         self._fresh = True
 
+    @property
+    def fresh(self) -> bool:
+        """Whether the next frame starts every pixel's history again (the first, after `restart`)."""
+        return self._fresh
+
     def records(self) -> np.ndarray:
         """The history as TEMPORAL_PIXEL records, row-major."""
         return read_buffer(self.context, self.history, TEMPORAL_PIXEL.dtype, self.width * self.height)

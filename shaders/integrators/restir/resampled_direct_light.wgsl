@@ -31,6 +31,9 @@ override RESAMPLING_MAX_LOBE_DENSITY: f32 = 10.0;
 // the integrator's constant (wgputrace.integrators.restir), which the Renderer's shader overrides
 // may change.
 override RESERVOIR_NEIGHBOURS: u32;
+// The most frames' candidates the previous frame's reservoir counts as where render_frame keeps
+// them (temporal_reservoirs.wgsl): the integrator's constant too.
+override RESERVOIR_HISTORY_CAP: f32;
 // Whether `point`'s lobe is wide enough for light candidates to land in it.
 fn resamples_at(point: ShadedPoint) -> bool {
     let mirror = vec3<f32>(-point.wi.x, -point.wi.y, point.wi.z);

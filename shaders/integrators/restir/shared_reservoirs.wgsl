@@ -11,16 +11,12 @@
 // lies at another depth are left out (their samples would rarely suit this point); which ones
 // depends on their geometry alone, not on their samples.
 //! include "generated/bindings/pixels.wgsl"
+//! include "integrators/restir/reservoir_records.wgsl"
 
 // How far away (pixels) the RESERVOIR_NEIGHBOURS neighbours are drawn.
 override RESERVOIR_RADIUS: f32 = 10.0;
 // The largest neighbours' reservoirs a combination holds (RESERVOIR_NEIGHBOURS at most).
 const RESERVOIR_NEIGHBOURS_MAX: u32 = 6u;
-// A neighbour is left out where its shading normal turns from this point's by more than this
-// cosine allows, or its point lies off this point's tangent plane by more than this fraction of
-// the distance to the camera (Bitterli et al.'s 25 degrees and 10%).
-const NEIGHBOUR_MIN_COSINE: f32 = 0.906;
-const NEIGHBOUR_MAX_PLANE_DISTANCE: f32 = 0.1;
 
 // What candidate_reservoir draws, drawn and left: the pre-pass drew them for this sample.
 fn skip_candidate_draws() {
@@ -31,60 +27,18 @@ fn skip_candidate_draws() {
     }
 }
 
-// The target at `receiver` of `kept`, resampled at another point.
-fn target_at(receiver: ShadedPoint, kept: ResampledLight) -> f32 {
-    return resampled_light(receiver, light_seen_from(kept, receiver.p), kept.index).target_value;
-}
-
-// A reservoir as the pre-pass keeps it for its pixel (ReservoirRecord), and back.
-fn stored_light(record: ReservoirRecord) -> ResampledLight {
-    let distant = (record.kind & RESERVOIR_DISTANT) != 0u;
-    let delta = (record.kind & RESERVOIR_DELTA) != 0u;
-    let position = select(record.point, vec3<f32>(0.0), distant);
-    let direction = select(vec3<f32>(0.0), record.point, distant);
-    let triangle = select(0u, record.light, !distant && !delta);
-    let light = LightSample(position, record.normal, record.radiance, triangle, record.density, direction, distant, delta);
-    return ResampledLight(light, record.light, UnshadowedLight(vec3<f32>(0.0), vec3<f32>(0.0)), 0.0);
-}
-
-fn reservoir_record(kept: ResampledLight, weight: f32) -> ReservoirRecord {
-    let light = kept.light;
-    let kind = select(0u, RESERVOIR_DISTANT, light.distant) | select(0u, RESERVOIR_DELTA, light.delta);
-    return ReservoirRecord(select(light.position, light.direction, light.distant), kept.index, light.normal, kind, light.radiance, weight, light.pdf);
-}
-
-// The pre-pass's reservoir of `pixel`: its sample, W and receiver. Empty (M 0) where the pre-pass
-// did not resample.
-struct PixelReservoir {
-    sample: ResampledLight,
-    weight: f32,
-    receiver: ReservoirReceiver,
-}
-
-fn pixel_reservoir(pixel: u32) -> PixelReservoir {
-    let record = restir_reservoirs[pixel];
-    return PixelReservoir(stored_light(record), record.weight, restir_receivers[pixel]);
-}
-
+// Whether `receiver` is the point `point` itself.
 fn is_receiver(receiver: ReservoirReceiver, point: ShadedPoint) -> bool {
     return receiver.count > 0.0 && receiver.triangle == point.triangle_index && all(receiver.point == point.p);
 }
 
-// Whether a neighbour's receiver is close enough in orientation and depth to `point` to share
-// its light samples usefully.
-fn suits(point: ShadedPoint, neighbour: ShadedPoint) -> bool {
-    let depth = length(point.p - frame.camera_position);
-    let off_plane = abs(dot(neighbour.p - point.p, point.local.normal));
-    return dot(point.local.normal, neighbour.local.normal) >= NEIGHBOUR_MIN_COSINE && off_plane <= NEIGHBOUR_MAX_PLANE_DISTANCE * depth;
-}
-
-// `point`'s reservoir (`own`, W `own_weight`) combined with its suitable neighbours' from the pre-pass.
 // A combination of reservoirs: the survivor's reservoir and how many reservoirs took part.
 struct CombinedReservoir {
     reservoir: LightReservoir,
     reservoirs: u32,
 }
 
+// `point`'s reservoir (`own`, W `own_weight`) combined with its suitable neighbours' from the pre-pass.
 fn spatial_reservoir(point: ShadedPoint, xy: vec2<u32>, own: ResampledLight, own_weight: f32) -> CombinedReservoir {
     var receivers: array<ShadedPoint, RESERVOIR_NEIGHBOURS_MAX>;
     var samples: array<ResampledLight, RESERVOIR_NEIGHBOURS_MAX>;
@@ -98,11 +52,12 @@ fn spatial_reservoir(point: ShadedPoint, xy: vec2<u32>, own: ResampledLight, own
         if any(at < vec2<i32>(0)) || at.x >= i32(frame.width) || at.y >= i32(frame.height) || all(vec2<u32>(at) == xy) {
             continue;
         }
-        let neighbour = pixel_reservoir(u32(at.y) * frame.width + u32(at.x));
+        let index = u32(at.y) * frame.width + u32(at.x);
+        let neighbour = pixel_reservoir(restir_reservoirs[index], restir_receivers[index]);
         if neighbour.receiver.count <= 0.0 {
             continue;
         }
-        let receiver = shaded_point(neighbour.receiver.triangle, neighbour.receiver.point, neighbour.receiver.towards_viewer);
+        let receiver = receiver_point(neighbour.receiver);
         if !suits(point, receiver) {
             continue;
         }
@@ -146,7 +101,7 @@ fn vertex_reservoir(point: ShadedPoint, pixel: u32) -> VertexReservoir {
     let count = f32(RESAMPLED_LIGHT_CANDIDATES);
     var own: ResampledLight;
     var own_weight: f32;
-    let stored = pixel_reservoir(pixel);
+    let stored = pixel_reservoir(restir_reservoirs[pixel], restir_receivers[pixel]);
     if is_receiver(stored.receiver, point) {
         skip_candidate_draws();
         own = resampled_light(point, light_seen_from(stored.sample, point.p), stored.sample.index);
