@@ -11,6 +11,9 @@ one, moves as fast, and shares its cached references.
   its point light removed; the camera orbits the panel.
 - `moving`: the Cornell box from its own camera, the glass sphere sliding from side to side and the
   diffuse box turning about its vertical axis.
+
+`STREET` (`bench.restir --fly`, not `bench.realtime`'s): a walk down the built-in `night_street`
+under its 1,065 windows and 24 lamps, looking ahead and a little up, swaying from kerb to kerb.
 """
 
 from __future__ import annotations
@@ -50,6 +53,13 @@ SPHERE_SLIDE = 0.25
 MOVING_PERIOD = 0.5
 SPHERE = "sphere1"
 BOX = "box1"
+# The street: the camera walks from the first z to the second at eye height, swaying this far
+# either side of the street's middle twice along the path, and looks this far ahead and this high.
+STREET_WALK = (-7.0, 5.0)
+STREET_EYE_HEIGHT = 1.7
+STREET_SWAY = 1.2
+STREET_LOOK_AHEAD = 12.0
+STREET_LOOK_HEIGHT = 4.0
 
 
 @dataclass(frozen=True)
@@ -124,6 +134,23 @@ def pose_moving(scene: Scene, frame: int) -> None:
     rotation = np.array([[cos, 0.0, sin], [0.0, 1.0, 0.0], [-sin, 0.0, cos]])
     box.transform = about_centre(box, rotation, np.zeros(3))
 
+
+def pose_street(scene: Scene, frame: int) -> None:
+    s = path_position(frame)
+    z = STREET_WALK[0] + (STREET_WALK[1] - STREET_WALK[0]) * s
+    x = STREET_SWAY * math.sin(4.0 * math.pi * s)
+    position = (x, STREET_EYE_HEIGHT, z)
+    scene.camera = Camera.looking_at(
+        position, (0.5 * x, STREET_LOOK_HEIGHT, z + STREET_LOOK_AHEAD), vfov_degrees=scene.camera.vfov_degrees
+    )
+
+
+STREET = FlyThrough(
+    "street",
+    "a walk down night_street (1,065 windows, 24 lamps), swaying from kerb to kerb",
+    lambda: scene_by_name("night_street"),
+    pose_street,
+)
 
 FLY_THROUGHS = {
     fly.name: fly

@@ -29,6 +29,7 @@ import json
 import os
 import statistics
 import sys
+from collections.abc import Mapping
 from pathlib import Path
 
 from bench.charts import figure, save_figure
@@ -37,7 +38,7 @@ from bench.fly_throughs import FLY_THROUGHS, FULL_FRAMES, FlyThrough
 from bench.frame_metrics import DISPLAY_TONE, FLIP_PIXELS_PER_DEGREE, flip, instability, psnr
 from bench.frame_references import FrameReferences, default_cache
 from bench.provenance import Run
-from bench.realtime_modes import BASELINE, DEFAULT_MODES, MODES, OIDN_QUALITY, PreviewPlayer, Settings
+from bench.realtime_modes import BASELINE, DEFAULT_MODES, MODES, OIDN_QUALITY, Mode, PreviewPlayer, Settings
 from bench.result_files import record_skip, result_stem, write_result
 from wgputrace.app.options import ViewerOptions
 from wgputrace.app.pacing import TARGET_FPS
@@ -81,14 +82,19 @@ def frame_record(index: int, frame, reference, previous) -> dict:
 
 
 def run_budget(
-    fly: FlyThrough, references: FrameReferences, settings: Settings, modes: list[str], frames: int
+    fly: FlyThrough,
+    references: FrameReferences,
+    settings: Settings,
+    modes: list[str],
+    frames: int,
+    table: Mapping[str, Mode] = MODES,
 ) -> tuple[dict, dict]:
-    """Every mode through `frames` frames of `fly` at `settings`' budget, the modes taking turns
+    """Every mode (of `table`) through `frames` frames of `fly` at `settings`' budget, the modes taking turns
     frame by frame (load that drifts over the run hits all alike). Returns the per-frame records
     by mode (with the preview's trace budgets, the load, and the mean FLIP between the two halves
     of each frame's reference: the FLIP its own noise alone gives, `reference_halves_flip`) and the
     last frame's pictures."""
-    players = {name: MODES[name].player(fly, settings) for name in modes}
+    players = {name: table[name].player(fly, settings) for name in modes}
     for name, player in players.items():
         failures = player.warm_up()
         if failures:

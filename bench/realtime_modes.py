@@ -95,14 +95,31 @@ class SampleBudget:
 
 
 class TemporalPlayer:
-    """`Renderer.render_frame` frame by frame; `filtered` through SVGF, `oidn` then denoised."""
+    """`Renderer.render_frame` frame by frame; `filtered` through SVGF, `oidn` then denoised;
+    tracing with `integrator` compiled with `overrides`."""
 
-    def __init__(self, fly: FlyThrough, settings: Settings, *, filtered: bool, oidn: bool) -> None:
+    def __init__(
+        self,
+        fly: FlyThrough,
+        settings: Settings,
+        *,
+        filtered: bool,
+        oidn: bool,
+        integrator: str = "mis",
+        overrides: dict[str, float] | None = None,
+    ) -> None:
         self.fly, self.filtered, self.oidn = fly, filtered, oidn
         self.scene = fly.build()
         fly.pose(self.scene, 0)
         self.renderer = Renderer(
-            self.scene, settings.width, settings.height, seed=settings.seed, max_depth=settings.max_depth, guides=oidn
+            self.scene,
+            settings.width,
+            settings.height,
+            seed=settings.seed,
+            max_depth=settings.max_depth,
+            guides=oidn,
+            integrator=integrator,
+            shader_overrides=overrides,
         )
         self.budget = SampleBudget(settings.budget_seconds)
 
