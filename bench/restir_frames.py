@@ -1,22 +1,26 @@
 """Many lights in motion at equal time per frame: the moving picture `Renderer.render_frame` makes
-(temporal accumulation, unfiltered) through a fly-through, traced by next-event estimation with the
-light table (nee), today's default (mis), ReSTIR's candidates at each first vertex alone
-(restir-candidates: the override RESERVOIR_HISTORY_CAP 0), with the previous frame's reservoirs
-(restir, as shipped) and with 3 neighbours' instead (restir-k3), on the street walk
-(`bench.fly_throughs.STREET`), the Cornell box and the textured asset under the sunny sky; FLIP,
-PSNR and instability against each frame's converged reference (`bench.realtime`'s measures).
+(temporal accumulation; `--filtered`: through SVGF, as the viewer shows it) through a fly-through,
+traced by next-event estimation with the light table (nee), today's default (mis), ReSTIR's
+candidates at each first vertex (restir, as shipped), with each pixel's reservoir kept for the next
+frame (restir-t20: the override RESERVOIR_HISTORY_CAP 20; restir-t1 and restir-t4 when named) and
+with 3 neighbours' instead (restir-k3), on the street walk (`bench.fly_throughs.STREET`), the
+Cornell box and the textured asset under the sunny sky; FLIP, PSNR and instability against each
+frame's converged reference (`bench.realtime`'s measures).
 
-    python -m bench.restir_frames                 (about 12 minutes on lavapipe, 2 cores, references cached)
-    python -m bench.restir_frames --scenes street --frames 20
+    python -m bench.restir_frames                 (about 13 minutes on lavapipe, 2 cores, references made)
+    python -m bench.restir_frames --scenes street --filtered --modes restir restir-t1 restir-t20
 
 Each frame's samples are as many as fit the budget (`SampleBudget`, at least one), so the modes
 are compared at equal time per frame, the modes taking turns frame by frame (`bench.realtime.run_budget`).
-Writes bench/results/restir_frames_<adapter>.json and .png.
+Writes bench/results/restir_frames_<adapter>.json and .png (with --filtered,
+restir_frames_filtered_<adapter>), and the last frames beside their references in
+restir_frames[_filtered]_frames_<adapter>.png.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import json
 import sys
 from pathlib import Path
 
@@ -25,9 +29,9 @@ from bench.command_line import argument_parser, log, parse
 from bench.fly_throughs import FLY_THROUGHS, FULL_FRAMES, STREET
 from bench.frame_references import FrameReferences, default_cache
 from bench.provenance import Run
-from bench.realtime import FLIP_INSTALL_HINT, run_budget, summary
+from bench.realtime import FLIP_INSTALL_HINT, plot_pictures, run_budget, summary
 from bench.realtime_modes import Mode, Settings, TemporalPlayer
-from bench.result_files import record_skip, write_result
+from bench.result_files import record_skip, result_stem, write_result
 
 NAME = "restir_frames"
 SIZE = (320, 240)
@@ -39,23 +43,41 @@ MAX_DEPTH = 5
 FLIES = {"street": STREET, "cornell": FLY_THROUGHS["cornell"], "asset": FLY_THROUGHS["asset"]}
 
 
-def _mode(name: str, label: str, color: str, integrator: str, overrides: dict[str, float]) -> Mode:
-    def player(fly, settings):
-        return TemporalPlayer(fly, settings, filtered=False, oidn=False, integrator=integrator, overrides=overrides)
+def frame_modes(filtered: bool) -> dict[str, Mode]:
+    """The modes by name, their pictures through SVGF's filter where `filtered`."""
 
-    return Mode(name, label, color, player)
+    def make(name, label, color, integrator, overrides, default=True) -> Mode:
+        def player(fly, settings):
+            return TemporalPlayer(
+                fly, settings, filtered=filtered, oidn=False, integrator=integrator, overrides=overrides
+            )
+
+        return Mode(name, label, color, player, default=default)
+
+    def history_cap(frames: int, color: str, default: bool = False) -> Mode:
+        """restir keeping each pixel's reservoir for the next frame, where it counts as at most
+        `frames` frames' candidates."""
+        overrides = {"RESERVOIR_HISTORY_CAP": frames}
+        label = f"ReSTIR + previous frame's reservoirs (cap {frames})"
+        return make(f"restir-t{frames}", label, color, "restir", overrides, default)
+
+    return {
+        mode.name: mode
+        for mode in (
+            make("nee", "next-event estimation, light table", "#888888", "nee", {}),
+            make("mis", "MIS (today's default)", "#3b75af", "mis", {}),
+            make("restir", "ReSTIR candidates (as shipped)", "#d08030", "restir", {}),
+            history_cap(20, "#c03030", default=True),
+            make("restir-k3", "ReSTIR + 3 neighbours' reservoirs", "#50a050", "restir", {"RESERVOIR_NEIGHBOURS": 3}),
+            history_cap(1, "#e0a0a0"),
+            history_cap(4, "#a06060"),
+        )
+    }
 
 
-MODES = {
-    mode.name: mode
-    for mode in (
-        _mode("nee", "next-event estimation, light table", "#888888", "nee", {}),
-        _mode("mis", "MIS (today's default)", "#3b75af", "mis", {}),
-        _mode("restir-candidates", "ReSTIR candidates alone", "#d08030", "restir", {"RESERVOIR_HISTORY_CAP": 0}),
-        _mode("restir", "ReSTIR + previous frame's reservoirs", "#c03030", "restir", {}),
-        _mode("restir-k3", "ReSTIR + 3 neighbours' reservoirs", "#50a050", "restir", {"RESERVOIR_NEIGHBOURS": 3}),
-    )
-}
+MODES = frame_modes(filtered=False)
+# The modes run unless --modes names others.
+DEFAULT_MODES = [name for name, mode in MODES.items() if mode.default]
 # Issue 27's fly-through targets: on the many-light street at least 2x lower FLIP than nee at equal
 # time per frame; on the Cornell box no worse than today (mis).
 TARGETS = {"street_restir_flip_ratio_over_nee": 2.0, "cornell_restir_flip_ratio_over_mis": 1.0}
@@ -96,11 +118,14 @@ def plot(path: Path, result: dict) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argument_parser(__doc__, size=SIZE, seed=1)
     parser.add_argument("--scenes", nargs="+", choices=list(FLIES), default=list(FLIES))
-    parser.add_argument("--modes", nargs="+", choices=list(MODES), default=list(MODES))
+    parser.add_argument("--modes", nargs="+", choices=list(MODES), default=DEFAULT_MODES)
     parser.add_argument("--frames", type=int, default=FRAMES, help=f"frames per fly-through (default {FRAMES})")
     parser.add_argument("--budget", type=float, default=BUDGET_SECONDS, help="seconds per frame (default 0.2)")
     parser.add_argument("--reference-spp", type=int, default=REFERENCE_SPP)
     parser.add_argument("--max-depth", type=int, default=MAX_DEPTH)
+    parser.add_argument(
+        "--filtered", action="store_true", help="the pictures through SVGF's filter, as the viewer shows them"
+    )
     parser.add_argument("--cache", type=Path, default=default_cache(), help="the references' folder")
     args = parse(parser, argv, "frames", "reference_spp", "max_depth")
     if args.frames > FULL_FRAMES:
@@ -111,12 +136,14 @@ def main(argv: list[str] | None = None) -> int:
         return record_skip(NAME, settings, f"flip-evaluator is missing: {FLIP_INSTALL_HINT}", args.out)
     run = Run()
     frame_settings = Settings(width, height, args.budget, args.seed, args.max_depth)
-    scenes = {}
+    scenes, pictures = {}, {}
     for scene in args.scenes:
         fly = FLIES[scene]
         references = FrameReferences(fly, width, height, args.reference_spp, args.max_depth, args.cache)
         log(f"{scene}: {args.frames} frames at {1e3 * args.budget:.0f} ms, modes {', '.join(args.modes)}")
-        measured, _ = run_budget(fly, references, frame_settings, args.modes, args.frames, MODES)
+        measured, pictures[scene] = run_budget(
+            fly, references, frame_settings, args.modes, args.frames, frame_modes(args.filtered)
+        )
         measured["summary"] = summary(measured, args.budget)
         scenes[scene] = measured
         for mode, entry in measured["summary"].items():
@@ -131,8 +158,10 @@ def main(argv: list[str] | None = None) -> int:
     result = {
         **settings,
         "frames": args.frames,
+        "filtered": args.filtered,
         "budget_seconds": args.budget,
         "reference_spp": args.reference_spp,
+        "modes": args.modes,
         "mode_labels": {mode: MODES[mode].label for mode in args.modes},
         "targets": TARGETS,
         "measured": measured,
@@ -147,7 +176,12 @@ def main(argv: list[str] | None = None) -> int:
         },
         "scenes": scenes,
     }
-    write_result(NAME, result, out=args.out, plot=plot, run=run)
+    name = f"{NAME}_filtered" if args.filtered else NAME
+    paths = write_result(name, result, out=args.out, plot=plot, run=run)
+    # the last frames, laid out as bench.realtime lays out its runs
+    written = json.loads(paths["json"].read_text())
+    runs = {scene: {"runs": [entry]} for scene, entry in scenes.items()}
+    plot_pictures(result_stem(f"{name}_frames", args.out).with_suffix(".png"), written | {"scenes": runs}, pictures)
     for key, value in measured.items():
         print(f"{key}: {'-' if value is None else f'{value:.3g}'} (target {TARGETS[key]})")
     return 0

@@ -249,6 +249,14 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
         help="the picture while the camera moves: temporal (default) keeps every pixel's samples across frames "
         "and filters them (SVGF; key V shows how it is made); reset starts again at a reduced size on every move",
     )
+    viewable = [name for name in integrator_names() if integrator(name).rows_entry is not None]
+    parser.add_argument(
+        "--integrator",
+        choices=viewable,
+        default="mis",
+        help="how paths take their direct light, as for render (default mis); restir keeps each pixel's light "
+        "reservoir from frame to frame while the camera moves; bdpt renders whole images only",
+    )
     parser.add_argument("--no-info", action="store_true", help="start with the text overlay hidden (key Tab)")
     parser.add_argument("--screenshots", type=Path, default=Path.cwd(), help="folder for screenshots (key P)")
 

@@ -3,7 +3,8 @@ the moving picture keeps every pixel's samples across frames and shows them thro
 variance-guided filter, so a screenshot taken in motion is the scene at full resolution (not
 black, not blocky) and closer to a converged render than the reset preview's (`--preview reset`);
 key V steps through the debug views (raw frame, accumulation, filtered, motion vectors, history
-length), whose name the overlay shows."""
+length), whose name the overlay shows. With `--integrator restir` the moving picture's paths take
+their first vertex's light from resampled candidates."""
 
 from __future__ import annotations
 
@@ -74,12 +75,14 @@ def _converged(camera) -> np.ndarray:
 @pytest.fixture(scope="module")
 def moved(gpu_context, tmp_path_factory):
     """Each preview's viewer after MOVING_FRAMES frames of W: (viewer, PNG pixels, EXR) by preview;
-    "upscaled": the moving picture with a budget no full frame fits."""
+    "upscaled": the moving picture with a budget no full frame fits; "restir": the moving picture
+    traced by restir."""
     shots = {}
     previews = (
         ("temporal", {"target_fps": GENEROUS_FPS}),
         ("reset", {"filter": True}),
         ("upscaled", {"target_fps": HOPELESS_FPS}),
+        ("restir", {"target_fps": GENEROUS_FPS, "integrator": "restir"}),
     )
     for name, options in previews:
         preview = "reset" if name == "reset" else "temporal"
@@ -151,3 +154,17 @@ def test_key_v_with_the_reset_preview_says_why_there_is_nothing_to_show(moved):
     viewer = moved["reset"][0]
     _key(viewer, "key_down", "v")
     assert viewer.overlay.status == "no moving-picture views: --preview reset"
+
+
+def test_the_moving_picture_traced_by_restir_is_the_scene_closer_than_the_reset_preview(moved):
+    viewer, pixels, linear = moved["restir"]
+    renderer = viewer.view.renderer
+    assert renderer.integrator.name == "restir"
+    assert viewer.frames[-1].moving and viewer.frames[-1].upscale == 1
+    assert pixels.mean() > NOT_BLACK_MEAN and np.isfinite(linear).all()
+    reset_viewer, _, reset_linear = moved["reset"]
+    errors = {
+        name: displayed_mse(scaled_up(image, SIZE), _converged(shot_viewer.controller.camera()))
+        for name, shot_viewer, image in (("restir", viewer, linear), ("reset", reset_viewer, reset_linear))
+    }
+    assert errors["restir"] < errors["reset"], f"displayed MSE against a converged render: {errors}"

@@ -8,6 +8,9 @@ import numpy as np
 import pytest
 
 from wgputrace import Renderer, default_scene, load_image
+from wgputrace.app import options_from
+from wgputrace.cli import argument_parser
+from wgputrace.cli_arguments import UsageError
 
 pytestmark = pytest.mark.gpu  # every command here opens the adapter
 
@@ -79,3 +82,11 @@ def test_integrator_and_sampler_reach_the_renderer(tmp_path, run_cli, integrator
     np.testing.assert_array_equal(load_image(out), expected.image())
     fields = dict(line.split(maxsplit=1) for line in run_cli("info", str(out)).stdout.splitlines())
     assert (fields["integrator"], fields["sampler"]) == (integrator, sampler)
+
+
+def test_view_takes_the_integrators_with_a_viewer_kernel():
+    args = argument_parser().parse_args(["view", "box.glb", "--integrator", "restir"])
+    assert options_from(args).integrator == "restir"
+    # bdpt renders whole images only: no band-of-rows kernel for the viewer
+    with pytest.raises(UsageError, match="invalid choice: 'bdpt'"):
+        argument_parser().parse_args(["view", "box.glb", "--integrator", "bdpt"])

@@ -1,6 +1,6 @@
-"""The restir integrator's reservoirs kept from frame to frame (`Renderer.render_frame`): each
-pixel's reservoir combined with the one its surface had in the previous frame wherever the camera
-alone moved. Averaged over frames it converges to mis's picture where resampling breaks (Welch's
+"""The restir integrator's reservoirs kept from frame to frame (`Renderer.render_frame` with the
+override RESERVOIR_HISTORY_CAP > 0): each pixel's reservoir combined with the one its surface had
+in the previous frame wherever the camera alone moved. Averaged over frames it converges to mis's picture where resampling breaks (Welch's
 test per block of independent runs); it lowers each frame's error; at rest frames stand alone (bit
 for bit `render`'s samples); after a light moves or switches off no frame shows its old light."""
 
@@ -23,7 +23,8 @@ LEVEL = sidak(FAMILY_SIGNIFICANCE, len(SCENES) * 3 * (SIZE // BLOCK) ** 2)
 # how far the camera steps, back and forth, between frames: enough to count as moving (the
 # reservoirs are handed over), too little to move any pixel's surface
 NUDGE = 1e-4
-NO_HISTORY = {"RESERVOIR_HISTORY_CAP": 0}
+# Bitterli et al.'s cap; restir as shipped keeps none (wgputrace.integrators.restir)
+HISTORY = {"RESERVOIR_HISTORY_CAP": 20}
 
 
 def nudged_frames(renderer: Renderer, scene: Scene, frames: int) -> list[np.ndarray]:
@@ -40,10 +41,10 @@ def nudged_frames(renderer: Renderer, scene: Scene, frames: int) -> list[np.ndar
     return images
 
 
-def frame_runs(scene: Scene, overrides: dict | None = None) -> np.ndarray:
-    """(RUNS, SIZE, SIZE, 3): the mean over FRAMES nudged frames of direct light, each run from a
-    new history (`reset`)."""
-    renderer = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=2, integrator="restir", shader_overrides=overrides)
+def frame_runs(scene: Scene) -> np.ndarray:
+    """(RUNS, SIZE, SIZE, 3): the mean over FRAMES nudged frames of direct light, reservoirs kept,
+    each run from a new history (`reset`)."""
+    renderer = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=2, integrator="restir", shader_overrides=HISTORY)
     runs = []
     for _ in range(RUNS):
         runs.append(np.mean(nudged_frames(renderer, scene, FRAMES), axis=0))
@@ -84,7 +85,7 @@ def test_reused_reservoirs_lower_each_frames_error(gpu_context):
     reference.render(1024)
     converged = reference.image()
     errors = {}
-    for name, overrides in (("alone", NO_HISTORY), ("reused", {})):
+    for name, overrides in (("alone", {}), ("reused", HISTORY)):
         renderer = Renderer(
             scene, SIZE, SIZE, seed=SEED + 1, max_depth=2, integrator="restir", shader_overrides=overrides
         )
@@ -98,7 +99,7 @@ def test_at_rest_frames_stand_alone(gpu_context):
     """A resting camera's frames take no reservoir of the frame before: bit for bit, their history
     is a fresh renderer's `render` of as many samples."""
     scene = lights_behind()
-    frames = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=2, integrator="restir")
+    frames = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=2, integrator="restir", shader_overrides=HISTORY)
     for _ in range(4):
         image = frames.render_frame()
     fresh = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=2, integrator="restir")
@@ -121,7 +122,7 @@ def test_a_light_moved_or_switched_off_leaves_no_light_behind(gpu_context, edit)
     the camera moves: from the first frame after, the picture is black (its reservoirs, all of
     which hold the lamp, are not handed over after an edit of the scene)."""
     scene = lights_behind()
-    renderer = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=2, integrator="restir")
+    renderer = Renderer(scene, SIZE, SIZE, seed=SEED, max_depth=2, integrator="restir", shader_overrides=HISTORY)
     lit = nudged_frames(renderer, scene, 4)[-1]
     assert lit.max() > 0
     edit(scene)

@@ -26,6 +26,7 @@ def options_from(args: argparse.Namespace) -> ViewerOptions:
         camera=args.camera,
         size=args.size,
         max_depth=args.max_depth,
+        integrator=args.integrator,
         seed=args.seed,
         exposure=args.exposure,
         tonemap=args.tonemap,

@@ -17,6 +17,7 @@ class ViewerOptions:
     camera: str | None = None  # --camera: one of the scene file's own cameras, by name or index
     size: tuple[int, int] = (640, 480)
     max_depth: int = 9
+    integrator: str = "mis"  # --integrator: one with a band-of-rows kernel (Integrator.rows_entry)
     seed: int = 1
     exposure: float | str = 0.0  # stops (EV), or "auto": the auto-exposure on from the start
     tonemap: str = DEFAULT_TONEMAP

@@ -19,7 +19,15 @@ class SceneView:
 
     def __init__(self, scene, size: tuple[int, int], options: ViewerOptions, denoiser_device: str | None) -> None:
         guides = denoiser_device is not None
-        self.renderer = Renderer(scene, size[0], size[1], seed=options.seed, max_depth=options.max_depth, guides=guides)
+        self.renderer = Renderer(
+            scene,
+            size[0],
+            size[1],
+            seed=options.seed,
+            max_depth=options.max_depth,
+            guides=guides,
+            integrator=options.integrator,
+        )
         self.banded = BandedRenderer(self.renderer)
         self.display = Display(self.banded)
         self.denoised = DenoisedPicture(self.banded, denoiser_device) if guides else None

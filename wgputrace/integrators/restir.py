@@ -5,11 +5,11 @@ ray for the survivor (shaders/integrators/restir/). The vertices after the first
 as "mis" does. Scenes that do not select it compile none of it.
 
 Where reservoirs are shared (RESERVOIR_NEIGHBOURS > 0), a pass takes one sample of each pixel after
-the pre-pass made that sample's reservoirs: no path regeneration. Otherwise, in render_frame's
-frames over the whole image (its G-buffer variant), each pixel's reservoir is kept for the next
-frame, which combines it with its own where the camera alone moved (temporal_reservoirs.wgsl,
-RESERVOIR_HISTORY_CAP). The viewer's bands and subsets trace part of the image: there a vertex
-keeps its own candidates, as in `render` by default."""
+the pre-pass made that sample's reservoirs: no path regeneration. With RESERVOIR_HISTORY_CAP > 0
+and no neighbours, render_frame's frames over the whole image (its G-buffer variant) keep each
+pixel's reservoir for the next frame, which combines it with its own where the camera alone moved
+(temporal_reservoirs.wgsl). The viewer's bands and subsets trace part of the image: there a vertex
+keeps its own candidates, as everywhere by default."""
 
 from __future__ import annotations
 
@@ -40,21 +40,26 @@ RECEIVERS = PixelArray(
 # and no pre-pass runs. `shader_overrides={"RESERVOIR_NEIGHBOURS": 3}` shares them.
 RESERVOIR_NEIGHBOURS = 0
 
-# Frames of candidates the previous frame's reservoir counts as at most (the override
-# RESERVOIR_HISTORY_CAP; 0: render_frame keeps no reservoir), measured by `python -m bench.restir --fly`.
-RESERVOIR_HISTORY_CAP = 20
+# Frames of candidates the previous frame's reservoir counts as at most, where render_frame keeps
+# them (the override RESERVOIR_HISTORY_CAP; 0: it keeps none), measured by `python -m
+# bench.restir_frames`: the moving picture accumulates frames into each pixel's history, and frames
+# that share their light samples are correlated, so its error at equal time per frame was no lower
+# with them on any scene measured (bench/README.md) though each frame alone is less noisy. By
+# default render_frame keeps no reservoir and allocates none; `shader_overrides=
+# {"RESERVOIR_HISTORY_CAP": 20}` keeps them (Bitterli et al.'s 20).
+RESERVOIR_HISTORY_CAP = 0
 
 
 @dataclass(frozen=True)
 class Restir(PathTracer):
     def with_overrides(self, overrides: Mapping[str, float]) -> Restir:
-        """With neighbours (the override RESERVOIR_NEIGHBOURS), the pre-pass's reservoirs, and no
-        reservoirs kept from frame to frame; without, those where RESERVOIR_HISTORY_CAP > 0. `render`
-        of a scene as shipped allocates none."""
+        """With neighbours (the override RESERVOIR_NEIGHBOURS), the pre-pass's reservoirs; else,
+        with RESERVOIR_HISTORY_CAP > 0, the reservoirs render_frame keeps from frame to frame. A
+        scene rendered as shipped allocates none."""
         if overrides.get("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS) > 0:
-            return replace(self, pixel_arrays=(RESERVOIRS, RECEIVERS), frame_arrays=())
-        if overrides.get("RESERVOIR_HISTORY_CAP", RESERVOIR_HISTORY_CAP) <= 0:
-            return replace(self, frame_arrays=())
+            return replace(self, pixel_arrays=(RESERVOIRS, RECEIVERS))
+        if overrides.get("RESERVOIR_HISTORY_CAP", RESERVOIR_HISTORY_CAP) > 0:
+            return replace(self, frame_arrays=(RESERVOIRS, RECEIVERS))
         return self
 
     def shares(self, variant: KernelVariant) -> bool:
@@ -93,6 +98,5 @@ RESTIR = register(
         constants=(("RESERVOIR_NEIGHBOURS", RESERVOIR_NEIGHBOURS), ("RESERVOIR_HISTORY_CAP", RESERVOIR_HISTORY_CAP)),
         first_vertex_light="integrators/restir/resampled_direct_light.wgsl",
         prepass_entry="integrators/restir/candidates.wgsl",
-        frame_arrays=(RESERVOIRS, RECEIVERS),
     )
 )
