@@ -34,6 +34,18 @@ override RESERVOIR_NEIGHBOURS: u32;
 // The most frames' candidates the previous frame's reservoir counts as where render_frame keeps
 // them (temporal_reservoirs.wgsl): the integrator's constant too.
 override RESERVOIR_HISTORY_CAP: f32;
+// Debugging (test_restir_weights): where on, a first vertex whose reservoir is a combination gives
+// in place of its light what checked_weight_sum found: (|sum - 1|, 1, -reservoirs combined), and
+// counts as so many light samples that no light its BSDF sample finds adds anything.
+override RESERVOIR_CHECK_WEIGHT_SUMS: bool = false;
+var<private> weight_sum_check: vec3<f32>;
+
+// What the weight sum check of a combination of `reservoirs` reservoirs found: the survivor's
+// shares summing to `sum` (vertex_reservoir's files call it).
+fn checked_weight_sum(sum: f32, reservoirs: u32) {
+    weight_sum_check = vec3<f32>(abs(sum - 1.0), 1.0, -f32(reservoirs));
+}
+
 // Whether `point`'s lobe is wide enough for light candidates to land in it.
 fn resamples_at(point: ShadedPoint) -> bool {
     let mirror = vec3<f32>(-point.wi.x, -point.wi.y, point.wi.z);
@@ -91,9 +103,16 @@ fn shade_reservoir(point: ShadedPoint, kept: ResampledLight, weight: f32, light_
 }
 
 fn first_vertex_light(point: ShadedPoint, pixel: u32) -> VertexLight {
-    if !resamples_at(point) {
-        return VertexLight(direct_light(point), 1.0);
+    weight_sum_check = vec3<f32>(0.0);
+    var light: VertexLight;
+    if resamples_at(point) {
+        let reservoir = vertex_reservoir(point, pixel);
+        light = VertexLight(shade_reservoir(point, reservoir.kept, reservoir.weight, reservoir.light_samples), reservoir.light_samples);
+    } else {
+        light = VertexLight(direct_light(point), 1.0);
     }
-    let reservoir = vertex_reservoir(point, pixel);
-    return VertexLight(shade_reservoir(point, reservoir.kept, reservoir.weight, reservoir.light_samples), reservoir.light_samples);
+    if RESERVOIR_CHECK_WEIGHT_SUMS {
+        return VertexLight(weight_sum_check, FLOAT_MAX);
+    }
+    return light;
 }

@@ -38,12 +38,32 @@ struct CombinedReservoir {
     reservoirs: u32,
 }
 
-// `point`'s reservoir (`own`, W `own_weight`) combined with its suitable neighbours' from the pre-pass.
-fn spatial_reservoir(point: ShadedPoint, xy: vec2<u32>, own: ResampledLight, own_weight: f32) -> CombinedReservoir {
-    var receivers: array<ShadedPoint, RESERVOIR_NEIGHBOURS_MAX>;
-    var samples: array<ResampledLight, RESERVOIR_NEIGHBOURS_MAX>;
-    var weights: array<f32, RESERVOIR_NEIGHBOURS_MAX>;
-    var found = 0u;
+// The neighbours a combination found (spatial_reservoir): their receivers, samples and W.
+var<private> neighbour_receivers: array<ShadedPoint, RESERVOIR_NEIGHBOURS_MAX>;
+var<private> neighbour_samples: array<ResampledLight, RESERVOIR_NEIGHBOURS_MAX>;
+var<private> neighbour_weights: array<f32, RESERVOIR_NEIGHBOURS_MAX>;
+var<private> neighbours_found: u32;
+
+// The share of `sample` (its target `here` at this point) that comes from reservoir `source` (0:
+// this point's own, i + 1: the i-th neighbour's): its target at that reservoir's receiver over the
+// sum of its targets at every receiver. Every reservoir has the same confidence
+// (RESAMPLED_LIGHT_CANDIDATES), which cancels.
+fn spatial_share(sample: ResampledLight, here: f32, source: u32) -> f32 {
+    var total = here;
+    var mine = select(0.0, here, source == 0u);
+    for (var j = 0u; j < neighbours_found; j++) {
+        let value = target_at(neighbour_receivers[j], sample);
+        total += value;
+        if j + 1u == source {
+            mine = value;
+        }
+    }
+    return select(0.0, mine / total, total > 0.0);
+}
+
+// The neighbours' reservoirs within RESERVOIR_RADIUS of `xy` whose receivers suit `point`.
+fn find_neighbours(point: ShadedPoint, xy: vec2<u32>) {
+    neighbours_found = 0u;
     for (var draw = 0u; draw < min(RESERVOIR_NEIGHBOURS, RESERVOIR_NEIGHBOURS_MAX); draw++) {
         let u = sample_2d();
         // uniform in the disc of RESERVOIR_RADIUS pixels, this pixel left out
@@ -61,39 +81,47 @@ fn spatial_reservoir(point: ShadedPoint, xy: vec2<u32>, own: ResampledLight, own
         if !suits(point, receiver) {
             continue;
         }
-        receivers[found] = receiver;
-        samples[found] = neighbour.sample;
-        weights[found] = neighbour.weight;
-        found++;
+        neighbour_receivers[neighbours_found] = receiver;
+        neighbour_samples[neighbours_found] = neighbour.sample;
+        neighbour_weights[neighbours_found] = neighbour.weight;
+        neighbours_found++;
     }
+}
+
+// `point`'s reservoir (`own`, W `own_weight`) combined with its suitable neighbours' from the pre-pass.
+fn spatial_reservoir(point: ShadedPoint, xy: vec2<u32>, own: ResampledLight, own_weight: f32) -> CombinedReservoir {
+    find_neighbours(point, xy);
     var combined = empty_light_reservoir();
-    // this point's own sample: its weight against the neighbours' targets for it
-    var others = 0.0;
-    for (var j = 0u; j < found; j++) {
-        others += target_at(receivers[j], own);
-    }
-    let own_share = select(0.0, own.target_value / (own.target_value + others), own.target_value > 0.0);
-    reservoir_update(&combined, own, own_share * own.target_value * own_weight, sample_1d());
-    for (var i = 0u; i < found; i++) {
+    reservoir_update(&combined, own, spatial_share(own, own.target_value, 0u) * own.target_value * own_weight, sample_1d());
+    for (var i = 0u; i < neighbours_found; i++) {
         let u_keep = sample_1d();
-        let moved = resampled_light(point, light_seen_from(samples[i], point.p), samples[i].index);
-        var total = moved.target_value;
-        var mine = 0.0;
-        for (var j = 0u; j < found; j++) {
-            let value = target_at(receivers[j], samples[i]);
-            total += value;
-            if j == i {
-                mine = value;
-            }
-        }
-        // every reservoir has the same confidence (RESAMPLED_LIGHT_CANDIDATES), which cancels
-        let share = select(0.0, mine / total, total > 0.0);
-        let weight = share * moved.target_value * weights[i];
+        let sample = neighbour_samples[i];
+        let moved = resampled_light(point, light_seen_from(sample, point.p), sample.index);
+        let weight = spatial_share(sample, moved.target_value, i + 1u) * moved.target_value * neighbour_weights[i];
         if weight > 0.0 && weight <= FLOAT_MAX {
             reservoir_update(&combined, moved, weight, u_keep);
         }
     }
-    return CombinedReservoir(combined, found + 1u);
+    if RESERVOIR_CHECK_WEIGHT_SUMS {
+        check_spatial_shares(point, combined.kept);
+    }
+    return CombinedReservoir(combined, neighbours_found + 1u);
+}
+
+// The weight sum check (RESERVOIR_CHECK_WEIGHT_SUMS) of the combination's survivor `kept`: its
+// shares as this point's own sample and as each neighbour would hold it (stored and seen again
+// from here) sum to one.
+fn check_spatial_shares(point: ShadedPoint, kept: ResampledLight) {
+    if !(kept.target_value > 0.0) {
+        return;
+    }
+    let held = stored_light(reservoir_record(kept, 0.0));
+    let here = resampled_light(point, light_seen_from(held, point.p), held.index).target_value;
+    var sum = spatial_share(kept, kept.target_value, 0u);
+    for (var i = 0u; i < neighbours_found; i++) {
+        sum += spatial_share(held, here, i + 1u);
+    }
+    checked_weight_sum(sum, neighbours_found + 1u);
 }
 
 fn vertex_reservoir(point: ShadedPoint, pixel: u32) -> VertexReservoir {

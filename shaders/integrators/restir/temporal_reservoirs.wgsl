@@ -38,6 +38,16 @@ fn previous_reservoir(point: ShadedPoint, pixel: u32) -> PixelReservoir {
     return previous;
 }
 
+// The share of `sample` (its target `here` at this point) that comes from the previous frame's
+// reservoir (`previous`) or this frame's: its target times confidence at that reservoir's receiver
+// over the sum at both (`history`: the previous reservoir's confidence, in candidates).
+fn temporal_share(sample: ResampledLight, here: f32, receiver: ShadedPoint, history: f32, previous: bool) -> f32 {
+    let there = history * target_at(receiver, sample);
+    let this_frame = f32(RESAMPLED_LIGHT_CANDIDATES) * here;
+    let total = there + this_frame;
+    return select(0.0, select(this_frame, there, previous) / total, total > 0.0);
+}
+
 fn vertex_reservoir(point: ShadedPoint, pixel: u32) -> VertexReservoir {
     let fresh = candidate_reservoir(point);
     let count = f32(RESAMPLED_LIGHT_CANDIDATES);
@@ -49,16 +59,12 @@ fn vertex_reservoir(point: ShadedPoint, pixel: u32) -> VertexReservoir {
         let history = min(previous.receiver.count, RESERVOIR_HISTORY_CAP * count);
         let receiver = receiver_point(previous.receiver);
         var combined = empty_light_reservoir();
-        // this frame's sample, against the previous receiver's target for it
-        let own_there = history * target_at(receiver, kept);
-        let own_here = count * kept.target_value;
-        let own_share = select(0.0, own_here / (own_here + own_there), own_here > 0.0);
         // drawn at 0: kept wherever its weight is positive
+        let own_share = temporal_share(kept, kept.target_value, receiver, history, false);
         reservoir_update(&combined, kept, own_share * kept.target_value * weight, 0.0);
-        // the previous sample, seen from here, against this point's target for it
+        // the previous sample, seen from here
         let moved = resampled_light(point, light_seen_from(previous.sample, point.p), previous.sample.index);
-        let old_there = history * target_at(receiver, previous.sample);
-        let old_share = select(0.0, old_there / (old_there + count * moved.target_value), old_there > 0.0);
+        let old_share = temporal_share(previous.sample, moved.target_value, receiver, history, true);
         let old_weight = old_share * moved.target_value * previous.weight;
         let u_keep = sample_1d();
         if old_weight > 0.0 && old_weight <= FLOAT_MAX {
@@ -67,6 +73,13 @@ fn vertex_reservoir(point: ShadedPoint, pixel: u32) -> VertexReservoir {
         kept = combined.kept;
         weight = contribution_weight(combined);
         confidence = count + history;
+        if RESERVOIR_CHECK_WEIGHT_SUMS && kept.target_value > 0.0 {
+            // the survivor's shares as this frame's sample and as the previous reservoir would hold it
+            let held = stored_light(reservoir_record(kept, 0.0));
+            let here = resampled_light(point, light_seen_from(held, point.p), held.index).target_value;
+            let sum = temporal_share(kept, kept.target_value, receiver, history, false) + temporal_share(held, here, receiver, history, true);
+            checked_weight_sum(sum, 2u);
+        }
     }
     restir_reservoirs[pixel] = reservoir_record(kept, weight);
     // its confidence even where it holds no light: whether the next frame takes it must not depend
