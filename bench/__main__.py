@@ -1,7 +1,7 @@
 """The benchmark suite: issue 8's benchmarks, issue 16's denoising and issue 15's environment lighting
 on the current adapter, and a summary of every target.
 
-    python -m bench                       (about 30 minutes on lavapipe, 2 cores; denoise about 8, environment 5, restir 4)
+    python -m bench                       (about 45 minutes on lavapipe, 2 cores; denoise about 8, environment 5, restir 4, restir_frames 13)
     python -m bench --quick               (about 5 minutes: smaller images, fewer repeats and counts)
     python -m bench --gpu                 (on a GPU: more samples per timed run, which lasts milliseconds there)
     python -m bench --only scaling bvh_build
@@ -300,6 +300,13 @@ def cluster_unavailable() -> str | None:
     return None
 
 
+def flip_missing() -> str | None:
+    """Why the benchmarks that measure FLIP cannot run here, or None."""
+    from bench.realtime import FLIP_INSTALL_HINT
+
+    return None if importlib.util.find_spec("flip_evaluator") else f"flip-evaluator is missing: {FLIP_INSTALL_HINT}"
+
+
 def denoiser_missing() -> str | None:
     """Why the denoising benchmark cannot run here, or None."""
     return None if denoiser_available() else f"Intel Open Image Denoise is missing: {INSTALL_HINT}"
@@ -317,8 +324,9 @@ class Benchmark:
 
 
 def restir_targets(result: dict) -> list[Target]:
-    """Issue 27's final-render targets: efficiency (1 / (MSE x s)) of restir over nee on the
-    many-light street and over mis on the Cornell box."""
+    """Issue 27's targets as bench.restir and bench.restir_frames file them: for final renders,
+    efficiency (1 / (MSE x s)) of restir over nee on the many-light street and over mis on the
+    Cornell box; in motion, the ratio of their mean FLIP at equal time per frame."""
     rows = []
     for key, target in result["targets"].items():
         value = result["measured"].get(key)
@@ -480,6 +488,13 @@ BENCHMARKS = (
         ("--scenes", "night_street", "cornell", "--no-sweep", "--max-spp", "64"),
         ("--max-spp", "4096"),
         restir_targets,
+    ),
+    Benchmark(
+        "restir_frames",
+        ("--scenes", "street", "cornell", "--frames", "10", "--size", "160x120"),
+        ("--size", "1920x1080", "--budget", "0.0167"),
+        restir_targets,
+        skip_reason=flip_missing,
     ),
     Benchmark("soak", ("--minutes", "1", "--cycles", "1000"), (), soak_targets, in_default_run=False),
     Benchmark(

@@ -9,9 +9,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.render.test_restir import BLOCK, BUILDERS, FAMILY_SIGNIFICANCE, SCENES, SEED, SIZE, lights_behind
+from tests.render.test_restir import (
+    BLOCK,
+    BUILDERS,
+    FAMILY_SIGNIFICANCE,
+    SCENES,
+    SEED,
+    SIZE,
+    assert_matches_mis,
+    lights_behind,
+)
 from wgputrace import Emitter, Renderer, Scene
-from wgputrace.testing.image_statistics import Estimate, compare_blocks
+from wgputrace.testing.image_statistics import Estimate
 from wgputrace.testing.stats import sidak
 
 pytestmark = pytest.mark.gpu
@@ -67,12 +76,7 @@ def test_frames_reusing_reservoirs_converge_to_mis(gpu_context, name):
     scene = BUILDERS[name]()
     restir = Estimate.from_batches(frame_runs(scene))
     mis = Estimate.from_batches(mis_runs(scene))
-    comparison = compare_blocks(restir, mis, BLOCK)
-    worst = np.unravel_index(np.argmin(comparison.p_value), comparison.p_value.shape)
-    assert comparison.p_value.min() >= LEVEL, (
-        f"{name}: block {tuple(int(i) for i in worst[:2])} channel {'rgb'[worst[2]]} differs from mis by "
-        f"{comparison.difference[worst]:.4g} (z {comparison.z[worst]:.2f}, p {comparison.p_value[worst]:.2g})"
-    )
+    assert_matches_mis(restir, mis, LEVEL, name)
 
 
 def test_reused_reservoirs_lower_each_frames_error(gpu_context):
