@@ -160,6 +160,7 @@ def test_the_moving_picture_traced_by_restir_is_the_scene_closer_than_the_reset_
     viewer, pixels, linear = moved["restir"]
     renderer = viewer.view.renderer
     assert renderer.integrator.name == "restir"
+    assert any("integrator restir" in line for line in viewer.info_lines())
     assert viewer.frames[-1].moving and viewer.frames[-1].upscale == 1
     assert pixels.mean() > NOT_BLACK_MEAN and np.isfinite(linear).all()
     reset_viewer, _, reset_linear = moved["reset"]

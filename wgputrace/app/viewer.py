@@ -288,7 +288,8 @@ class Viewer:
                     *camera.position, *camera.forward, self.controller.speed, self._lens_label()
                 ),
                 f"scene {self.options.scene}: {renderer.triangle_count:,} triangles, "
-                f"{renderer.records.acceleration.node_count:,} BVH nodes, depth {int(view.levels.max())}",
+                f"{renderer.records.acceleration.node_count:,} BVH nodes, depth {int(view.levels.max())}   "
+                f"integrator {renderer.integrator.name}",
                 f"view {self.settings.view.name.lower()}"
                 + (f": {self.shown_label()}" if self.settings.view == View.RADIANCE else "")
                 + "   filter "
