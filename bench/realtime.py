@@ -267,7 +267,7 @@ def plot(path: Path, result: dict) -> None:
     )
 
 
-def plot_pictures(path: Path, result: dict, pictures: dict) -> None:
+def plot_pictures(path: Path, result: dict, pictures: dict, dpi: int = 100) -> None:
     """The last frame of every mode beside its reference, one row per scene."""
     scenes = list(pictures)
     columns = ["reference", *result["modes"]]
@@ -285,7 +285,7 @@ def plot_pictures(path: Path, result: dict, pictures: dict) -> None:
                 axes.set_title(f"{name}\nFLIP {last['flip']:.3f}, {last['psnr']:.1f} dB", fontsize=8)
             else:
                 axes.set_title(f"{scene}: reference", fontsize=8)
-    save_figure(chart, path, result, f"frame {result['frames'] - 1} of each fly-through, as displayed", dpi=100)
+    save_figure(chart, path, result, f"frame {result['frames'] - 1} of each fly-through, as displayed", dpi=dpi)
 
 
 def main(argv: list[str] | None = None) -> int:

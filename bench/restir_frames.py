@@ -40,6 +40,8 @@ FRAMES = 30
 BUDGET_SECONDS = 0.2
 REFERENCE_SPP = 64
 MAX_DEPTH = 5
+# eight columns of pictures stay under 2 MB
+PICTURES_DPI = 70
 FLIES = {"street": STREET, "cornell": FLY_THROUGHS["cornell"], "asset": FLY_THROUGHS["asset"]}
 
 
@@ -181,7 +183,8 @@ def main(argv: list[str] | None = None) -> int:
     # the last frames, laid out as bench.realtime lays out its runs
     written = json.loads(paths["json"].read_text())
     runs = {scene: {"runs": [entry]} for scene, entry in scenes.items()}
-    plot_pictures(result_stem(f"{name}_frames", args.out).with_suffix(".png"), written | {"scenes": runs}, pictures)
+    frames_png = result_stem(f"{name}_frames", args.out).with_suffix(".png")
+    plot_pictures(frames_png, written | {"scenes": runs}, pictures, dpi=PICTURES_DPI)
     for key, value in measured.items():
         print(f"{key}: {'-' if value is None else f'{value:.3g}'} (target {TARGETS[key]})")
     return 0
