@@ -16,11 +16,18 @@
 //! include "generated/bindings/pixels.wgsl"
 //! include "integrators/restir/reservoir_records.wgsl"
 
+// The previous frame's reservoir of a surface, and its receiver shaded again.
+struct PreviousReservoir {
+    reservoir: PixelReservoir,
+    receiver: ShadedPoint,
+}
+
 // The previous frame's reservoir of the surface `point` (seen at `pixel`), moved along the
 // pixel's motion vector; empty (M 0) where the previous camera did not see it, the reprojected
 // pixel lies outside the image, or its receiver does not suit `point`.
-fn previous_reservoir(point: ShadedPoint, pixel: u32) -> PixelReservoir {
-    let none = PixelReservoir(no_resampled_light(), 0.0, ReservoirReceiver(vec3<f32>(0.0), NO_TRIANGLE, vec3<f32>(0.0), 0.0));
+fn previous_reservoir(point: ShadedPoint, pixel: u32) -> PreviousReservoir {
+    let empty = PixelReservoir(no_resampled_light(), 0.0, ReservoirReceiver(vec3<f32>(0.0), NO_TRIANGLE, vec3<f32>(0.0), 0.0));
+    let none = PreviousReservoir(empty, point);
     let seen = gbuffer[pixel];
     if !(seen.previous_depth > 0.0) {
         return none;
@@ -32,10 +39,14 @@ fn previous_reservoir(point: ShadedPoint, pixel: u32) -> PixelReservoir {
     }
     let index = u32(at.y) * frame.width + u32(at.x);
     let previous = pixel_reservoir(previous_restir_reservoirs[index], previous_restir_receivers[index]);
-    if previous.receiver.count <= 0.0 || !suits(point, receiver_point(previous.receiver)) {
+    if previous.receiver.count <= 0.0 {
         return none;
     }
-    return previous;
+    let receiver = receiver_point(previous.receiver);
+    if !suits(point, receiver) {
+        return none;
+    }
+    return PreviousReservoir(previous, receiver);
 }
 
 // The share of `sample` (its target `here` at this point) that comes from the previous frame's
@@ -54,10 +65,11 @@ fn vertex_reservoir(point: ShadedPoint, pixel: u32) -> VertexReservoir {
     var kept = fresh.kept;
     var weight = contribution_weight(fresh) / count;
     var confidence = count;
-    let previous = previous_reservoir(point, pixel);
+    let found = previous_reservoir(point, pixel);
+    let previous = found.reservoir;
     if previous.receiver.count > 0.0 {
         let history = min(previous.receiver.count, RESERVOIR_HISTORY_CAP * count);
-        let receiver = receiver_point(previous.receiver);
+        let receiver = found.receiver;
         var combined = empty_light_reservoir();
         // drawn at 0: kept wherever its weight is positive
         let own_share = temporal_share(kept, kept.target_value, receiver, history, false);
