@@ -29,6 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from bench.frame_metrics import flip_missing
 from bench.mitsuba import mitsuba_missing
 from bench.provenance import RESULTS_DIR, Run, recorded_path
 from bench.result_files import SETTINGS_KEYS, result_stem, write_result
@@ -298,13 +299,6 @@ def cluster_unavailable() -> str | None:
     except NamespaceUnavailable as why:
         return str(why)
     return None
-
-
-def flip_missing() -> str | None:
-    """Why the benchmarks that measure FLIP cannot run here, or None."""
-    from bench.realtime import FLIP_INSTALL_HINT
-
-    return None if importlib.util.find_spec("flip_evaluator") else f"flip-evaluator is missing: {FLIP_INSTALL_HINT}"
 
 
 def denoiser_missing() -> str | None:

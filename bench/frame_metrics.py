@@ -11,6 +11,7 @@ Var(test - truth) + Var(reference) for independent renders).
 
 from __future__ import annotations
 
+import importlib.util
 import math
 
 import numpy as np
@@ -25,6 +26,12 @@ DISPLAY_TONE = Tone()
 DISPLAY_QUANTIZATION_MSE = (1.0 / 255.0) ** 2 / 12.0
 # FLIP's viewing condition: its default, a 0.7 m distance from a 0.7 m wide 3840-pixel monitor.
 FLIP_PIXELS_PER_DEGREE = 67.0
+FLIP_INSTALL_HINT = 'pip install "wgputrace[bench]" (flip-evaluator, which has wheels for x86-64 Linux)'
+
+
+def flip_missing() -> str | None:
+    """Why FLIP cannot be measured here (flip-evaluator is not installed), or None."""
+    return None if importlib.util.find_spec("flip_evaluator") else f"flip-evaluator is missing: {FLIP_INSTALL_HINT}"
 
 
 def displayed(linear: np.ndarray) -> np.ndarray:

@@ -24,7 +24,6 @@ of every mode beside its reference (realtime_<size>_frames_<adapter>.png).
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import statistics
@@ -35,7 +34,7 @@ from pathlib import Path
 from bench.charts import figure, save_figure
 from bench.command_line import argument_parser, log, parse
 from bench.fly_throughs import FLY_THROUGHS, FULL_FRAMES, FlyThrough
-from bench.frame_metrics import DISPLAY_TONE, FLIP_PIXELS_PER_DEGREE, flip, instability, psnr
+from bench.frame_metrics import DISPLAY_TONE, FLIP_PIXELS_PER_DEGREE, flip, flip_missing, instability, psnr
 from bench.frame_references import FrameReferences, default_cache
 from bench.provenance import Run
 from bench.realtime_modes import BASELINE, DEFAULT_MODES, MODES, OIDN_QUALITY, Mode, PreviewPlayer, Settings
@@ -59,7 +58,6 @@ TARGET_INSTABILITY_RATIO = 2.0
 # The table's row of the FLIP between each reference's halves: the FLIP the references' own noise
 # gives (at half their samples), which no mode can go far below.
 REFERENCE_HALVES_ROW = "(reference half vs half)"
-FLIP_INSTALL_HINT = 'pip install "wgputrace[bench]" (flip-evaluator, which has wheels for x86-64 Linux)'
 
 
 def frame_record(index: int, frame, reference, previous) -> dict:
@@ -344,9 +342,10 @@ def main(argv: list[str] | None = None) -> int:
                 references[frame]
         return 0
     name = f"{NAME}_{width}x{height}"
-    if importlib.util.find_spec("flip_evaluator") is None:
+    missing = flip_missing()
+    if missing:
         settings = {"scene": args.scenes, "width": width, "height": height, "spp": None, "max_depth": args.max_depth}
-        return record_skip(name, settings, f"flip-evaluator is missing: {FLIP_INSTALL_HINT}", args.out)
+        return record_skip(name, settings, missing, args.out)
     left_out = {}
     if not denoiser_available():
         left_out = {mode: f"OIDN is missing: {INSTALL_HINT}" for mode in args.modes if MODES[mode].denoised}

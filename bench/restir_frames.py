@@ -19,7 +19,6 @@ restir_frames[_filtered]_frames_<adapter>.png.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import sys
 from pathlib import Path
@@ -27,9 +26,10 @@ from pathlib import Path
 from bench.charts import figure, save_figure
 from bench.command_line import argument_parser, log, parse
 from bench.fly_throughs import FLY_THROUGHS, FULL_FRAMES, STREET
+from bench.frame_metrics import flip_missing
 from bench.frame_references import FrameReferences, default_cache
 from bench.provenance import Run
-from bench.realtime import FLIP_INSTALL_HINT, plot_pictures, run_budget, summary
+from bench.realtime import plot_pictures, run_budget, summary
 from bench.realtime_modes import Mode, Settings, TemporalPlayer
 from bench.result_files import record_skip, result_stem, write_result
 
@@ -134,8 +134,9 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--frames is at most the fly-through's {FULL_FRAMES}")
     width, height = args.size
     settings = {"scene": args.scenes, "width": width, "height": height, "spp": None, "max_depth": args.max_depth}
-    if importlib.util.find_spec("flip_evaluator") is None:
-        return record_skip(NAME, settings, f"flip-evaluator is missing: {FLIP_INSTALL_HINT}", args.out)
+    missing = flip_missing()
+    if missing:
+        return record_skip(NAME, settings, missing, args.out)
     run = Run()
     frame_settings = Settings(width, height, args.budget, args.seed, args.max_depth)
     scenes, pictures = {}, {}
